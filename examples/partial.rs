@@ -1,0 +1,66 @@
+//! Meshes a boundary step by step and, when the run stops (finished or
+//! not), writes an SVG of the mesh so far with the front drawn in blue.
+//!
+//! `cargo run --release --example partial -- IN.poly OUT.svg [MAX_STEPS]`
+
+use quadex::extract::{MeshParams, Mesher, StepOutcome};
+use quadex::io::svg::{write_svg, SvgOptions};
+use quadex::model::RulesModel;
+use std::sync::Arc;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let (input, output) = (&args[1], &args[2]);
+    let max: usize = args
+        .get(3)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(usize::MAX);
+    let b = quadex::io::read_boundary(input.as_ref()).expect("boundary");
+    let mut m = Mesher::new(b, Arc::new(RulesModel::DEFAULT), MeshParams::DEFAULT);
+    let mut steps = 0;
+    loop {
+        if steps >= max {
+            break;
+        }
+        match m.step() {
+            Ok(StepOutcome::Stepped(_)) => steps += 1,
+            Ok(StepOutcome::Done) => break,
+            Err(e) => {
+                eprintln!("stopped after {steps} steps: {e}");
+                break;
+            }
+        }
+        if let Err(e) = m.check_invariants() {
+            eprintln!("invariant broken after step {steps}: {e}");
+            break;
+        }
+    }
+    let mut svg = write_svg(m.mesh(), &SvgOptions::default());
+    // Overlay the front.
+    let mesh = m.mesh();
+    let (mut lo, mut hi) = (
+        glam::DVec2::splat(f64::INFINITY),
+        glam::DVec2::splat(f64::NEG_INFINITY),
+    );
+    for p in &mesh.nodes {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    let size = hi - lo;
+    let s = (800.0 - 20.0) / size.x.max(size.y);
+    let tx = |p: glam::DVec2| ((p.x - lo.x) * s + 10.0, (hi.y - p.y) * s + 10.0);
+    let f = m.front();
+    let mut extra = String::from("<g fill=\"none\" stroke=\"blue\" stroke-width=\"1.2\">\n");
+    for lid in f.live_loops() {
+        extra.push_str("<polygon points=\"");
+        for sl in f.loop_slots(lid) {
+            let (x, y) = tx(mesh.nodes[f.node(sl) as usize]);
+            extra.push_str(&format!("{x:.2},{y:.2} "));
+        }
+        extra.push_str("\"/>\n");
+    }
+    extra.push_str("</g>\n</svg>\n");
+    svg = svg.replace("</svg>\n", &extra);
+    std::fs::write(output, svg).expect("write");
+    eprintln!("{} quads, {} front nodes", mesh.quads.len(), f.len());
+}

@@ -1,0 +1,1134 @@
+//! Element extraction (method §2; thesis §2.1.2, §5.1): the [`Mesher`] cuts
+//! one quad at a time off the front. Each step picks a reference point P0
+//! (strategy A or B, sharp corners first), normalises its leading points,
+//! asks the model for `[type, Pn]`, and commits the element if the guard
+//! accepts it; otherwise it tries the remedies in order: a snapped Pn, the
+//! other types, a corrected Pn, the next reference point, and finally a
+//! rule-based element. Loops of 4 and 6 nodes are closed with the final
+//! patterns; a loop that no element can reduce is split along a chord into
+//! two even loops.
+//!
+//! The same step API drives the command line, the tests and the editor.
+
+pub mod closure;
+pub mod guard;
+
+use crate::boundary::Boundary;
+use crate::front::{Front, SlotId};
+use crate::geom::{ccw_angle, Point};
+use crate::mesh::QuadMesh;
+use crate::model::{rules, ElementType, Model, Prediction, RulesModel};
+use crate::normalize::{Frame, LeadingPoints};
+use crate::smooth::{smooth, SmoothParams};
+use guard::{Corner, Limits, Scratch};
+use serde::{Deserialize, Serialize};
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+use std::f64::consts::PI;
+use std::sync::Arc;
+use thiserror::Error;
+
+/// Order in which reference points are taken (thesis §5.1, Figure 40).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Strategy {
+    /// Next valid reference point beside the current one on the new front.
+    A,
+    /// Every valid reference point of the current layer first, then the
+    /// next layer (fewer bad elements).
+    B,
+}
+
+/// Parameters of the extraction loop. Angles in degrees.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct MeshParams {
+    /// Reference point order (default B).
+    pub strategy: Strategy,
+    /// Leading points per side, `N` (default 3: 7 input points). A model
+    /// that needs a fixed `N` overrides it.
+    pub leading_points: usize,
+    /// Window of front angles that make a reference point (default
+    /// [45, 135]); smaller angles are sharp corners, taken first.
+    pub reference_angle: [f64; 2],
+    /// Smallest new quad corner the guard accepts (default 30).
+    pub min_corner: f64,
+    /// Largest new quad corner the guard accepts (default 150).
+    pub max_corner: f64,
+    /// Smallest angle a step may leave on the front (default 20).
+    pub min_front_angle: f64,
+    /// A predicted Pn within this fraction of the local edge length of a
+    /// front node is snapped to it first (default 0.5).
+    pub snap_radius: f64,
+    /// Laplacian smoothing after extraction.
+    pub smooth: SmoothParams,
+    /// Turn the remedies off: a prediction the guard rejects ends the run
+    /// with [`MeshError::ModelRejected`] (default false).
+    pub pure_model: bool,
+}
+
+impl MeshParams {
+    pub const DEFAULT: MeshParams = MeshParams {
+        strategy: Strategy::B,
+        leading_points: 3,
+        reference_angle: [45.0, 135.0],
+        min_corner: 30.0,
+        max_corner: 150.0,
+        min_front_angle: 20.0,
+        snap_radius: 0.5,
+        smooth: SmoothParams::DEFAULT,
+        pure_model: false,
+    };
+}
+
+impl Default for MeshParams {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// Why meshing stopped.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum MeshError {
+    #[error("front loop {loop_index} (at node {node}) cannot be reduced: no valid element, closure or chord split")]
+    Stuck { loop_index: u32, node: u32 },
+    #[error("step limit of {limit} reached with {remaining} front nodes left")]
+    StepLimit { limit: usize, remaining: usize },
+    #[error("pure-model mode: the model's element at node {node} was rejected by the guard")]
+    ModelRejected { node: u32 },
+    #[error("the correction at node {node} is not a valid element")]
+    InvalidCorrection { node: u32 },
+    #[error("node {node} is not on the front")]
+    NotOnFront { node: u32 },
+}
+
+/// What the guard had to do to the model's prediction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum Remedy {
+    /// The model's element was accepted as predicted.
+    None,
+    /// Pn was snapped onto a nearby front node.
+    Snapped,
+    /// Another element type was used.
+    OtherType,
+    /// Pn was replaced by the rule-based position.
+    CorrectedPn,
+    /// The rule-based element with relaxed limits.
+    RuleBased,
+    /// Not a model step (square cut, closure, chord split, correction).
+    NotApplicable,
+}
+
+/// The kind of a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum StepKind {
+    /// One element of type 0, 1 or 2 (or a snapped type 0).
+    Element,
+    /// A square cut on the shortest front edge (no reference point).
+    Square,
+    /// A 4-node loop closed by one quad.
+    Close4,
+    /// A 6-node loop closed by a final pattern.
+    Close6,
+    /// A loop split along a chord.
+    Split,
+    /// An element given by the user.
+    Correction,
+}
+
+/// What one step did.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StepReport {
+    pub index: usize,
+    pub kind: StepKind,
+    /// Reference point P0 (node id).
+    pub reference: Option<u32>,
+    /// Leading points as node ids, thesis order `l_N..l1, P0, r1..r_N`.
+    pub leading: Vec<u32>,
+    /// The model's raw output (normalised frame).
+    pub prediction: Option<Prediction>,
+    /// The model's Pn in world coordinates.
+    pub predicted_pn: Option<Point>,
+    /// The type of the element committed.
+    pub element_type: Option<ElementType>,
+    pub remedy: Remedy,
+    /// Reference points passed over before this one succeeded.
+    pub skipped: usize,
+    /// Closure pattern ('a', 'b', 'c') for 6-node loops.
+    pub pattern: Option<char>,
+    pub quads: Vec<[u32; 4]>,
+    pub new_nodes: Vec<u32>,
+}
+
+/// Step counts by kind, type and remedy.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct StepStats {
+    pub steps: usize,
+    pub by_kind: std::collections::BTreeMap<String, usize>,
+    pub by_type: [usize; 3],
+    pub by_remedy: std::collections::BTreeMap<String, usize>,
+    pub skipped_references: usize,
+}
+
+impl StepStats {
+    fn record(&mut self, r: &StepReport) {
+        self.steps += 1;
+        *self.by_kind.entry(format!("{:?}", r.kind)).or_default() += 1;
+        if let Some(t) = r.element_type {
+            self.by_type[t as usize] += 1;
+        }
+        if r.kind == StepKind::Element {
+            *self.by_remedy.entry(format!("{:?}", r.remedy)).or_default() += 1;
+        }
+        self.skipped_references += r.skipped;
+    }
+}
+
+/// An element forced by the user at a reference node.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Correction {
+    /// Reference point P0 (node id on the front).
+    pub reference: u32,
+    pub element_type: ElementType,
+    /// Pn (world) for type 0.
+    pub pn: Option<Point>,
+    /// Close type 0 onto this front node instead of a new one.
+    pub snap_to: Option<u32>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+enum Action {
+    Auto,
+    Correction(Correction),
+}
+
+/// Result of [`Mesher::step`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepOutcome {
+    Stepped(Box<StepReport>),
+    Done,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Entry {
+    class: u8,
+    layer: u32,
+    seq: u64,
+    slot: SlotId,
+    version: u32,
+}
+
+impl Ord for Entry {
+    fn cmp(&self, o: &Self) -> Ordering {
+        // Max-heap: sharp class first, lower layer first, newest first.
+        o.class
+            .cmp(&self.class)
+            .then(o.layer.cmp(&self.layer))
+            .then(self.seq.cmp(&o.seq))
+    }
+}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+
+/// A candidate element at a reference slot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Cand {
+    New { s: SlotId, pn: Point },
+    Snap { s: SlotId, q: SlotId },
+    Right { s: SlotId },
+    Left { s: SlotId },
+}
+
+/// The element extraction loop over one boundary.
+pub struct Mesher {
+    boundary: Boundary,
+    params: MeshParams,
+    model: Arc<dyn Model>,
+    mesh: QuadMesh,
+    front: Front,
+    queue: BinaryHeap<Entry>,
+    version: Vec<u32>,
+    seq: u64,
+    history: Vec<Action>,
+    stats: StepStats,
+    scratch: Scratch,
+    step_limit: usize,
+    rules: RulesModel,
+}
+
+impl Mesher {
+    /// A mesher over `boundary` with `model` and `params`.
+    pub fn new(boundary: Boundary, model: Arc<dyn Model>, params: MeshParams) -> Mesher {
+        let mesh = QuadMesh::from_boundary(&boundary);
+        let h = boundary.median_segment();
+        let front = Front::new(&mesh.loops, &mesh.nodes, 2.0 * h);
+        let mut min_seg = f64::INFINITY;
+        for (a, b) in boundary.segments() {
+            min_seg = min_seg.min(boundary.points[a].distance(boundary.points[b]));
+        }
+        let est = (boundary.area() / (min_seg * min_seg)).min(1e9) as usize;
+        let mut m = Mesher {
+            step_limit: 20 * est.max(boundary.node_count()) + 10_000,
+            boundary,
+            params,
+            model,
+            mesh,
+            front,
+            queue: BinaryHeap::new(),
+            version: Vec::new(),
+            seq: 0,
+            history: Vec::new(),
+            stats: StepStats::default(),
+            scratch: Scratch::default(),
+            rules: RulesModel::DEFAULT,
+        };
+        for s in 0..m.front.slots.len() as SlotId {
+            m.push(s);
+        }
+        m
+    }
+
+    /// The mesh so far (unsmoothed).
+    pub fn mesh(&self) -> &QuadMesh {
+        &self.mesh
+    }
+    /// The front.
+    pub fn front(&self) -> &Front {
+        &self.front
+    }
+    pub fn boundary(&self) -> &Boundary {
+        &self.boundary
+    }
+    pub fn params(&self) -> &MeshParams {
+        &self.params
+    }
+    pub fn model(&self) -> &Arc<dyn Model> {
+        &self.model
+    }
+    pub fn stats(&self) -> &StepStats {
+        &self.stats
+    }
+    /// Steps taken so far.
+    pub fn steps(&self) -> usize {
+        self.history.len()
+    }
+    /// True when the front is empty.
+    pub fn is_done(&self) -> bool {
+        self.front.is_empty()
+    }
+
+    /// Checks the front and the partial mesh.
+    pub fn check_invariants(&self) -> Result<(), crate::mesh::InvariantError> {
+        self.front
+            .check_invariants(&self.mesh.nodes)
+            .map_err(crate::mesh::InvariantError::Front)?;
+        self.mesh.check_invariants(self.is_done())
+    }
+
+    fn limits(&self) -> Limits {
+        Limits {
+            min_corner: self.params.min_corner.to_radians(),
+            max_corner: self.params.max_corner.to_radians(),
+            min_front: self.params.min_front_angle.to_radians(),
+        }
+    }
+
+    fn leading_n(&self) -> usize {
+        self.model
+            .leading_points()
+            .unwrap_or(self.params.leading_points)
+            .max(2)
+    }
+
+    /// (Re)queues slot `s` if its angle makes it a reference point.
+    fn push(&mut self, s: SlotId) {
+        let i = s as usize;
+        if self.version.len() <= i {
+            self.version.resize(i + 1, 0);
+        }
+        self.version[i] = self.version[i].wrapping_add(1);
+        let sl = *self.front.slot(s);
+        if !sl.alive {
+            return;
+        }
+        let a = self.front.angle(s, &self.mesh.nodes).to_degrees();
+        let [lo, hi] = self.params.reference_angle;
+        let class = if a < lo {
+            0
+        } else if a <= hi {
+            1
+        } else {
+            return;
+        };
+        self.seq += 1;
+        let layer = match self.params.strategy {
+            Strategy::A => 0,
+            Strategy::B => sl.layer,
+        };
+        self.queue.push(Entry {
+            class,
+            layer,
+            seq: self.seq,
+            slot: s,
+            version: self.version[i],
+        });
+    }
+
+    fn world(&self, s: SlotId) -> Point {
+        self.mesh.nodes[self.front.node(s) as usize]
+    }
+
+    /// Leading slots `l_N..l1, P0, r1..r_N` of reference slot `s`.
+    fn leading_slots(&self, s: SlotId, n: usize) -> Vec<SlotId> {
+        let mut v = vec![s; 2 * n + 1];
+        let (mut l, mut r) = (s, s);
+        for k in 1..=n {
+            l = self.front.prev(l);
+            r = self.front.next(r);
+            v[n - k] = l;
+            v[n + k] = r;
+        }
+        v
+    }
+
+    fn normalised(&self, slots: &[SlotId]) -> (Frame, LeadingPoints) {
+        let n = slots.len() / 2;
+        let p0 = self.world(slots[n]);
+        let frame = Frame::new(p0, self.world(slots[n + 1]));
+        let left: Vec<Point> = (1..=n).map(|k| self.world(slots[n - k])).collect();
+        let right: Vec<Point> = (1..=n).map(|k| self.world(slots[n + k])).collect();
+        (frame, LeadingPoints::normalise(&frame, &left, &right))
+    }
+
+    /// The guard on one candidate.
+    fn check(&mut self, c: Cand, limits: Limits) -> bool {
+        let f = &self.front;
+        let n = self.front.loop_len(match c {
+            Cand::New { s, .. } | Cand::Snap { s, .. } | Cand::Right { s } | Cand::Left { s } => s,
+        });
+        let (corners, consumed): ([Corner; 4], Vec<SlotId>) = match c {
+            Cand::New { s, pn } => {
+                let (l, r) = (f.prev(s), f.next(s));
+                (
+                    [
+                        Corner::Full(s),
+                        Corner::Partial(r),
+                        Corner::New(pn),
+                        Corner::Partial(l),
+                    ],
+                    vec![l, s],
+                )
+            }
+            Cand::Snap { s, q } => {
+                let (l, r) = (f.prev(s), f.next(s));
+                if q == s || q == l || q == r || q == f.next(r) || q == f.prev(l) {
+                    return false;
+                }
+                (
+                    [
+                        Corner::Full(s),
+                        Corner::Partial(r),
+                        Corner::Partial(q),
+                        Corner::Partial(l),
+                    ],
+                    vec![l, s],
+                )
+            }
+            Cand::Right { s } => {
+                if n < 6 {
+                    return false;
+                }
+                let (l, r) = (f.prev(s), f.next(s));
+                let r2 = f.next(r);
+                (
+                    [
+                        Corner::Full(s),
+                        Corner::Full(r),
+                        Corner::Partial(r2),
+                        Corner::Partial(l),
+                    ],
+                    vec![l, s, r],
+                )
+            }
+            Cand::Left { s } => {
+                if n < 6 {
+                    return false;
+                }
+                let (l, r) = (f.prev(s), f.next(s));
+                let l2 = f.prev(l);
+                (
+                    [
+                        Corner::Full(s),
+                        Corner::Partial(r),
+                        Corner::Partial(l2),
+                        Corner::Full(l),
+                    ],
+                    vec![l2, l, s],
+                )
+            }
+        };
+        let Some(p) = guard::check(
+            f,
+            &self.mesh.nodes,
+            corners,
+            &consumed,
+            limits,
+            &mut self.scratch,
+        ) else {
+            return false;
+        };
+        if let Cand::Snap { s, q } = c {
+            // The quad's corner at X must sit inside X's front wedge with
+            // room on both sides, and a split must leave two even loops.
+            let x = p[2];
+            let (qn, qp) = (self.world(f.next(q)), self.world(f.prev(q)));
+            let a1 = ccw_angle(x, qn, p[3]);
+            let a2 = ccw_angle(x, p[1], qp);
+            let corner = ccw_angle(x, p[3], p[1]);
+            let wedge = f.angle(q, &self.mesh.nodes);
+            if (a1 + corner + a2 - wedge).abs() > 1e-9
+                || a1 < limits.min_front
+                || a2 < limits.min_front
+            {
+                return false;
+            }
+            if f.slot(q).loop_id == f.slot(s).loop_id {
+                let d = self.loop_distance(s, q);
+                if d % 2 == 1 || d < 4 || n - d < 4 {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Shorter distance along the loop between two slots of one loop.
+    fn loop_distance(&self, a: SlotId, b: SlotId) -> usize {
+        let n = self.front.loop_len(a);
+        let (mut x, mut y) = (a, a);
+        for k in 1..=n / 2 {
+            x = self.front.next(x);
+            y = self.front.prev(y);
+            if x == b || y == b {
+                return k;
+            }
+        }
+        n
+    }
+
+    /// The nearest front node to `p` within `radius` (excluding the reference
+    /// point's own neighbours), as a slot.
+    fn snap_target(&mut self, s: SlotId, p: Point, radius: f64) -> Option<SlotId> {
+        let r = Point::splat(radius);
+        self.front.edges_near(p - r, p + r, &mut self.scratch.near);
+        let own = [s, self.front.prev(s), self.front.next(s)];
+        let mut best: Option<(f64, SlotId)> = None;
+        for &e in &self.scratch.near {
+            if own.contains(&e) {
+                continue;
+            }
+            let d = self.world(e).distance(p);
+            if d <= radius && best.is_none_or(|(bd, _)| d < bd) {
+                best = Some((d, e));
+            }
+        }
+        best.map(|(_, e)| e)
+    }
+
+    /// Candidate list at reference slot `s`, model first, then remedies.
+    fn candidates(&mut self, s: SlotId, pred: Prediction, frame: &Frame) -> Vec<(Cand, Remedy)> {
+        let f = &self.front;
+        let h = 0.5 * (self.world(s).distance(self.world(f.prev(s))) + frame.scale);
+        let mut out = Vec::with_capacity(8);
+        let pn_world = frame.to_world(pred.pn);
+        let model_cand = match pred.element_type {
+            ElementType::New => Cand::New { s, pn: pn_world },
+            ElementType::Right => Cand::Right { s },
+            ElementType::Left => Cand::Left { s },
+        };
+        if self.params.pure_model {
+            return vec![(model_cand, Remedy::None)];
+        }
+        let snap_pn = match pred.element_type {
+            ElementType::New => Some(pn_world),
+            _ => None,
+        };
+        if let Some(pn) = snap_pn {
+            if let Some(q) = self.snap_target(s, pn, self.params.snap_radius * h) {
+                out.push((Cand::Snap { s, q }, Remedy::Snapped));
+            }
+        }
+        out.push((model_cand, Remedy::None));
+        for t in [Cand::Right { s }, Cand::Left { s }] {
+            if t != model_cand {
+                out.push((t, Remedy::OtherType));
+            }
+        }
+        // Corrected Pn: the rule-based position, and the same nearer in.
+        let l1 = frame.to_local(self.world(self.front.prev(s)));
+        let pg = rules::parallelogram(l1, Point::X);
+        for scale in [1.0, 0.7] {
+            let pn = frame.to_world(pg * scale);
+            out.push((Cand::New { s, pn }, Remedy::CorrectedPn));
+        }
+        if pred.element_type != ElementType::New {
+            if let Some(q) = self.snap_target(s, frame.to_world(pg), self.params.snap_radius * h) {
+                out.push((Cand::Snap { s, q }, Remedy::Snapped));
+            }
+        }
+        out
+    }
+
+    /// Takes one step: closes a small loop, or cuts one element, or (when no
+    /// reference point works) cuts a square, splits a loop, or fails.
+    pub fn step(&mut self) -> Result<StepOutcome, MeshError> {
+        if self.front.is_empty() {
+            return Ok(StepOutcome::Done);
+        }
+        if self.history.len() >= self.step_limit {
+            return Err(MeshError::StepLimit {
+                limit: self.step_limit,
+                remaining: self.front.len(),
+            });
+        }
+        let r = self.auto_step()?;
+        self.history.push(Action::Auto);
+        self.stats.record(&r);
+        Ok(StepOutcome::Stepped(Box::new(r)))
+    }
+
+    fn report(&self, kind: StepKind) -> StepReport {
+        StepReport {
+            index: self.history.len(),
+            kind,
+            reference: None,
+            leading: Vec::new(),
+            prediction: None,
+            predicted_pn: None,
+            element_type: None,
+            remedy: Remedy::NotApplicable,
+            skipped: 0,
+            pattern: None,
+            quads: Vec::new(),
+            new_nodes: Vec::new(),
+        }
+    }
+
+    fn auto_step(&mut self) -> Result<StepReport, MeshError> {
+        // 1. Small loops close first.
+        let small: Vec<u32> = self
+            .front
+            .live_loops()
+            .filter(|&l| self.front.loops[l as usize].len <= 6)
+            .collect();
+        for lid in small {
+            if let Some(r) = self.close_small(lid) {
+                return Ok(r);
+            }
+        }
+        // 2. Reference points in queue order.
+        let limits = self.limits();
+        let mut skipped = 0;
+        while let Some(e) = self.queue.pop() {
+            let i = e.slot as usize;
+            if !self.front.slot(e.slot).alive || self.version[i] != e.version {
+                continue;
+            }
+            if let Some(mut r) = self.try_reference(e.slot, limits)? {
+                r.skipped = skipped;
+                return Ok(r);
+            }
+            skipped += 1;
+        }
+        // 3. No reference point: a square on the shortest front edge.
+        if let Some(mut r) = self.square_cut(limits) {
+            r.skipped = skipped;
+            return Ok(r);
+        }
+        // 4. A rule-based element with relaxed limits, anywhere.
+        let relaxed = Limits {
+            min_corner: 10f64.to_radians(),
+            max_corner: 170f64.to_radians(),
+            min_front: 5f64.to_radians(),
+        };
+        let all: Vec<SlotId> = self
+            .front
+            .live_loops()
+            .flat_map(|l| self.front.loop_slots(l))
+            .collect();
+        for &s in &all {
+            let a = self.front.angle(s, &self.mesh.nodes);
+            if a >= PI {
+                continue;
+            }
+            let slots = self.leading_slots(s, 2);
+            let (frame, input) = self.normalised(&slots);
+            let pred = self.rules.predict(&input);
+            for (c, _) in self.candidates(s, pred, &frame) {
+                if self.check(c, relaxed) {
+                    let mut r = self.commit(c, StepKind::Element);
+                    r.reference = Some(self.front.node(s));
+                    r.remedy = Remedy::RuleBased;
+                    r.skipped = skipped;
+                    return Ok(r);
+                }
+            }
+        }
+        // 5. Split a loop along a chord.
+        let mut loops: Vec<u32> = self.front.live_loops().collect();
+        loops.sort_by_key(|&l| self.front.loops[l as usize].len);
+        for lid in loops {
+            if let Some(r) = self.chord_split(lid) {
+                return Ok(r);
+            }
+        }
+        let lid = self.front.live_loops().next().unwrap_or(0);
+        let head = self.front.loops[lid as usize].head;
+        Err(MeshError::Stuck {
+            loop_index: lid,
+            node: self.front.node(head),
+        })
+    }
+
+    /// Model prediction and remedies at one reference slot.
+    fn try_reference(
+        &mut self,
+        s: SlotId,
+        limits: Limits,
+    ) -> Result<Option<StepReport>, MeshError> {
+        let n = self.leading_n();
+        let slots = self.leading_slots(s, n);
+        let (frame, input) = self.normalised(&slots);
+        let pred = self.model.predict(&input);
+        let pred = if pred.pn.is_finite() {
+            pred
+        } else {
+            Prediction {
+                pn: Point::new(1.0, 1.0),
+                ..pred
+            }
+        };
+        for (c, remedy) in self.candidates(s, pred, &frame) {
+            if self.check(c, limits) {
+                let leading: Vec<u32> = slots.iter().map(|&t| self.front.node(t)).collect();
+                let mut r = self.commit(c, StepKind::Element);
+                r.reference = Some(leading[n]);
+                r.leading = leading;
+                r.prediction = Some(pred);
+                r.predicted_pn = Some(frame.to_world(pred.pn));
+                r.remedy = remedy;
+                return Ok(Some(r));
+            }
+            if self.params.pure_model {
+                return Err(MeshError::ModelRejected {
+                    node: self.front.node(s),
+                });
+            }
+        }
+        Ok(None)
+    }
+
+    fn add_node(&mut self, p: Point) -> u32 {
+        self.mesh.nodes.push(p);
+        (self.mesh.nodes.len() - 1) as u32
+    }
+
+    /// Commits a checked candidate and requeues the slots it touched.
+    fn commit(&mut self, c: Cand, kind: StepKind) -> StepReport {
+        let mut r = self.report(kind);
+        let f = &self.front;
+        let touched: Vec<SlotId>;
+        match c {
+            Cand::New { s, pn } => {
+                let (l, rr) = (f.prev(s), f.next(s));
+                let layer = f.slot(s).layer + 1;
+                let (p0, r1, l1) = (f.node(s), f.node(rr), f.node(l));
+                let v = self.add_node(pn);
+                self.mesh.quads.push([p0, r1, v, l1]);
+                self.front.replace_node(s, v, layer, &self.mesh.nodes);
+                r.new_nodes.push(v);
+                r.element_type = Some(ElementType::New);
+                touched = vec![s, rr, l];
+            }
+            Cand::Snap { s, q } => {
+                let (l, rr) = (f.prev(s), f.next(s));
+                let (qp, qn) = (f.prev(q), f.next(q));
+                let (p0, r1, l1, x) = (f.node(s), f.node(rr), f.node(l), f.node(q));
+                let layer = f.slot(s).layer + 1;
+                self.mesh.quads.push([p0, r1, x, l1]);
+                self.front.replace_node(s, x, layer, &self.mesh.nodes);
+                self.front.exchange_successors(s, q, &self.mesh.nodes);
+                r.element_type = Some(ElementType::New);
+                touched = vec![s, q, rr, l, qp, qn];
+            }
+            Cand::Right { s } => {
+                let (l, rr) = (f.prev(s), f.next(s));
+                let r2 = f.next(rr);
+                self.mesh
+                    .quads
+                    .push([f.node(s), f.node(rr), f.node(r2), f.node(l)]);
+                self.front.remove_pair(s, &self.mesh.nodes);
+                r.element_type = Some(ElementType::Right);
+                touched = vec![r2, l];
+            }
+            Cand::Left { s } => {
+                let (l, rr) = (f.prev(s), f.next(s));
+                let l2 = f.prev(l);
+                self.mesh
+                    .quads
+                    .push([f.node(s), f.node(rr), f.node(l2), f.node(l)]);
+                self.front.remove_pair(l, &self.mesh.nodes);
+                r.element_type = Some(ElementType::Left);
+                touched = vec![rr, l2];
+            }
+        }
+        if let Some(q) = self.mesh.quads.last() {
+            r.quads.push(*q);
+        }
+        for s in touched {
+            self.push(s);
+        }
+        r
+    }
+
+    /// Closes a loop of 4 or 6 slots, if a valid closure exists.
+    fn close_small(&mut self, lid: u32) -> Option<StepReport> {
+        let slots = self.front.loop_slots(lid);
+        let nodes: Vec<u32> = slots.iter().map(|&s| self.front.node(s)).collect();
+        let pts: Vec<Point> = nodes.iter().map(|&v| self.mesh.nodes[v as usize]).collect();
+        let mut uniq = nodes.clone();
+        uniq.sort_unstable();
+        uniq.dedup();
+        if uniq.len() != nodes.len() {
+            return None; // a pinched loop: leave it to extraction
+        }
+        match slots.len() {
+            4 => {
+                let q = [pts[0], pts[1], pts[2], pts[3]];
+                if !(0..4).all(|k| crate::geom::orient(q[(k + 3) % 4], q[k], q[(k + 1) % 4]) > 0.0)
+                {
+                    return None;
+                }
+                if !self.loop_is_clear(&slots, &pts) {
+                    return None;
+                }
+                let mut r = self.report(StepKind::Close4);
+                let quad = [nodes[0], nodes[1], nodes[2], nodes[3]];
+                self.mesh.quads.push(quad);
+                self.front.remove_loop(lid, &self.mesh.nodes);
+                r.quads.push(quad);
+                Some(r)
+            }
+            6 => {
+                let p6: [Point; 6] = std::array::from_fn(|k| pts[k]);
+                let fill = closure::fill_six(&p6)?;
+                if !self.loop_is_clear(&slots, &pts) {
+                    return None;
+                }
+                if let Some(c) = fill.interior {
+                    if !crate::geom::point_in_polygon(c, &pts) {
+                        return None;
+                    }
+                }
+                let mut r = self.report(StepKind::Close6);
+                r.pattern = Some(fill.pattern);
+                let centre = fill.interior.map(|c| self.add_node(c));
+                if let Some(c) = centre {
+                    r.new_nodes.push(c);
+                }
+                for q in &fill.quads {
+                    let quad = q.map(|i| {
+                        if i == 6 {
+                            centre.unwrap_or(0)
+                        } else {
+                            nodes[i]
+                        }
+                    });
+                    self.mesh.quads.push(quad);
+                    r.quads.push(quad);
+                }
+                self.front.remove_loop(lid, &self.mesh.nodes);
+                Some(r)
+            }
+            _ => None,
+        }
+    }
+
+    /// No other front edge or node lies inside the loop `slots` (e.g. a hole
+    /// not yet joined).
+    fn loop_is_clear(&mut self, slots: &[SlotId], pts: &[Point]) -> bool {
+        let lo = pts
+            .iter()
+            .fold(Point::splat(f64::INFINITY), |a, &b| a.min(b));
+        let hi = pts
+            .iter()
+            .fold(Point::splat(f64::NEG_INFINITY), |a, &b| a.max(b));
+        self.front.edges_near(lo, hi, &mut self.scratch.near);
+        let lid = self.front.slot(slots[0]).loop_id;
+        self.scratch.near.iter().all(|&e| {
+            self.front.slot(e).loop_id == lid
+                || !crate::geom::point_in_polygon(self.mesh.nodes[self.front.node(e) as usize], pts)
+        })
+    }
+
+    /// A square element on the shortest front edge whose square fits
+    /// (thesis §5.1: no front node qualifies as a reference point).
+    fn square_cut(&mut self, limits: Limits) -> Option<StepReport> {
+        let mut edges: Vec<(f64, SlotId)> = self
+            .front
+            .live_loops()
+            .flat_map(|l| self.front.loop_slots(l))
+            .map(|s| (self.world(s).distance(self.world(self.front.next(s))), s))
+            .collect();
+        edges.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for &(len, s) in edges.iter().take(64) {
+            let t = self.front.next(s);
+            let (a, b) = (self.world(s), self.world(t));
+            let up = (b - a).perp() / len;
+            for height in [1.0, 0.7, 0.5] {
+                let (a2, b2) = (a + up * len * height, b + up * len * height);
+                let corners = [
+                    Corner::Partial(s),
+                    Corner::Partial(t),
+                    Corner::New(b2),
+                    Corner::New(a2),
+                ];
+                if guard::check(
+                    &self.front,
+                    &self.mesh.nodes,
+                    corners,
+                    &[s],
+                    limits,
+                    &mut self.scratch,
+                )
+                .is_some()
+                {
+                    let mut r = self.report(StepKind::Square);
+                    let layer = self.front.slot(s).layer.max(self.front.slot(t).layer) + 1;
+                    let va = self.add_node(a2);
+                    let vb = self.add_node(b2);
+                    let quad = [self.front.node(s), self.front.node(t), vb, va];
+                    self.mesh.quads.push(quad);
+                    let ids = self
+                        .front
+                        .insert_after(s, &[va, vb], layer, &self.mesh.nodes);
+                    r.quads.push(quad);
+                    r.new_nodes = vec![va, vb];
+                    r.reference = Some(self.front.node(s));
+                    for x in [s, ids[0], ids[1], t] {
+                        self.push(x);
+                    }
+                    return Some(r);
+                }
+            }
+        }
+        None
+    }
+
+    /// Splits a loop along an interior chord into two even loops (the
+    /// splitting-line rule of the extension of TP, thesis §1.3.2): both
+    /// ends' angles split as close to 90° as possible, the chord visible
+    /// and inside, with new nodes spaced like the front.
+    fn chord_split(&mut self, lid: u32) -> Option<StepReport> {
+        let slots = self.front.loop_slots(lid);
+        let n = slots.len();
+        if n < 4 {
+            return None;
+        }
+        let min_part = 20f64.to_radians();
+        let mut best: Option<(f64, SlotId, SlotId, usize)> = None;
+        let stride = (n / 200).max(1);
+        for i in (0..n).step_by(stride) {
+            for j in (i + 2..n).step_by(stride) {
+                if i == 0 && j == n - 1 {
+                    continue;
+                }
+                let (a, b) = (slots[i], slots[j]);
+                if self.front.node(a) == self.front.node(b) {
+                    continue;
+                }
+                let (pa, pb) = (self.world(a), self.world(b));
+                let mut score = 0.0;
+                let mut ok = true;
+                for (s, other) in [(a, pb), (b, pa)] {
+                    let p = self.world(s);
+                    let wedge = self.front.angle(s, &self.mesh.nodes);
+                    let part1 = ccw_angle(p, self.world(self.front.next(s)), other);
+                    let part2 = wedge - part1;
+                    if part1 < min_part || part2 < min_part {
+                        ok = false;
+                        break;
+                    }
+                    score += (part1 - PI / 2.0).abs() + (part2 - PI / 2.0).abs();
+                }
+                if !ok {
+                    continue;
+                }
+                let len = pa.distance(pb);
+                let h = 0.25
+                    * (pa.distance(self.world(self.front.next(a)))
+                        + pa.distance(self.world(self.front.prev(a)))
+                        + pb.distance(self.world(self.front.next(b)))
+                        + pb.distance(self.world(self.front.prev(b))));
+                let d = j - i;
+                let mut k = ((len / h).round() as usize).saturating_sub(1);
+                if (d + 1 + k) % 2 == 1 {
+                    k += 1;
+                }
+                if k == 0 && (d + 1 < 4 || n - d + 1 < 4) {
+                    k = 2;
+                }
+                score += 0.5 * ((len / (k + 1) as f64) / h - 1.0).abs();
+                if best.is_some_and(|(bs, ..)| score >= bs) {
+                    continue;
+                }
+                if !self.chord_clear(a, b) {
+                    continue;
+                }
+                best = Some((score, a, b, k));
+            }
+        }
+        let (_, a, b, k) = best?;
+        let (pa, pb) = (self.world(a), self.world(b));
+        let (na, nb) = (self.front.node(a), self.front.node(b));
+        let layer = self.front.slot(a).layer.max(self.front.slot(b).layer) + 1;
+        let mut r = self.report(StepKind::Split);
+        r.reference = Some(na);
+        let chord: Vec<u32> = (1..=k)
+            .map(|t| self.add_node(pa.lerp(pb, t as f64 / (k + 1) as f64)))
+            .collect();
+        r.new_nodes = chord.clone();
+        let mut seq = chord.clone();
+        seq.push(nb);
+        seq.extend(chord.iter().rev());
+        seq.push(na);
+        let ids = self.front.insert_after(a, &seq, layer, &self.mesh.nodes);
+        let b_star = ids[k];
+        self.front.exchange_successors(b_star, b, &self.mesh.nodes);
+        let mut touched = vec![a, b, b_star, ids[ids.len() - 1]];
+        touched.extend(ids.iter().copied());
+        for s in touched {
+            self.push(s);
+        }
+        Some(r)
+    }
+
+    /// The open segment between slots `a` and `b` meets no front edge.
+    fn chord_clear(&mut self, a: SlotId, b: SlotId) -> bool {
+        let (pa, pb) = (self.world(a), self.world(b));
+        let (na, nb) = (self.front.node(a), self.front.node(b));
+        self.front
+            .edges_near(pa.min(pb), pa.max(pb), &mut self.scratch.near);
+        for &e in &self.scratch.near {
+            let (c, d) = (self.front.node(e), self.front.node(self.front.next(e)));
+            if c == na || c == nb || d == na || d == nb {
+                continue;
+            }
+            let (pc, pd) = (self.mesh.nodes[c as usize], self.mesh.nodes[d as usize]);
+            if crate::geom::segments_intersect(pa, pb, pc, pd) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Commits an element chosen by the user at reference node `c.reference`.
+    pub fn correct(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
+        let r = self.apply_correction(c)?;
+        self.history.push(Action::Correction(c.clone()));
+        self.stats.record(&r);
+        Ok(r)
+    }
+
+    fn apply_correction(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
+        let s = self
+            .front
+            .live_loops()
+            .flat_map(|l| self.front.loop_slots(l))
+            .find(|&s| self.front.node(s) == c.reference)
+            .ok_or(MeshError::NotOnFront { node: c.reference })?;
+        let cand = match (c.element_type, c.snap_to, c.pn) {
+            (ElementType::Right, ..) => Cand::Right { s },
+            (ElementType::Left, ..) => Cand::Left { s },
+            (ElementType::New, Some(x), _) => {
+                let q = self
+                    .front
+                    .live_loops()
+                    .flat_map(|l| self.front.loop_slots(l))
+                    .find(|&q| self.front.node(q) == x)
+                    .ok_or(MeshError::NotOnFront { node: x })?;
+                Cand::Snap { s, q }
+            }
+            (ElementType::New, None, Some(pn)) => Cand::New { s, pn },
+            (ElementType::New, None, None) => {
+                return Err(MeshError::InvalidCorrection { node: c.reference })
+            }
+        };
+        let relaxed = Limits {
+            min_corner: 1e-6,
+            max_corner: PI - 1e-6,
+            min_front: 1e-6,
+        };
+        if !self.check(cand, relaxed) {
+            return Err(MeshError::InvalidCorrection { node: c.reference });
+        }
+        let mut r = self.commit(cand, StepKind::Correction);
+        r.reference = Some(c.reference);
+        Ok(r)
+    }
+
+    /// Runs to the end; `progress` is called after every step with the
+    /// number of front nodes left.
+    pub fn run(&mut self, mut progress: impl FnMut(usize)) -> Result<(), MeshError> {
+        while let StepOutcome::Stepped(_) = self.step()? {
+            progress(self.front.len());
+        }
+        Ok(())
+    }
+
+    /// Undoes the last step by replaying all the others from the start
+    /// (steps are deterministic). Returns false when there is nothing to undo.
+    pub fn undo(&mut self) -> bool {
+        let Some(_) = self.history.pop() else {
+            return false;
+        };
+        let actions = std::mem::take(&mut self.history);
+        let mut fresh = Mesher::new(
+            self.boundary.clone(),
+            self.model.clone(),
+            self.params.clone(),
+        );
+        for a in actions {
+            let ok = match &a {
+                Action::Auto => fresh.step().is_ok(),
+                Action::Correction(c) => fresh.correct(c).is_ok(),
+            };
+            debug_assert!(ok, "replay diverged");
+        }
+        *self = fresh;
+        true
+    }
+
+    /// The finished mesh, smoothed as the parameters say. Call after
+    /// [`Mesher::run`]; an unfinished mesh is returned as it stands.
+    pub fn finish(&self) -> QuadMesh {
+        let mut mesh = self.mesh.clone();
+        smooth(&mut mesh, &self.params.smooth);
+        mesh
+    }
+}
+
+/// Meshes a boundary to the end with `model` and `params`: extraction, then
+/// smoothing. Returns the mesh and the step counts.
+pub fn mesh_boundary(
+    boundary: &Boundary,
+    model: Arc<dyn Model>,
+    params: &MeshParams,
+    progress: impl FnMut(usize),
+) -> Result<(QuadMesh, StepStats), MeshError> {
+    let mut m = Mesher::new(boundary.clone(), model, params.clone());
+    m.run(progress)?;
+    Ok((m.finish(), m.stats.clone()))
+}

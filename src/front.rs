@@ -1,0 +1,479 @@
+//! The advancing front (method §2): the loops bounding the region not yet
+//! meshed, as doubly linked rings of *slots*. A slot is one occurrence of a
+//! node on the front, so a node where a loop was pinched (after a snap that
+//! split a loop or joined a hole) can stand on the front twice.
+//!
+//! A uniform grid over the front edges answers "which front edges are near
+//! this box" in time independent of the front's length, so a step costs the
+//! same whether the front has ten nodes or ten thousand.
+
+use crate::geom::{ccw_angle, Aabb, Point};
+
+/// Slot id.
+pub type SlotId = u32;
+/// No slot.
+pub const NONE: SlotId = u32::MAX;
+
+/// One occurrence of a node on the front.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slot {
+    pub node: u32,
+    pub next: SlotId,
+    pub prev: SlotId,
+    /// Loop id (index into [`Front::loops`]).
+    pub loop_id: u32,
+    /// Front layer: 0 on the boundary, one more for each row inwards.
+    pub layer: u32,
+    pub alive: bool,
+}
+
+/// A front loop.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrontLoop {
+    /// Some slot of the loop (any one).
+    pub head: SlotId,
+    pub len: usize,
+    pub alive: bool,
+}
+
+/// Uniform grid of front edges, each edge filed under its start slot in
+/// every cell its bounding box touches.
+#[derive(Clone, Debug)]
+struct EdgeGrid {
+    origin: Point,
+    inv_cell: f64,
+    nx: usize,
+    ny: usize,
+    cells: Vec<Vec<SlotId>>,
+}
+
+impl EdgeGrid {
+    fn new(bb: Aabb, cell: f64, max_cells: usize) -> EdgeGrid {
+        let size = bb.size().max(Point::splat(cell));
+        let mut cell = cell.max(size.max_element() * 1e-6);
+        while (size.x / cell).ceil() * (size.y / cell).ceil() > max_cells as f64 {
+            cell *= 1.5;
+        }
+        let nx = ((size.x / cell).ceil() as usize).max(1);
+        let ny = ((size.y / cell).ceil() as usize).max(1);
+        EdgeGrid {
+            origin: bb.min,
+            inv_cell: 1.0 / cell,
+            nx,
+            ny,
+            cells: vec![Vec::new(); nx * ny],
+        }
+    }
+
+    #[inline]
+    fn cell_range(&self, lo: Point, hi: Point) -> (usize, usize, usize, usize) {
+        let f = |v: f64, n: usize| (v.max(0.0) as usize).min(n - 1);
+        let a = (lo - self.origin) * self.inv_cell;
+        let b = (hi - self.origin) * self.inv_cell;
+        (
+            f(a.x, self.nx),
+            f(a.y, self.ny),
+            f(b.x, self.nx),
+            f(b.y, self.ny),
+        )
+    }
+
+    fn insert(&mut self, s: SlotId, a: Point, b: Point) {
+        let (x0, y0, x1, y1) = self.cell_range(a.min(b), a.max(b));
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                self.cells[y * self.nx + x].push(s);
+            }
+        }
+    }
+
+    fn remove(&mut self, s: SlotId, a: Point, b: Point) {
+        let (x0, y0, x1, y1) = self.cell_range(a.min(b), a.max(b));
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                let c = &mut self.cells[y * self.nx + x];
+                if let Some(k) = c.iter().position(|&t| t == s) {
+                    c.swap_remove(k);
+                }
+            }
+        }
+    }
+
+    fn query(&self, lo: Point, hi: Point, out: &mut Vec<SlotId>) {
+        out.clear();
+        let (x0, y0, x1, y1) = self.cell_range(lo, hi);
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                out.extend_from_slice(&self.cells[y * self.nx + x]);
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+    }
+}
+
+/// The front: loops of slots over the mesh's nodes.
+#[derive(Clone, Debug)]
+pub struct Front {
+    pub slots: Vec<Slot>,
+    pub loops: Vec<FrontLoop>,
+    grid: EdgeGrid,
+    alive: usize,
+}
+
+impl Front {
+    /// The initial front: one loop per boundary loop. `nodes` are the
+    /// positions; the grid's cells are about `cell` wide.
+    pub fn new(loops: &[Vec<u32>], nodes: &[Point], cell: f64) -> Front {
+        let bb = Aabb::of(nodes.iter().copied()).unwrap_or(Aabb {
+            min: Point::ZERO,
+            max: Point::ONE,
+        });
+        let total: usize = loops.iter().map(Vec::len).sum();
+        let max_cells = (64 * total).clamp(4096, 4_000_000);
+        let mut f = Front {
+            slots: Vec::with_capacity(total * 2),
+            loops: Vec::new(),
+            grid: EdgeGrid::new(bb, cell, max_cells),
+            alive: 0,
+        };
+        for l in loops {
+            let first = f.slots.len() as SlotId;
+            let n = l.len() as SlotId;
+            let lid = f.loops.len() as u32;
+            for (k, &node) in l.iter().enumerate() {
+                let k = k as SlotId;
+                f.slots.push(Slot {
+                    node,
+                    next: first + (k + 1) % n,
+                    prev: first + (k + n - 1) % n,
+                    loop_id: lid,
+                    layer: 0,
+                    alive: true,
+                });
+            }
+            f.loops.push(FrontLoop {
+                head: first,
+                len: l.len(),
+                alive: true,
+            });
+            f.alive += l.len();
+        }
+        for s in 0..f.slots.len() as SlotId {
+            f.grid_insert(s, nodes);
+        }
+        f
+    }
+
+    /// Number of slots on the front.
+    pub fn len(&self) -> usize {
+        self.alive
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.alive == 0
+    }
+
+    #[inline]
+    pub fn slot(&self, s: SlotId) -> &Slot {
+        &self.slots[s as usize]
+    }
+    #[inline]
+    pub fn next(&self, s: SlotId) -> SlotId {
+        self.slots[s as usize].next
+    }
+    #[inline]
+    pub fn prev(&self, s: SlotId) -> SlotId {
+        self.slots[s as usize].prev
+    }
+    #[inline]
+    pub fn node(&self, s: SlotId) -> u32 {
+        self.slots[s as usize].node
+    }
+
+    /// The slot `k` steps along the loop (negative: backwards).
+    pub fn walk(&self, mut s: SlotId, k: isize) -> SlotId {
+        if k >= 0 {
+            for _ in 0..k {
+                s = self.next(s);
+            }
+        } else {
+            for _ in 0..(-k) {
+                s = self.prev(s);
+            }
+        }
+        s
+    }
+
+    /// Length of the loop `s` belongs to.
+    pub fn loop_len(&self, s: SlotId) -> usize {
+        self.loops[self.slot(s).loop_id as usize].len
+    }
+
+    /// Interior angle of the front at slot `s` (radians, in `[0, 2π)`).
+    #[inline]
+    pub fn angle(&self, s: SlotId, nodes: &[Point]) -> f64 {
+        let sl = self.slot(s);
+        ccw_angle(
+            nodes[sl.node as usize],
+            nodes[self.node(sl.next) as usize],
+            nodes[self.node(sl.prev) as usize],
+        )
+    }
+
+    /// The live loops' ids.
+    pub fn live_loops(&self) -> impl Iterator<Item = u32> + '_ {
+        self.loops
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.alive)
+            .map(|(i, _)| i as u32)
+    }
+
+    /// The slots of a loop, in order from its head.
+    pub fn loop_slots(&self, lid: u32) -> Vec<SlotId> {
+        let l = self.loops[lid as usize];
+        let mut v = Vec::with_capacity(l.len);
+        let mut s = l.head;
+        for _ in 0..l.len {
+            v.push(s);
+            s = self.next(s);
+        }
+        v
+    }
+
+    /// Front edges (by start slot) whose bounding box may meet `[lo, hi]`.
+    pub fn edges_near(&self, lo: Point, hi: Point, out: &mut Vec<SlotId>) {
+        self.grid.query(lo, hi, out);
+    }
+
+    fn grid_insert(&mut self, s: SlotId, nodes: &[Point]) {
+        let (a, b) = (self.node(s), self.node(self.next(s)));
+        self.grid.insert(s, nodes[a as usize], nodes[b as usize]);
+    }
+
+    fn grid_remove(&mut self, s: SlotId, nodes: &[Point]) {
+        let (a, b) = (self.node(s), self.node(self.next(s)));
+        self.grid.remove(s, nodes[a as usize], nodes[b as usize]);
+    }
+
+    /// Type 0: the node at slot `s` is replaced by `node` (same loop).
+    pub fn replace_node(&mut self, s: SlotId, node: u32, layer: u32, nodes: &[Point]) {
+        let p = self.prev(s);
+        self.grid_remove(p, nodes);
+        self.grid_remove(s, nodes);
+        self.slots[s as usize].node = node;
+        self.slots[s as usize].layer = layer;
+        self.grid_insert(p, nodes);
+        self.grid_insert(s, nodes);
+    }
+
+    /// Removes the two consecutive slots `s` and `next(s)` (types 1 and 2).
+    pub fn remove_pair(&mut self, s: SlotId, nodes: &[Point]) {
+        let t = self.next(s);
+        let p = self.prev(s);
+        let n = self.next(t);
+        self.grid_remove(p, nodes);
+        self.grid_remove(s, nodes);
+        self.grid_remove(t, nodes);
+        self.slots[p as usize].next = n;
+        self.slots[n as usize].prev = p;
+        for k in [s, t] {
+            self.slots[k as usize].alive = false;
+        }
+        let lid = self.slot(p).loop_id as usize;
+        self.loops[lid].len -= 2;
+        self.loops[lid].head = p;
+        self.alive -= 2;
+        self.grid_insert(p, nodes);
+    }
+
+    /// Inserts new slots for `new_nodes` between `s` and `next(s)`; returns
+    /// their ids in order.
+    pub fn insert_after(
+        &mut self,
+        s: SlotId,
+        new_nodes: &[u32],
+        layer: u32,
+        nodes: &[Point],
+    ) -> Vec<SlotId> {
+        let n = self.next(s);
+        let lid = self.slot(s).loop_id;
+        self.grid_remove(s, nodes);
+        let mut prev = s;
+        let mut ids = Vec::with_capacity(new_nodes.len());
+        for &node in new_nodes {
+            let id = self.slots.len() as SlotId;
+            self.slots.push(Slot {
+                node,
+                next: NONE,
+                prev,
+                loop_id: lid,
+                layer,
+                alive: true,
+            });
+            self.slots[prev as usize].next = id;
+            prev = id;
+            ids.push(id);
+        }
+        self.slots[prev as usize].next = n;
+        self.slots[n as usize].prev = prev;
+        self.loops[lid as usize].len += new_nodes.len();
+        self.alive += new_nodes.len();
+        self.grid_insert(s, nodes);
+        for &id in &ids {
+            self.grid_insert(id, nodes);
+        }
+        ids
+    }
+
+    /// Removes a whole loop (it was closed by the final elements).
+    pub fn remove_loop(&mut self, lid: u32, nodes: &[Point]) {
+        for s in self.loop_slots(lid) {
+            self.grid_remove(s, nodes);
+            self.slots[s as usize].alive = false;
+        }
+        let l = &mut self.loops[lid as usize];
+        self.alive -= l.len;
+        l.len = 0;
+        l.alive = false;
+    }
+
+    /// Re-links two slots of the same node `a` and `b` so that `a` takes
+    /// `b`'s successor and `b` takes `a`'s: one loop through both becomes
+    /// two loops; two loops become one. Edges are unchanged in geometry.
+    /// Returns the loop ids of `a` and `b` afterwards.
+    pub fn exchange_successors(&mut self, a: SlotId, b: SlotId, nodes: &[Point]) -> (u32, u32) {
+        debug_assert_eq!(self.node(a), self.node(b));
+        self.grid_remove(a, nodes);
+        self.grid_remove(b, nodes);
+        let an = self.next(a);
+        let bn = self.next(b);
+        self.slots[a as usize].next = bn;
+        self.slots[bn as usize].prev = a;
+        self.slots[b as usize].next = an;
+        self.slots[an as usize].prev = b;
+        self.grid_insert(a, nodes);
+        self.grid_insert(b, nodes);
+        let la = self.slot(a).loop_id;
+        let lb = self.slot(b).loop_id;
+        if la == lb {
+            // Split: walk both new rings together; relabel the shorter.
+            let (mut x, mut y) = (self.next(a), self.next(b));
+            let (mut na, mut nb) = (1usize, 1usize);
+            loop {
+                if x == a {
+                    break;
+                }
+                if y == b {
+                    break;
+                }
+                x = self.next(x);
+                y = self.next(y);
+                na += 1;
+                nb += 1;
+            }
+            let total = self.loops[la as usize].len;
+            let (short, short_len) = if x == a { (a, na) } else { (b, nb) };
+            let new_id = self.loops.len() as u32;
+            self.loops.push(FrontLoop {
+                head: short,
+                len: short_len,
+                alive: true,
+            });
+            let mut s = short;
+            for _ in 0..short_len {
+                self.slots[s as usize].loop_id = new_id;
+                s = self.next(s);
+            }
+            let keep = if short == a { b } else { a };
+            self.loops[la as usize].len = total - short_len;
+            self.loops[la as usize].head = keep;
+            (self.slot(a).loop_id, self.slot(b).loop_id)
+        } else {
+            // Join: relabel the shorter loop into the longer one.
+            let (keep, gone) = if self.loops[la as usize].len >= self.loops[lb as usize].len {
+                (la, lb)
+            } else {
+                (lb, la)
+            };
+            let gone_len = self.loops[gone as usize].len;
+            let start = if la == gone { a } else { b };
+            // After the exchange the whole ring runs through both; relabel
+            // the slots that carried the old id.
+            let mut s = start;
+            let total = self.loops[keep as usize].len + gone_len;
+            for _ in 0..total {
+                if self.slots[s as usize].loop_id == gone {
+                    self.slots[s as usize].loop_id = keep;
+                }
+                s = self.next(s);
+            }
+            self.loops[keep as usize].len = total;
+            self.loops[gone as usize] = FrontLoop {
+                head: NONE,
+                len: 0,
+                alive: false,
+            };
+            (keep, keep)
+        }
+    }
+
+    /// Checks the front's structure: links are mutual, loop lengths and ids
+    /// match, no edge is degenerate, and the grid files every live edge.
+    pub fn check_invariants(&self, nodes: &[Point]) -> Result<(), String> {
+        let mut count = 0;
+        for lid in self.live_loops() {
+            let l = self.loops[lid as usize];
+            let mut s = l.head;
+            for k in 0..l.len {
+                let sl = self.slot(s);
+                if !sl.alive {
+                    return Err(format!("loop {lid}: slot {s} is dead"));
+                }
+                if sl.loop_id != lid {
+                    return Err(format!("loop {lid}: slot {s} says loop {}", sl.loop_id));
+                }
+                if self.prev(sl.next) != s {
+                    return Err(format!(
+                        "loop {lid}: slot {s} is not its successor's predecessor"
+                    ));
+                }
+                if self.node(sl.next) == sl.node {
+                    return Err(format!("loop {lid}: zero-length edge at node {}", sl.node));
+                }
+                let (a, b) = (nodes[sl.node as usize], nodes[self.node(sl.next) as usize]);
+                let mut near = Vec::new();
+                self.edges_near(a.min(b), a.max(b), &mut near);
+                if !near.contains(&s) {
+                    return Err(format!(
+                        "loop {lid}: edge from node {} missing from the grid",
+                        sl.node
+                    ));
+                }
+                s = sl.next;
+                if s == l.head && k + 1 != l.len {
+                    return Err(format!(
+                        "loop {lid}: closes after {} of {} slots",
+                        k + 1,
+                        l.len
+                    ));
+                }
+            }
+            if s != l.head {
+                return Err(format!("loop {lid}: does not close after {} slots", l.len));
+            }
+            if l.len % 2 != 0 {
+                return Err(format!("loop {lid}: odd length {}", l.len));
+            }
+            count += l.len;
+        }
+        if count != self.alive {
+            return Err(format!(
+                "{} live slots counted, {} recorded",
+                count, self.alive
+            ));
+        }
+        Ok(())
+    }
+}

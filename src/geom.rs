@@ -1,0 +1,182 @@
+//! Planar geometry shared by every algorithm: robust orientation tests,
+//! angles measured the way the thesis measures them (§2.1.2), segment
+//! intersection and polygon areas.
+
+use glam::DVec2;
+
+/// A point (or vector) in the plane.
+pub type Point = DVec2;
+
+/// Twice the signed area of the triangle `a, b, c`: positive when the turn
+/// `a → b → c` is counter-clockwise. Uses Shewchuk's adaptive predicate, so
+/// the sign is exact.
+#[inline]
+pub fn orient(a: Point, b: Point, c: Point) -> f64 {
+    robust::orient2d(
+        robust::Coord { x: a.x, y: a.y },
+        robust::Coord { x: b.x, y: b.y },
+        robust::Coord { x: c.x, y: c.y },
+    )
+}
+
+/// The counter-clockwise angle, in radians in `[0, 2π)`, that turns the
+/// direction `from − p` onto `to − p`.
+///
+/// With `from = P_r1` and `to = P_l1` this is the interior angle of the front
+/// at `p` (method §2.1): a square's corner gives π/2, a reflex corner more
+/// than π.
+#[inline]
+pub fn ccw_angle(p: Point, from: Point, to: Point) -> f64 {
+    let u = from - p;
+    let v = to - p;
+    let a = u.perp_dot(v).atan2(u.dot(v));
+    if a < 0.0 {
+        a + std::f64::consts::TAU
+    } else {
+        a
+    }
+}
+
+/// True when the closed segments `a–b` and `c–d` share at least one point.
+pub fn segments_intersect(a: Point, b: Point, c: Point, d: Point) -> bool {
+    let d1 = orient(c, d, a);
+    let d2 = orient(c, d, b);
+    let d3 = orient(a, b, c);
+    let d4 = orient(a, b, d);
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
+        return true;
+    }
+    (d1 == 0.0 && on_segment(c, d, a))
+        || (d2 == 0.0 && on_segment(c, d, b))
+        || (d3 == 0.0 && on_segment(a, b, c))
+        || (d4 == 0.0 && on_segment(a, b, d))
+}
+
+/// For a point `p` collinear with `a–b`: true when it lies within the segment.
+#[inline]
+fn on_segment(a: Point, b: Point, p: Point) -> bool {
+    p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
+}
+
+/// Signed area of a closed polygon given by its vertices (positive when CCW).
+pub fn polygon_area(pts: impl IntoIterator<Item = Point>) -> f64 {
+    let pts: Vec<Point> = pts.into_iter().collect();
+    let n = pts.len();
+    let mut s = 0.0;
+    for i in 0..n {
+        s += pts[i].perp_dot(pts[(i + 1) % n]);
+    }
+    0.5 * s
+}
+
+/// Even–odd test: is `p` strictly inside the closed polygon `poly`?
+/// Points on the boundary may go either way; callers test edges separately.
+pub fn point_in_polygon(p: Point, poly: &[Point]) -> bool {
+    let n = poly.len();
+    let mut inside = false;
+    let mut j = n - 1;
+    for i in 0..n {
+        let (a, b) = (poly[i], poly[j]);
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+            if p.x < x {
+                inside = !inside;
+            }
+        }
+        j = i;
+    }
+    inside
+}
+
+/// Axis-aligned bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Point,
+    pub max: Point,
+}
+
+impl Aabb {
+    /// The box around a set of points (`None` when the set is empty).
+    pub fn of(pts: impl IntoIterator<Item = Point>) -> Option<Aabb> {
+        let mut it = pts.into_iter();
+        let first = it.next()?;
+        let mut bb = Aabb {
+            min: first,
+            max: first,
+        };
+        for p in it {
+            bb.min = bb.min.min(p);
+            bb.max = bb.max.max(p);
+        }
+        Some(bb)
+    }
+
+    pub fn size(&self) -> Point {
+        self.max - self.min
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn square_corner_is_ninety_degrees() {
+        let a = ccw_angle(Point::ZERO, Point::X, Point::Y);
+        assert!((a.to_degrees() - 90.0).abs() < 1e-12);
+        let r = ccw_angle(Point::ZERO, Point::Y, Point::X);
+        assert!((r.to_degrees() - 270.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn intersection_cases() {
+        let p = |x, y| Point::new(x, y);
+        assert!(segments_intersect(
+            p(0., 0.),
+            p(2., 2.),
+            p(0., 2.),
+            p(2., 0.)
+        ));
+        assert!(!segments_intersect(
+            p(0., 0.),
+            p(1., 0.),
+            p(0., 1.),
+            p(1., 1.)
+        ));
+        // touching at an end point counts
+        assert!(segments_intersect(
+            p(0., 0.),
+            p(1., 0.),
+            p(1., 0.),
+            p(1., 1.)
+        ));
+        // collinear overlap counts, collinear disjoint does not
+        assert!(segments_intersect(
+            p(0., 0.),
+            p(2., 0.),
+            p(1., 0.),
+            p(3., 0.)
+        ));
+        assert!(!segments_intersect(
+            p(0., 0.),
+            p(1., 0.),
+            p(2., 0.),
+            p(3., 0.)
+        ));
+    }
+
+    #[test]
+    fn area_and_inside() {
+        let sq = [
+            Point::new(0., 0.),
+            Point::new(1., 0.),
+            Point::new(1., 1.),
+            Point::new(0., 1.),
+        ];
+        assert_eq!(polygon_area(sq), 1.0);
+        assert!(point_in_polygon(Point::new(0.5, 0.5), &sq));
+        assert!(!point_in_polygon(Point::new(1.5, 0.5), &sq));
+    }
+}

@@ -1,0 +1,401 @@
+//! Gmsh MSH ASCII: writers for 4.1 (with `$Entities` and physical groups:
+//! each boundary loop a physical curve, the domain a physical surface) and
+//! 2.2, and a reader for quad meshes in either version.
+
+use super::{fmt_f64, ReadError};
+use crate::geom::{polygon_area, Point};
+use crate::mesh::QuadMesh;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+/// Physical names: loop 0 is "outer", others "hole_k"; the surface "domain".
+fn loop_name(k: usize) -> String {
+    if k == 0 {
+        "outer".into()
+    } else {
+        format!("hole_{k}")
+    }
+}
+
+const SURFACE_TAG: usize = 100;
+
+fn physical_names(out: &mut String, mesh: &QuadMesh) {
+    out.push_str("$PhysicalNames\n");
+    let _ = writeln!(out, "{}", mesh.loops.len() + 1);
+    for k in 0..mesh.loops.len() {
+        let _ = writeln!(out, "1 {} \"{}\"", k + 1, loop_name(k));
+    }
+    let _ = writeln!(out, "2 {SURFACE_TAG} \"domain\"");
+    out.push_str("$EndPhysicalNames\n");
+}
+
+fn xyz(out: &mut String, p: Point) {
+    fmt_f64(out, p.x);
+    out.push(' ');
+    fmt_f64(out, p.y);
+    out.push_str(" 0");
+}
+
+/// MSH 4.1 ASCII.
+pub fn write_msh41(mesh: &QuadMesh) -> String {
+    let mut out = String::with_capacity(64 * mesh.nodes.len() + 48 * mesh.quads.len());
+    out.push_str("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
+    physical_names(&mut out, mesh);
+    // Entities: one curve per loop, one surface.
+    out.push_str("$Entities\n");
+    let _ = writeln!(out, "0 {} 1 0", mesh.loops.len());
+    let bbox = |ids: &mut dyn Iterator<Item = u32>| {
+        let mut lo = Point::splat(f64::INFINITY);
+        let mut hi = Point::splat(f64::NEG_INFINITY);
+        for i in ids {
+            lo = lo.min(mesh.nodes[i as usize]);
+            hi = hi.max(mesh.nodes[i as usize]);
+        }
+        (lo, hi)
+    };
+    for (k, l) in mesh.loops.iter().enumerate() {
+        let (lo, hi) = bbox(&mut l.iter().copied());
+        let _ = write!(out, "{} ", k + 1);
+        xyz(&mut out, lo);
+        out.push(' ');
+        xyz(&mut out, hi);
+        let _ = writeln!(out, " 1 {} 0", k + 1);
+    }
+    let (lo, hi) = bbox(&mut (0..mesh.nodes.len() as u32));
+    out.push_str("1 ");
+    xyz(&mut out, lo);
+    out.push(' ');
+    xyz(&mut out, hi);
+    let _ = write!(out, " 1 {SURFACE_TAG} {}", mesh.loops.len());
+    for k in 0..mesh.loops.len() {
+        // Holes bound the surface with reversed orientation.
+        let _ = write!(
+            out,
+            " {}",
+            if k == 0 {
+                (k + 1) as i64
+            } else {
+                -((k + 1) as i64)
+            }
+        );
+    }
+    out.push_str("\n$EndEntities\n");
+    // Nodes: boundary nodes in their curve's block, the rest in the surface.
+    let nb = mesh.n_boundary();
+    let n = mesh.nodes.len();
+    let interior = n - nb;
+    let blocks = mesh.loops.len() + usize::from(interior > 0);
+    out.push_str("$Nodes\n");
+    let _ = writeln!(out, "{blocks} {n} 1 {n}");
+    let block = |out: &mut String, dim: usize, tag: usize, ids: &[u32]| {
+        let _ = writeln!(out, "{dim} {tag} 0 {}", ids.len());
+        for &i in ids {
+            let _ = writeln!(out, "{}", i + 1);
+        }
+        for &i in ids {
+            xyz(out, mesh.nodes[i as usize]);
+            out.push('\n');
+        }
+    };
+    for (k, l) in mesh.loops.iter().enumerate() {
+        block(&mut out, 1, k + 1, l);
+    }
+    if interior > 0 {
+        let ids: Vec<u32> = (nb as u32..n as u32).collect();
+        block(&mut out, 2, 1, &ids);
+    }
+    out.push_str("$EndNodes\n");
+    let n_lines = nb;
+    let total = n_lines + mesh.quads.len();
+    out.push_str("$Elements\n");
+    let _ = writeln!(out, "{} {total} 1 {total}", mesh.loops.len() + 1);
+    let mut tag = 0;
+    for (k, l) in mesh.loops.iter().enumerate() {
+        let _ = writeln!(out, "1 {} 1 {}", k + 1, l.len());
+        for i in 0..l.len() {
+            tag += 1;
+            let _ = writeln!(out, "{tag} {} {}", l[i] + 1, l[(i + 1) % l.len()] + 1);
+        }
+    }
+    let _ = writeln!(out, "2 1 3 {}", mesh.quads.len());
+    for q in &mesh.quads {
+        tag += 1;
+        let _ = writeln!(
+            out,
+            "{tag} {} {} {} {}",
+            q[0] + 1,
+            q[1] + 1,
+            q[2] + 1,
+            q[3] + 1
+        );
+    }
+    out.push_str("$EndElements\n");
+    out
+}
+
+/// MSH 2.2 ASCII.
+pub fn write_msh22(mesh: &QuadMesh) -> String {
+    let mut out = String::with_capacity(48 * mesh.nodes.len() + 40 * mesh.quads.len());
+    out.push_str("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
+    physical_names(&mut out, mesh);
+    out.push_str("$Nodes\n");
+    let _ = writeln!(out, "{}", mesh.nodes.len());
+    for (i, &p) in mesh.nodes.iter().enumerate() {
+        let _ = write!(out, "{} ", i + 1);
+        xyz(&mut out, p);
+        out.push('\n');
+    }
+    out.push_str("$EndNodes\n$Elements\n");
+    let _ = writeln!(out, "{}", mesh.n_boundary() + mesh.quads.len());
+    let mut tag = 0;
+    for (k, l) in mesh.loops.iter().enumerate() {
+        for i in 0..l.len() {
+            tag += 1;
+            let _ = writeln!(
+                out,
+                "{tag} 1 2 {} {} {} {}",
+                k + 1,
+                k + 1,
+                l[i] + 1,
+                l[(i + 1) % l.len()] + 1
+            );
+        }
+    }
+    for q in &mesh.quads {
+        tag += 1;
+        let _ = writeln!(
+            out,
+            "{tag} 3 2 {SURFACE_TAG} 1 {} {} {} {}",
+            q[0] + 1,
+            q[1] + 1,
+            q[2] + 1,
+            q[3] + 1
+        );
+    }
+    out.push_str("$EndElements\n");
+    out
+}
+
+struct Tokens<'a> {
+    lines: std::iter::Enumerate<std::str::Lines<'a>>,
+    line: usize,
+}
+
+impl<'a> Tokens<'a> {
+    fn next_line(&mut self) -> Option<&'a str> {
+        let (i, l) = self.lines.next()?;
+        self.line = i + 1;
+        Some(l.trim())
+    }
+    fn fields(&mut self, what: &str) -> Result<Vec<&'a str>, ReadError> {
+        self.next_line()
+            .map(|l| l.split_whitespace().collect())
+            .ok_or_else(|| ReadError::Truncated {
+                expected: what.to_string(),
+            })
+    }
+    fn err(&self, message: impl Into<String>) -> ReadError {
+        ReadError::Syntax {
+            line: self.line,
+            message: message.into(),
+        }
+    }
+    fn num<T: std::str::FromStr>(&self, f: &[&str], k: usize) -> Result<T, ReadError> {
+        f.get(k)
+            .and_then(|s| s.parse().ok())
+            .ok_or_else(|| self.err(format!("expected a number in field {}", k + 1)))
+    }
+}
+
+/// Reads an all-quad 2D mesh from MSH 2.2 or 4.1 ASCII. Nodes are
+/// renumbered so that the boundary nodes come first, loop by loop (outer
+/// loop CCW first, holes CW), and quads are made CCW.
+pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
+    if text.trim().is_empty() {
+        return Err(ReadError::Empty);
+    }
+    let mut t = Tokens {
+        lines: text.lines().enumerate(),
+        line: 0,
+    };
+    let mut version = 0.0f64;
+    let mut nodes: BTreeMap<u64, Point> = BTreeMap::new();
+    let mut quads: Vec<[u64; 4]> = Vec::new();
+    while let Some(l) = t.next_line() {
+        match l {
+            "$MeshFormat" => {
+                let f = t.fields("the format line")?;
+                version = t.num(&f, 0)?;
+                if f.get(1) != Some(&"0") {
+                    return Err(t.err("binary MSH is not supported; save as ASCII"));
+                }
+            }
+            "$Nodes" if version >= 4.0 => {
+                let f = t.fields("the node header")?;
+                let blocks: usize = t.num(&f, 0)?;
+                for _ in 0..blocks {
+                    let f = t.fields("a node block header")?;
+                    let para: usize = t.num(&f, 2)?;
+                    let count: usize = t.num(&f, 3)?;
+                    let mut tags = Vec::with_capacity(count);
+                    for _ in 0..count {
+                        let f = t.fields("a node tag")?;
+                        tags.push(t.num::<u64>(&f, 0)?);
+                    }
+                    for tag in tags {
+                        let f = t.fields("node coordinates")?;
+                        let _ = para;
+                        nodes.insert(tag, Point::new(t.num(&f, 0)?, t.num(&f, 1)?));
+                    }
+                }
+            }
+            "$Nodes" => {
+                let f = t.fields("the node count")?;
+                let count: usize = t.num(&f, 0)?;
+                for _ in 0..count {
+                    let f = t.fields("a node")?;
+                    nodes.insert(t.num(&f, 0)?, Point::new(t.num(&f, 1)?, t.num(&f, 2)?));
+                }
+            }
+            "$Elements" if version >= 4.0 => {
+                let f = t.fields("the element header")?;
+                let blocks: usize = t.num(&f, 0)?;
+                for _ in 0..blocks {
+                    let f = t.fields("an element block header")?;
+                    let ty: u32 = t.num(&f, 2)?;
+                    let count: usize = t.num(&f, 3)?;
+                    for _ in 0..count {
+                        let f = t.fields("an element")?;
+                        match ty {
+                            3 => quads.push([
+                                t.num(&f, 1)?,
+                                t.num(&f, 2)?,
+                                t.num(&f, 3)?,
+                                t.num(&f, 4)?,
+                            ]),
+                            1 | 15 => {}
+                            other => {
+                                return Err(ReadError::NotQuadMesh(format!("element type {other}")))
+                            }
+                        }
+                    }
+                }
+            }
+            "$Elements" => {
+                let f = t.fields("the element count")?;
+                let count: usize = t.num(&f, 0)?;
+                for _ in 0..count {
+                    let f = t.fields("an element")?;
+                    let ty: u32 = t.num(&f, 1)?;
+                    let ntags: usize = t.num(&f, 2)?;
+                    let at = 3 + ntags;
+                    match ty {
+                        3 => quads.push([
+                            t.num(&f, at)?,
+                            t.num(&f, at + 1)?,
+                            t.num(&f, at + 2)?,
+                            t.num(&f, at + 3)?,
+                        ]),
+                        1 | 15 => {}
+                        other => {
+                            return Err(ReadError::NotQuadMesh(format!("element type {other}")))
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    if version == 0.0 {
+        return Err(ReadError::Syntax {
+            line: 1,
+            message: "no $MeshFormat section".into(),
+        });
+    }
+    if quads.is_empty() {
+        return Err(ReadError::NotQuadMesh("no quads".into()));
+    }
+    from_raw(&nodes, &quads)
+}
+
+fn from_raw(nodes: &BTreeMap<u64, Point>, quads: &[[u64; 4]]) -> Result<QuadMesh, ReadError> {
+    // Compact ids over the nodes the quads use.
+    let mut id: BTreeMap<u64, u32> = BTreeMap::new();
+    let mut pts = Vec::new();
+    let mut qs = Vec::with_capacity(quads.len());
+    for q in quads {
+        let mut out = [0u32; 4];
+        for (k, tag) in q.iter().enumerate() {
+            let p = *nodes.get(tag).ok_or_else(|| {
+                ReadError::NotQuadMesh(format!("a quad uses node {tag}, which is not defined"))
+            })?;
+            out[k] = *id.entry(*tag).or_insert_with(|| {
+                pts.push(p);
+                (pts.len() - 1) as u32
+            });
+        }
+        if polygon_area(out.map(|i| pts[i as usize])) < 0.0 {
+            out.reverse();
+        }
+        qs.push(out);
+    }
+    // Boundary edges: directed edges without a reverse twin.
+    let mut directed: BTreeMap<(u32, u32), usize> = BTreeMap::new();
+    for q in &qs {
+        for k in 0..4 {
+            *directed.entry((q[k], q[(k + 1) % 4])).or_default() += 1;
+        }
+    }
+    let mut next: BTreeMap<u32, u32> = BTreeMap::new();
+    for &(a, b) in directed.keys() {
+        if !directed.contains_key(&(b, a)) && next.insert(a, b).is_some() {
+            return Err(ReadError::NotQuadMesh(format!(
+                "node {a} is pinched on the boundary"
+            )));
+        }
+    }
+    let mut loops: Vec<Vec<u32>> = Vec::new();
+    let mut seen: BTreeMap<u32, ()> = BTreeMap::new();
+    for &start in next.keys() {
+        if seen.contains_key(&start) {
+            continue;
+        }
+        let mut l = Vec::new();
+        let mut c = start;
+        while seen.insert(c, ()).is_none() {
+            l.push(c);
+            c = *next
+                .get(&c)
+                .ok_or_else(|| ReadError::NotQuadMesh("open boundary".into()))?;
+        }
+        loops.push(l);
+    }
+    let area = |l: &Vec<u32>| polygon_area(l.iter().map(|&i| pts[i as usize]));
+    let outer = (0..loops.len())
+        .max_by(|&a, &b| area(&loops[a]).total_cmp(&area(&loops[b])))
+        .ok_or_else(|| ReadError::NotQuadMesh("no boundary".into()))?;
+    loops.swap(0, outer);
+    // Renumber: boundary nodes first.
+    let mut new_id = vec![u32::MAX; pts.len()];
+    let mut order = Vec::with_capacity(pts.len());
+    for l in &loops {
+        for &v in l {
+            new_id[v as usize] = order.len() as u32;
+            order.push(v);
+        }
+    }
+    for v in 0..pts.len() as u32 {
+        if new_id[v as usize] == u32::MAX {
+            new_id[v as usize] = order.len() as u32;
+            order.push(v);
+        }
+    }
+    Ok(QuadMesh {
+        nodes: order.iter().map(|&v| pts[v as usize]).collect(),
+        quads: qs.iter().map(|q| q.map(|v| new_id[v as usize])).collect(),
+        loops: loops
+            .iter()
+            .map(|l| l.iter().map(|&v| new_id[v as usize]).collect())
+            .collect(),
+    })
+}

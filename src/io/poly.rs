@@ -1,0 +1,217 @@
+//! Triangle `.poly` boundaries: nodes (0- or 1-based, any numbering),
+//! optional attributes and markers, segments in any order and direction,
+//! hole points, `#` comments. Segments are chained into loops.
+
+use super::ReadError;
+use crate::boundary::{loops_from_segments, Boundary, BoundaryError};
+use crate::geom::Point;
+use std::collections::BTreeMap;
+
+struct Lines<'a> {
+    inner: std::iter::Enumerate<std::str::Lines<'a>>,
+}
+
+impl<'a> Lines<'a> {
+    /// The next line with content, as (1-based line number, fields).
+    fn next_fields(&mut self, expected: &str) -> Result<(usize, Vec<&'a str>), ReadError> {
+        for (i, raw) in self.inner.by_ref() {
+            let s = raw.split('#').next().unwrap_or("").trim();
+            if !s.is_empty() {
+                return Ok((i + 1, s.split_whitespace().collect()));
+            }
+        }
+        Err(ReadError::Truncated {
+            expected: expected.to_string(),
+        })
+    }
+}
+
+fn num<T: std::str::FromStr>(
+    line: usize,
+    fields: &[&str],
+    k: usize,
+    what: &str,
+) -> Result<T, ReadError> {
+    fields
+        .get(k)
+        .ok_or_else(|| ReadError::Syntax {
+            line,
+            message: format!("missing {what}"),
+        })?
+        .parse()
+        .map_err(|_| ReadError::Syntax {
+            line,
+            message: format!(
+                "`{}` is not a valid {what}",
+                fields.get(k).copied().unwrap_or("")
+            ),
+        })
+}
+
+/// Parses the text of a `.poly` file into a validated boundary.
+pub fn parse_poly(text: &str) -> Result<Boundary, ReadError> {
+    if text.trim().is_empty() {
+        return Err(ReadError::Empty);
+    }
+    let mut lines = Lines {
+        inner: text.lines().enumerate(),
+    };
+    let (ln, head) = lines.next_fields("the node count")?;
+    let n: usize = num(ln, &head, 0, "node count")?;
+    let dim: usize = if head.len() > 1 {
+        num(ln, &head, 1, "dimension")?
+    } else {
+        2
+    };
+    if dim != 2 {
+        return Err(ReadError::Syntax {
+            line: ln,
+            message: format!("dimension {dim}; only 2 is supported"),
+        });
+    }
+    if n == 0 {
+        return Err(BoundaryError::Empty.into());
+    }
+    let mut points = Vec::with_capacity(n);
+    let mut labels = Vec::with_capacity(n);
+    let mut index: BTreeMap<i64, usize> = BTreeMap::new();
+    for k in 0..n {
+        let (ln, f) = lines.next_fields(&format!("node {} of {n}", k + 1))?;
+        let id: i64 = num(ln, &f, 0, "node number")?;
+        let x: f64 = num(ln, &f, 1, "x coordinate")?;
+        let y: f64 = num(ln, &f, 2, "y coordinate")?;
+        if index.insert(id, k).is_some() {
+            return Err(ReadError::Syntax {
+                line: ln,
+                message: format!("node {id} is defined twice"),
+            });
+        }
+        points.push(Point::new(x, y));
+        labels.push(id);
+    }
+    if let Some(i) = points.iter().position(|p| !p.is_finite()) {
+        return Err(BoundaryError::NonFinite { node: labels[i] }.into());
+    }
+    let (ln, f) = lines.next_fields("the segment count")?;
+    let ns: usize = num(ln, &f, 0, "segment count")?;
+    let mut segs = Vec::with_capacity(ns);
+    for k in 0..ns {
+        let (ln, f) = lines.next_fields(&format!("segment {} of {ns}", k + 1))?;
+        let mut ends = [0usize; 2];
+        for (j, e) in ends.iter_mut().enumerate() {
+            let id: i64 = num(ln, &f, 1 + j, "node number")?;
+            *e = *index.get(&id).ok_or(BoundaryError::BadSegmentIndex {
+                segment: k + 1,
+                node: id,
+            })?;
+        }
+        if ends[0] == ends[1] {
+            return Err(ReadError::Syntax {
+                line: ln,
+                message: "a segment joins a node to itself".into(),
+            });
+        }
+        segs.push((ends[0], ends[1]));
+    }
+    // Hole points are optional; when present they must be well formed.
+    if let Ok((ln, f)) = lines.next_fields("") {
+        let nh: usize = num(ln, &f, 0, "hole count")?;
+        for k in 0..nh {
+            let (ln, f) = lines.next_fields(&format!("hole point {} of {nh}", k + 1))?;
+            let x: f64 = num(ln, &f, 1, "hole x coordinate")?;
+            let y: f64 = num(ln, &f, 2, "hole y coordinate")?;
+            if !(x.is_finite() && y.is_finite()) {
+                return Err(ReadError::Syntax {
+                    line: ln,
+                    message: "non-finite hole point".into(),
+                });
+            }
+        }
+    }
+    // Nodes used by no segment are not part of the boundary.
+    let mut used = vec![false; n];
+    for &(a, b) in &segs {
+        used[a] = true;
+        used[b] = true;
+    }
+    let mut remap = vec![usize::MAX; n];
+    let (mut pts2, mut lab2) = (Vec::new(), Vec::new());
+    for i in 0..n {
+        if used[i] {
+            remap[i] = pts2.len();
+            pts2.push(points[i]);
+            lab2.push(labels[i]);
+        }
+    }
+    let segs: Vec<(usize, usize)> = segs.iter().map(|&(a, b)| (remap[a], remap[b])).collect();
+    if segs.is_empty() {
+        return Err(BoundaryError::TooFewNodes { count: 0 }.into());
+    }
+    let loops = loops_from_segments(pts2.len(), &segs, &lab2)?;
+    Ok(Boundary::new(pts2, loops, Some(lab2))?)
+}
+
+/// Renders a boundary as a `.poly` file (1-based, loops in order).
+pub fn write_poly(b: &Boundary) -> String {
+    let mut out = String::new();
+    let n = b.node_count();
+    let mut number = vec![0usize; b.points.len()];
+    let mut k = 0;
+    out.push_str(&format!("{n} 2 0 0\n"));
+    for l in &b.loops {
+        for &i in l {
+            k += 1;
+            number[i] = k;
+            out.push_str(&format!("{k} "));
+            super::fmt_f64(&mut out, b.points[i].x);
+            out.push(' ');
+            super::fmt_f64(&mut out, b.points[i].y);
+            out.push('\n');
+        }
+    }
+    out.push_str(&format!("{n} 0\n"));
+    let mut s = 0;
+    for (a, c) in b.segments() {
+        s += 1;
+        out.push_str(&format!("{s} {} {}\n", number[a], number[c]));
+    }
+    out.push_str("0\n");
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn zero_based_with_attributes_and_markers() {
+        let t = "# c\n4 2 1 1\n0 0 0 7 1\n1 1 0 7 1 # x\n2 1 1 7 1\n3 0 1 7 1\n4 1\n0 2 3 1\n1 0 1 1\n2 1 2 1\n3 3 0 1\n0\n";
+        let b = parse_poly(t).unwrap();
+        assert_eq!(b.loops.len(), 1);
+        assert_eq!(b.node_count(), 4);
+        assert!((b.area() - 1.0).abs() < 1e-12);
+        assert_eq!(b.labels, vec![0, 1, 2, 3]);
+    }
+
+    #[test]
+    fn round_trip() {
+        let t = "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n";
+        let b = parse_poly(t).unwrap();
+        let b2 = parse_poly(&write_poly(&b)).unwrap();
+        assert_eq!(b.points, b2.points);
+        assert_eq!(b.loops, b2.loops);
+    }
+
+    #[test]
+    fn truncated_and_garbage() {
+        assert!(matches!(
+            parse_poly("8 2 0 0\n1 0 0\n"),
+            Err(ReadError::Truncated { .. })
+        ));
+        assert!(matches!(
+            parse_poly("hello world"),
+            Err(ReadError::Syntax { line: 1, .. })
+        ));
+        assert!(matches!(parse_poly("  \n"), Err(ReadError::Empty)));
+    }
+}

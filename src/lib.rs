@@ -1,0 +1,41 @@
+//! # quadex
+//!
+//! All-quadrilateral 2D mesh generation by learned element extraction, after
+//! the thesis "Regression Model based Automatic Finite Element Mesh
+//! Generation": quads are cut off the boundary one at a time, a regression
+//! model predicting each element from the normalised leading points of a
+//! reference point.
+//!
+//! ```no_run
+//! use std::sync::Arc;
+//! use quadex::{io, extract::{mesh_boundary, MeshParams}, model::RulesModel};
+//! let boundary = io::read_boundary("square.poly".as_ref()).unwrap();
+//! let (mesh, _stats) =
+//!     mesh_boundary(&boundary, Arc::new(RulesModel::DEFAULT), &MeshParams::DEFAULT, |_| {}).unwrap();
+//! io::write_mesh(&mesh, "square.msh".as_ref()).unwrap();
+//! ```
+//!
+//! Modules, one algorithm each: [`geom`] (predicates), [`boundary`]
+//! (validation), [`front`] (the advancing front), [`normalize`] (thesis
+//! §3.2), [`model`] (rules, the thesis preset), [`extract`] (the step loop,
+//! guard, closure), [`smooth`], [`quality`], [`io`] (file formats).
+
+pub mod boundary;
+pub mod extract;
+pub mod front;
+pub mod geom;
+pub mod io;
+pub mod mesh;
+pub mod model;
+pub mod normalize;
+pub mod quality;
+pub mod smooth;
+
+pub use boundary::{Boundary, BoundaryError};
+pub use extract::{
+    mesh_boundary, MeshError, MeshParams, Mesher, StepOutcome, StepReport, Strategy,
+};
+pub use geom::Point;
+pub use mesh::QuadMesh;
+pub use model::{ElementType, Model, Prediction};
+pub use quality::{MeshQuality, QuadQuality};

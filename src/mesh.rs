@@ -1,0 +1,147 @@
+//! The all-quad mesh: node positions, quads as CCW node ids, and the
+//! boundary loops it was built on (node ids `0..n_boundary` are the boundary
+//! nodes, unchanged). [`QuadMesh::check_invariants`] is the mesh's sanity
+//! check, run by the tests after every extraction step.
+
+use crate::boundary::Boundary;
+use crate::geom::{orient, polygon_area, Point};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use thiserror::Error;
+
+/// A broken mesh invariant, with the element or edge at fault.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum InvariantError {
+    #[error("quad {quad} refers to node {node}, which does not exist")]
+    BadNode { quad: usize, node: u32 },
+    #[error("quad {quad} is not strictly convex and counter-clockwise (corner at node {node})")]
+    NotConvex { quad: usize, node: u32 },
+    #[error("edge {a}–{b} is used {count} times in the same direction or more than twice")]
+    EdgeOveruse { a: u32, b: u32, count: usize },
+    #[error("boundary edge {a}–{b} is not the side of exactly one quad")]
+    BoundaryEdge { a: u32, b: u32 },
+    #[error("edge {a}–{b} has a quad on one side only but is not a boundary edge")]
+    OpenEdge { a: u32, b: u32 },
+    #[error("the quads cover an area of {covered}, the domain {domain}")]
+    Area { covered: f64, domain: f64 },
+    #[error("front: {0}")]
+    Front(String),
+}
+
+/// An all-quadrilateral mesh.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct QuadMesh {
+    /// Node positions; ids below `n_boundary` are the boundary's nodes.
+    pub nodes: Vec<Point>,
+    /// Quads as node ids, counter-clockwise.
+    pub quads: Vec<[u32; 4]>,
+    /// The boundary loops (outer CCW first, holes CW) as node ids.
+    pub loops: Vec<Vec<u32>>,
+}
+
+impl QuadMesh {
+    /// An empty mesh over a boundary: its nodes, no quads yet.
+    pub fn from_boundary(b: &Boundary) -> QuadMesh {
+        QuadMesh {
+            nodes: b.points.clone(),
+            quads: Vec::new(),
+            loops: b
+                .loops
+                .iter()
+                .map(|l| l.iter().map(|&i| i as u32).collect())
+                .collect(),
+        }
+    }
+
+    /// Number of boundary nodes.
+    pub fn n_boundary(&self) -> usize {
+        self.loops.iter().map(Vec::len).sum()
+    }
+
+    /// True for a node on the boundary (never moved by smoothing).
+    pub fn is_boundary(&self, node: u32) -> bool {
+        (node as usize) < self.n_boundary()
+    }
+
+    /// Positions of a quad's corners.
+    #[inline]
+    pub fn corners(&self, q: &[u32; 4]) -> [Point; 4] {
+        q.map(|i| self.nodes[i as usize])
+    }
+
+    /// Area of the domain the boundary loops enclose.
+    pub fn domain_area(&self) -> f64 {
+        self.loops
+            .iter()
+            .map(|l| polygon_area(l.iter().map(|&i| self.nodes[i as usize])))
+            .sum()
+    }
+
+    /// Node-to-quad incidence: for each node, the quads that use it.
+    pub fn node_quads(&self) -> Vec<Vec<u32>> {
+        let mut inc = vec![Vec::new(); self.nodes.len()];
+        for (k, q) in self.quads.iter().enumerate() {
+            for &v in q {
+                inc[v as usize].push(k as u32);
+            }
+        }
+        inc
+    }
+
+    /// Checks that every quad is strictly convex and CCW, that no edge is
+    /// used twice in one direction, and, when `complete`, that the quads
+    /// tile the domain exactly: every boundary segment is the side of one
+    /// quad, every other edge of two, and the areas add up.
+    pub fn check_invariants(&self, complete: bool) -> Result<(), InvariantError> {
+        let n = self.nodes.len() as u32;
+        let mut directed: BTreeMap<(u32, u32), usize> = BTreeMap::new();
+        let mut area = 0.0;
+        for (k, q) in self.quads.iter().enumerate() {
+            if let Some(&v) = q.iter().find(|&&v| v >= n) {
+                return Err(InvariantError::BadNode { quad: k, node: v });
+            }
+            let p = self.corners(q);
+            for i in 0..4 {
+                if orient(p[(i + 3) % 4], p[i], p[(i + 1) % 4]) <= 0.0 {
+                    return Err(InvariantError::NotConvex {
+                        quad: k,
+                        node: q[i],
+                    });
+                }
+                *directed.entry((q[i], q[(i + 1) % 4])).or_default() += 1;
+            }
+            area += polygon_area(p);
+        }
+        for (&(a, b), &c) in &directed {
+            if c > 1 {
+                return Err(InvariantError::EdgeOveruse { a, b, count: c });
+            }
+        }
+        if !complete {
+            return Ok(());
+        }
+        let mut boundary: BTreeMap<(u32, u32), ()> = BTreeMap::new();
+        for l in &self.loops {
+            for k in 0..l.len() {
+                let (a, b) = (l[k], l[(k + 1) % l.len()]);
+                boundary.insert((a, b), ());
+                if !directed.contains_key(&(a, b)) || directed.contains_key(&(b, a)) {
+                    return Err(InvariantError::BoundaryEdge { a, b });
+                }
+            }
+        }
+        for &(a, b) in directed.keys() {
+            if !directed.contains_key(&(b, a)) && !boundary.contains_key(&(a, b)) {
+                return Err(InvariantError::OpenEdge { a, b });
+            }
+        }
+        let domain = self.domain_area();
+        if (area - domain).abs() > 1e-9 * domain.abs().max(f64::MIN_POSITIVE) {
+            return Err(InvariantError::Area {
+                covered: area,
+                domain,
+            });
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,78 @@
+//! Element models (method §4): a model maps the normalised leading points
+//! of a reference point to `[type, Pn]` (thesis Figure 18):
+//!
+//! - type 0: a new node Pn; quad (P0, P_r1, Pn, P_l1);
+//! - type 1: no new node, Pn = P_r2; quad (P0, P_r1, P_r2, P_l1);
+//! - type 2: no new node, Pn = P_l2; quad (P0, P_r1, P_l2, P_l1).
+//!
+//! Every model sits behind [`Model`], so the mesher, the command line and
+//! the editor treat the knowledge-based rules, the thesis's printed
+//! regression and fitted models alike.
+
+pub mod rules;
+pub mod thesis;
+
+use crate::geom::Point;
+use crate::normalize::LeadingPoints;
+use serde::{Deserialize, Serialize};
+
+pub use rules::RulesModel;
+pub use thesis::ThesisModel;
+
+/// The three element types of thesis Figure 18.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum ElementType {
+    /// One new node Pn.
+    New = 0,
+    /// Close onto P_r2.
+    Right = 1,
+    /// Close onto P_l2.
+    Left = 2,
+}
+
+impl ElementType {
+    pub const ALL: [ElementType; 3] = [ElementType::New, ElementType::Right, ElementType::Left];
+
+    /// The thesis's type number (0, 1 or 2).
+    pub fn number(self) -> u8 {
+        self as u8
+    }
+
+    pub fn from_number(k: u8) -> Option<ElementType> {
+        match k {
+            0 => Some(ElementType::New),
+            1 => Some(ElementType::Right),
+            2 => Some(ElementType::Left),
+            _ => None,
+        }
+    }
+}
+
+/// A model's output in the normalised frame.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Prediction {
+    pub element_type: ElementType,
+    /// Pn in the normalised frame. For types 1 and 2 this is the model's
+    /// raw coordinate output; the element uses P_r2 or P_l2.
+    pub pn: Point,
+}
+
+/// A regression (or rule) model of element extraction.
+pub trait Model: Send + Sync {
+    /// Short name shown in reports and the editor.
+    fn name(&self) -> &str;
+    /// The number of leading points per side the model reads (`N`, giving
+    /// `2N + 1` input points), or `None` when it works with any `N ≥ 2`.
+    fn leading_points(&self) -> Option<usize>;
+    /// Predicts the element for normalised leading points.
+    fn predict(&self, input: &LeadingPoints) -> Prediction;
+}
+
+/// The built-in models by name: `rules` or `thesis`.
+pub fn builtin(name: &str) -> Option<Box<dyn Model>> {
+    match name {
+        "rules" => Some(Box::new(RulesModel::default())),
+        "thesis" => Some(Box::new(ThesisModel::TABLE_8)),
+        _ => None,
+    }
+}

@@ -1,0 +1,153 @@
+//! Constrained Laplacian smoothing (thesis §5.1, "de-noise"; method §2.9):
+//! each interior node moves towards the mean of its edge neighbours, and a
+//! move is kept only if no adjacent quad inverts and none falls below
+//! `min(its former scaled Jacobian, threshold)`. Boundary nodes never move.
+//! Nodes are visited in id order (Gauss–Seidel), so the result is
+//! deterministic.
+
+use crate::geom::Point;
+use crate::mesh::QuadMesh;
+use crate::quality::QuadQuality;
+use serde::{Deserialize, Serialize};
+
+/// Smoothing parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct SmoothParams {
+    /// Sweeps over all interior nodes (default 8; 0 turns smoothing off).
+    pub iterations: usize,
+    /// A move may lower an adjacent quad's scaled Jacobian only while it
+    /// stays at or above this value (default 0.6).
+    pub threshold: f64,
+    /// Fraction of the way to the neighbour mean moved per sweep (default 1).
+    pub relaxation: f64,
+}
+
+impl SmoothParams {
+    pub const DEFAULT: SmoothParams = SmoothParams {
+        iterations: 8,
+        threshold: 0.6,
+        relaxation: 1.0,
+    };
+    /// No smoothing.
+    pub const OFF: SmoothParams = SmoothParams {
+        iterations: 0,
+        threshold: 0.6,
+        relaxation: 1.0,
+    };
+}
+
+impl Default for SmoothParams {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// Compressed adjacency: per node, its quads and its edge neighbours.
+struct Adjacency {
+    quad_start: Vec<u32>,
+    quads: Vec<u32>,
+    nb_start: Vec<u32>,
+    nbs: Vec<u32>,
+}
+
+impl Adjacency {
+    fn new(mesh: &QuadMesh) -> Adjacency {
+        let n = mesh.nodes.len();
+        let mut count = vec![0u32; n + 1];
+        for q in &mesh.quads {
+            for &v in q {
+                count[v as usize + 1] += 1;
+            }
+        }
+        for i in 0..n {
+            count[i + 1] += count[i];
+        }
+        let quad_start = count.clone();
+        let mut fill = count.clone();
+        let mut quads = vec![0u32; 4 * mesh.quads.len()];
+        let mut nb_raw = vec![0u32; 8 * mesh.quads.len()];
+        for (k, q) in mesh.quads.iter().enumerate() {
+            for (i, &v) in q.iter().enumerate() {
+                let at = fill[v as usize] as usize;
+                quads[at] = k as u32;
+                nb_raw[2 * at] = q[(i + 1) % 4];
+                nb_raw[2 * at + 1] = q[(i + 3) % 4];
+                fill[v as usize] += 1;
+            }
+        }
+        let mut nb_start = vec![0u32; n + 1];
+        let mut nbs = Vec::with_capacity(4 * mesh.quads.len());
+        for v in 0..n {
+            let (a, b) = (2 * quad_start[v] as usize, 2 * quad_start[v + 1] as usize);
+            let mut list: Vec<u32> = nb_raw[a..b].to_vec();
+            list.sort_unstable();
+            list.dedup();
+            nbs.extend_from_slice(&list);
+            nb_start[v + 1] = nbs.len() as u32;
+        }
+        Adjacency {
+            quad_start,
+            quads,
+            nb_start,
+            nbs,
+        }
+    }
+}
+
+fn quad_sj(mesh: &QuadMesh, q: &[u32; 4]) -> f64 {
+    QuadQuality::of(mesh.corners(q)).scaled_jacobian
+}
+
+/// Smooths `mesh` in place; returns the number of accepted moves.
+pub fn smooth(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
+    if params.iterations == 0 || mesh.quads.is_empty() {
+        return 0;
+    }
+    let adj = Adjacency::new(mesh);
+    let nb = mesh.n_boundary();
+    let mut accepted = 0;
+    let mut before = Vec::new();
+    for _ in 0..params.iterations {
+        let mut moved = 0;
+        for v in nb..mesh.nodes.len() {
+            let (q0, q1) = (adj.quad_start[v] as usize, adj.quad_start[v + 1] as usize);
+            if q0 == q1 {
+                continue;
+            }
+            let (n0, n1) = (adj.nb_start[v] as usize, adj.nb_start[v + 1] as usize);
+            let mut mean = Point::ZERO;
+            for &u in &adj.nbs[n0..n1] {
+                mean += mesh.nodes[u as usize];
+            }
+            mean /= (n1 - n0) as f64;
+            let old = mesh.nodes[v];
+            let target = old + (mean - old) * params.relaxation;
+            if (target - old).length_squared() == 0.0 {
+                continue;
+            }
+            before.clear();
+            for &k in &adj.quads[q0..q1] {
+                before.push(quad_sj(mesh, &mesh.quads[k as usize]));
+            }
+            mesh.nodes[v] = target;
+            let ok = adj.quads[q0..q1].iter().zip(&before).all(|(&k, &b)| {
+                let q = &mesh.quads[k as usize];
+                let p = mesh.corners(q);
+                let convex =
+                    (0..4).all(|i| crate::geom::orient(p[(i + 3) % 4], p[i], p[(i + 1) % 4]) > 0.0);
+                convex && quad_sj(mesh, q) >= b.min(params.threshold)
+            });
+            if ok {
+                moved += 1;
+            } else {
+                mesh.nodes[v] = old;
+            }
+        }
+        accepted += moved;
+        if moved == 0 {
+            break;
+        }
+    }
+    accepted
+}
