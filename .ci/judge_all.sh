@@ -14,7 +14,7 @@ for f in "$bench"/boundaries/*.poly "$bench"/peer/*.poly "$bench"/edge/*.poly; d
   case "$name" in disk1600|disk6400) [ -n "${QUADEX_LARGE:-}" ] || continue ;; esac
   msh="$out/$name.msh"
   rm -f "$msh"
-  if ! timeout 600 "$bin" mesh "$f" -o "$msh" --report "$out/$name.json" "$@" > "$out/$name.log" 2>&1; then
+  if ! timeout ${QUADEX_CASE_TIMEOUT:-120} "$bin" mesh "$f" -o "$msh" --report "$out/$name.json" "$@" > "$out/$name.log" 2>&1; then
     echo "FAIL $name: $(tail -1 "$out/$name.log")"; fail=$((fail+1)); continue
   fi
   j=$(python3 "$bench/tools/judge.py" "$f" "$msh")

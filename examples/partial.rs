@@ -23,7 +23,20 @@ fn main() {
             break;
         }
         match m.step() {
-            Ok(StepOutcome::Stepped(_)) => steps += 1,
+            Ok(StepOutcome::Stepped(r)) => {
+                steps += 1;
+                if std::env::var_os("QUADEX_TRACE").is_some() {
+                    eprintln!(
+                        "{steps} {:?} ref={:?} remedy={:?} type={:?} removed={} front={}",
+                        r.kind,
+                        r.reference,
+                        r.remedy,
+                        r.element_type,
+                        r.removed,
+                        m.front().len()
+                    );
+                }
+            }
             Ok(StepOutcome::Done) => break,
             Err(e) => {
                 eprintln!("stopped after {steps} steps: {e}");

@@ -327,6 +327,22 @@ impl Front {
         ids
     }
 
+    /// Takes the two front edges at slot `s` out of the grid (before their
+    /// geometry changes).
+    pub fn unfile_edges_at(&mut self, s: SlotId, nodes: &[Point]) {
+        let p = self.prev(s);
+        self.grid_remove(p, nodes);
+        self.grid_remove(s, nodes);
+    }
+
+    /// Files the two front edges at slot `s` again and sets its node.
+    pub fn refile_edges_at(&mut self, s: SlotId, node: u32, nodes: &[Point]) {
+        self.slots[s as usize].node = node;
+        let p = self.prev(s);
+        self.grid_insert(p, nodes);
+        self.grid_insert(s, nodes);
+    }
+
     /// Removes a whole loop (it was closed by the final elements).
     pub fn remove_loop(&mut self, lid: u32, nodes: &[Point]) {
         for s in self.loop_slots(lid) {
@@ -417,6 +433,80 @@ impl Front {
             };
             (keep, keep)
         }
+    }
+
+    /// The loops bounding the part of the domain that `mesh`'s quads do not
+    /// cover, as node sequences with the domain on the left. Where the
+    /// uncovered region touches itself at a node, each incoming edge is
+    /// paired with the outgoing edge that bounds the same wedge.
+    pub fn loops_of_unmeshed(mesh: &crate::mesh::QuadMesh) -> Vec<Vec<u32>> {
+        use std::collections::{BTreeMap, BTreeSet};
+        let mut used: BTreeSet<(u32, u32)> = BTreeSet::new();
+        for q in &mesh.quads {
+            for k in 0..4 {
+                used.insert((q[k], q[(k + 1) % 4]));
+            }
+        }
+        let mut boundary: BTreeSet<(u32, u32)> = BTreeSet::new();
+        for l in &mesh.loops {
+            for k in 0..l.len() {
+                boundary.insert((l[k], l[(k + 1) % l.len()]));
+            }
+        }
+        let mut edges: Vec<(u32, u32)> = Vec::new();
+        for &(a, b) in &boundary {
+            if !used.contains(&(a, b)) {
+                edges.push((a, b));
+            }
+        }
+        for &(a, b) in &used {
+            if !used.contains(&(b, a)) && !boundary.contains(&(a, b)) {
+                edges.push((b, a));
+            }
+        }
+        edges.sort_unstable();
+        let mut out: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
+        for (k, &(a, _)) in edges.iter().enumerate() {
+            out.entry(a).or_default().push(k);
+        }
+        // successor of each edge (x→a): the edge (a→y) with the smallest
+        // CCW turn from a→y to a→x.
+        let mut succ = vec![usize::MAX; edges.len()];
+        let mut taken = vec![false; edges.len()];
+        for (k, &(x, a)) in edges.iter().enumerate() {
+            let Some(cands) = out.get(&a) else { continue };
+            let pa = mesh.nodes[a as usize];
+            let px = mesh.nodes[x as usize];
+            let best = cands
+                .iter()
+                .copied()
+                .filter(|&c| !taken[c])
+                .min_by(|&c, &d| {
+                    let ac = ccw_angle(pa, mesh.nodes[edges[c].1 as usize], px);
+                    let ad = ccw_angle(pa, mesh.nodes[edges[d].1 as usize], px);
+                    ac.total_cmp(&ad)
+                });
+            if let Some(c) = best {
+                succ[k] = c;
+                taken[c] = true;
+            }
+        }
+        let mut seen = vec![false; edges.len()];
+        let mut loops = Vec::new();
+        for k in 0..edges.len() {
+            if seen[k] {
+                continue;
+            }
+            let mut l = Vec::new();
+            let mut e = k;
+            while e != usize::MAX && !seen[e] {
+                seen[e] = true;
+                l.push(edges[e].0);
+                e = succ[e];
+            }
+            loops.push(l);
+        }
+        loops
     }
 
     /// Checks the front's structure: links are mutual, loop lengths and ids

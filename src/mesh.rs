@@ -77,6 +77,30 @@ impl QuadMesh {
             .sum()
     }
 
+    /// Drops interior nodes that no quad uses, renumbering the rest in
+    /// order. Boundary nodes keep their ids.
+    pub fn compact(&mut self) {
+        let nb = self.n_boundary();
+        let mut used = vec![false; self.nodes.len()];
+        for q in &self.quads {
+            for &v in q {
+                used[v as usize] = true;
+            }
+        }
+        let mut new_id = vec![u32::MAX; self.nodes.len()];
+        let mut nodes = Vec::with_capacity(self.nodes.len());
+        for (i, &p) in self.nodes.iter().enumerate() {
+            if i < nb || used[i] {
+                new_id[i] = nodes.len() as u32;
+                nodes.push(p);
+            }
+        }
+        self.nodes = nodes;
+        for q in &mut self.quads {
+            *q = q.map(|v| new_id[v as usize]);
+        }
+    }
+
     /// Node-to-quad incidence: for each node, the quads that use it.
     pub fn node_quads(&self) -> Vec<Vec<u32>> {
         let mut inc = vec![Vec::new(); self.nodes.len()];

@@ -32,9 +32,20 @@ pub struct Scratch {
     pub near: Vec<SlotId>,
 }
 
+/// A candidate that passed the guard: its corners and its score.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Passed {
+    pub corners: [Point; 4],
+    /// Quality of the element and of the front it leaves, in `[0, 1]`:
+    /// the minimum of the quad's scaled Jacobian, `1/aspect` softened, and
+    /// a factor that falls from 1 to 0 as an angle left on the front drops
+    /// from 60° to 15°.
+    pub score: f64,
+}
+
 /// Checks a candidate quad. `consumed` are the front edges (by start slot)
-/// that become sides of the quad. Returns the quad's corner positions when
-/// it passes.
+/// that become sides of the quad. Returns the corners and score when it
+/// passes.
 pub fn check(
     front: &Front,
     nodes: &[Point],
@@ -42,7 +53,7 @@ pub fn check(
     consumed: &[SlotId],
     limits: Limits,
     scratch: &mut Scratch,
-) -> Option<[Point; 4]> {
+) -> Option<Passed> {
     let pos = |c: Corner| match c {
         Corner::Full(s) | Corner::Partial(s) => nodes[front.node(s) as usize],
         Corner::New(p) => p,
@@ -60,6 +71,7 @@ pub fn check(
         }
     }
     // Corner limits and what the front keeps.
+    let mut front_factor: f64 = 1.0;
     for k in 0..4 {
         let corner = ccw_angle(p[k], p[(k + 1) % 4], p[(k + 3) % 4]);
         match corners[k] {
@@ -77,6 +89,8 @@ pub fn check(
                 if rest < limits.min_front {
                     return None;
                 }
+                front_factor =
+                    front_factor.min(((rest.to_degrees() - 15.0) / 45.0).clamp(0.0, 1.0));
             }
         }
     }
@@ -128,5 +142,10 @@ pub fn check(
             }
         }
     }
-    Some(p)
+    let q = crate::quality::QuadQuality::of(p);
+    let size = (1.0 / q.aspect).sqrt();
+    Some(Passed {
+        corners: p,
+        score: q.scaled_jacobian.min(size).min(front_factor),
+    })
 }

@@ -28,6 +28,10 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 use thiserror::Error;
 
+/// Loops up to this many nodes are split along a chord before a square is
+/// cut on them.
+const SMALL_LOOP: usize = 48;
+
 /// Order in which reference points are taken (thesis §5.1, Figure 40).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Strategy {
@@ -59,6 +63,15 @@ pub struct MeshParams {
     /// A predicted Pn within this fraction of the local edge length of a
     /// front node is snapped to it first (default 0.5).
     pub snap_radius: f64,
+    /// An element whose score (guard's quality in [0, 1]) reaches this is
+    /// taken at once; the model's own element first (default 0.5).
+    pub accept_score: f64,
+    /// Below this score a reference point waits while others do better
+    /// (default 0.25).
+    pub defer_score: f64,
+    /// A sharp front corner below this angle is closed by a seam when the
+    /// merge keeps the mesh valid (default 30).
+    pub seam_angle: f64,
     /// Laplacian smoothing after extraction.
     pub smooth: SmoothParams,
     /// Turn the remedies off: a prediction the guard rejects ends the run
@@ -75,6 +88,9 @@ impl MeshParams {
         max_corner: 150.0,
         min_front_angle: 20.0,
         snap_radius: 0.5,
+        accept_score: 0.5,
+        defer_score: 0.25,
+        seam_angle: 30.0,
         smooth: SmoothParams::DEFAULT,
         pure_model: false,
     };
@@ -129,8 +145,16 @@ pub enum StepKind {
     Close4,
     /// A 6-node loop closed by a final pattern.
     Close6,
+    /// The interior front nodes of a stuck loop were moved to straighten it.
+    Relax,
+    /// A sharp front corner closed by merging its two neighbours (the
+    /// seam of paving).
+    Seam,
     /// A loop split along a chord.
     Split,
+    /// Elements around a loop that could not be reduced were removed to
+    /// give it room.
+    RipUp,
     /// An element given by the user.
     Correction,
 }
@@ -157,6 +181,8 @@ pub struct StepReport {
     pub pattern: Option<char>,
     pub quads: Vec<[u32; 4]>,
     pub new_nodes: Vec<u32>,
+    /// Quads removed (rip-up steps).
+    pub removed: usize,
 }
 
 /// Step counts by kind, type and remedy.
@@ -256,6 +282,23 @@ pub struct Mesher {
     scratch: Scratch,
     step_limit: usize,
     rules: RulesModel,
+    /// Loops to check for a first row (no reference point on them).
+    row_start: Vec<u32>,
+    rip_ups: usize,
+    /// Quads incident to each node.
+    incident: Vec<Vec<u32>>,
+    relaxes: usize,
+}
+
+/// The element chosen at a reference point.
+#[derive(Clone, Debug)]
+struct Chosen {
+    cand: Cand,
+    remedy: Remedy,
+    score: f64,
+    prediction: Prediction,
+    frame: Frame,
+    leading: Vec<u32>,
 }
 
 impl Mesher {
@@ -283,7 +326,12 @@ impl Mesher {
             stats: StepStats::default(),
             scratch: Scratch::default(),
             rules: RulesModel::DEFAULT,
+            row_start: Vec::new(),
+            rip_ups: 0,
+            incident: Vec::new(),
+            relaxes: 0,
         };
+        m.row_start = m.front.live_loops().collect();
         for s in 0..m.front.slots.len() as SlotId {
             m.push(s);
         }
@@ -314,6 +362,14 @@ impl Mesher {
     pub fn steps(&self) -> usize {
         self.history.len()
     }
+    /// Quads that use node `v`.
+    pub fn quads_at(&self, v: u32) -> &[u32] {
+        self.incident
+            .get(v as usize)
+            .map(Vec::as_slice)
+            .unwrap_or(&[])
+    }
+
     /// True when the front is empty.
     pub fn is_done(&self) -> bool {
         self.front.is_empty()
@@ -324,6 +380,15 @@ impl Mesher {
         self.front
             .check_invariants(&self.mesh.nodes)
             .map_err(crate::mesh::InvariantError::Front)?;
+        for (k, q) in self.mesh.quads.iter().enumerate() {
+            for &v in q {
+                if !self.quads_at(v).contains(&(k as u32)) {
+                    return Err(crate::mesh::InvariantError::Front(format!(
+                        "quad {k} is missing from node {v}'s incidence"
+                    )));
+                }
+            }
+        }
         self.mesh.check_invariants(self.is_done())
     }
 
@@ -402,8 +467,8 @@ impl Mesher {
         (frame, LeadingPoints::normalise(&frame, &left, &right))
     }
 
-    /// The guard on one candidate.
-    fn check(&mut self, c: Cand, limits: Limits) -> bool {
+    /// The guard on one candidate: its score when it passes.
+    fn check(&mut self, c: Cand, limits: Limits) -> Option<f64> {
         let f = &self.front;
         let n = self.front.loop_len(match c {
             Cand::New { s, .. } | Cand::Snap { s, .. } | Cand::Right { s } | Cand::Left { s } => s,
@@ -424,7 +489,7 @@ impl Mesher {
             Cand::Snap { s, q } => {
                 let (l, r) = (f.prev(s), f.next(s));
                 if q == s || q == l || q == r || q == f.next(r) || q == f.prev(l) {
-                    return false;
+                    return None;
                 }
                 (
                     [
@@ -438,7 +503,7 @@ impl Mesher {
             }
             Cand::Right { s } => {
                 if n < 6 {
-                    return false;
+                    return None;
                 }
                 let (l, r) = (f.prev(s), f.next(s));
                 let r2 = f.next(r);
@@ -454,7 +519,7 @@ impl Mesher {
             }
             Cand::Left { s } => {
                 if n < 6 {
-                    return false;
+                    return None;
                 }
                 let (l, r) = (f.prev(s), f.next(s));
                 let l2 = f.prev(l);
@@ -469,16 +534,15 @@ impl Mesher {
                 )
             }
         };
-        let Some(p) = guard::check(
+        let passed = guard::check(
             f,
             &self.mesh.nodes,
             corners,
             &consumed,
             limits,
             &mut self.scratch,
-        ) else {
-            return false;
-        };
+        )?;
+        let p = passed.corners;
         if let Cand::Snap { s, q } = c {
             // The quad's corner at X must sit inside X's front wedge with
             // room on both sides, and a split must leave two even loops.
@@ -492,16 +556,16 @@ impl Mesher {
                 || a1 < limits.min_front
                 || a2 < limits.min_front
             {
-                return false;
+                return None;
             }
             if f.slot(q).loop_id == f.slot(s).loop_id {
                 let d = self.loop_distance(s, q);
                 if d % 2 == 1 || d < 4 || n - d < 4 {
-                    return false;
+                    return None;
                 }
             }
         }
-        true
+        Some(passed.score)
     }
 
     /// Shorter distance along the loop between two slots of one loop.
@@ -613,10 +677,23 @@ impl Mesher {
             pattern: None,
             quads: Vec::new(),
             new_nodes: Vec::new(),
+            removed: 0,
         }
     }
 
     fn auto_step(&mut self) -> Result<StepReport, MeshError> {
+        let limits = self.limits();
+        // 0. A loop with no reference point starts a row with a square.
+        while let Some(lid) = self.row_start.pop() {
+            if self.front.loops[lid as usize].alive
+                && self.front.loops[lid as usize].len > 6
+                && !self.loop_has_reference(lid)
+            {
+                if let Some(r) = self.square_cut(Some(lid), limits) {
+                    return Ok(r);
+                }
+            }
+        }
         // 1. Small loops close first.
         let small: Vec<u32> = self
             .front
@@ -628,26 +705,78 @@ impl Mesher {
                 return Ok(r);
             }
         }
-        // 2. Reference points in queue order.
-        let limits = self.limits();
+        // 2. Reference points in queue order; poor elements wait while a
+        //    better reference point exists (the "next reference point" remedy).
         let mut skipped = 0;
+        let mut deferred: Vec<SlotId> = Vec::new();
+        let mut best: Option<Chosen> = None;
+        let mut chosen = None;
         while let Some(e) = self.queue.pop() {
             let i = e.slot as usize;
             if !self.front.slot(e.slot).alive || self.version[i] != e.version {
                 continue;
             }
-            if let Some(mut r) = self.try_reference(e.slot, limits)? {
-                r.skipped = skipped;
-                return Ok(r);
+            if e.class == 0
+                && self.front.angle(e.slot, &self.mesh.nodes) < self.params.seam_angle.to_radians()
+            {
+                if let Some(mut r) = self.try_seam(e.slot) {
+                    r.skipped = skipped;
+                    for s in deferred {
+                        self.push(s);
+                    }
+                    return Ok(r);
+                }
             }
+            match self.evaluate(e.slot, limits, false)? {
+                Some(c) if c.score >= self.params.defer_score => {
+                    chosen = Some(c);
+                    break;
+                }
+                Some(c) if best.as_ref().is_none_or(|b| c.score > b.score) => best = Some(c),
+                _ => {}
+            }
+            deferred.push(e.slot);
             skipped += 1;
         }
-        // 3. No reference point: a square on the shortest front edge.
-        if let Some(mut r) = self.square_cut(limits) {
+        if let Some(c) = chosen.or(best) {
+            let mut r = self.commit_chosen(c);
+            r.skipped = skipped;
+            for s in deferred {
+                self.push(s);
+            }
+            return Ok(r);
+        }
+        // 3. A seam at any sharp corner.
+        let sharp: Vec<SlotId> = self
+            .front
+            .live_loops()
+            .flat_map(|l| self.front.loop_slots(l))
+            .filter(|&s| {
+                self.front.angle(s, &self.mesh.nodes) < self.params.reference_angle[0].to_radians()
+            })
+            .collect();
+        for s in sharp {
+            if let Some(r) = self.try_seam(s) {
+                return Ok(r);
+            }
+        }
+        // 4. A small loop without a usable reference point is split along
+        //    its best chord (a ring becomes two halves with square corners).
+        let mut loops: Vec<u32> = self.front.live_loops().collect();
+        loops.sort_by_key(|&l| self.front.loops[l as usize].len);
+        for &lid in &loops {
+            if self.front.loops[lid as usize].len <= SMALL_LOOP {
+                if let Some(r) = self.chord_split(lid) {
+                    return Ok(r);
+                }
+            }
+        }
+        // 5. No reference point: a square on the shortest front edge.
+        if let Some(mut r) = self.square_cut(None, limits) {
             r.skipped = skipped;
             return Ok(r);
         }
-        // 4. A rule-based element with relaxed limits, anywhere.
+        // 6. The best rule-based element with relaxed limits, anywhere.
         let relaxed = Limits {
             min_corner: 10f64.to_radians(),
             max_corner: 170f64.to_radians(),
@@ -658,29 +787,43 @@ impl Mesher {
             .live_loops()
             .flat_map(|l| self.front.loop_slots(l))
             .collect();
+        let mut best: Option<Chosen> = None;
         for &s in &all {
-            let a = self.front.angle(s, &self.mesh.nodes);
-            if a >= PI {
+            if self.front.angle(s, &self.mesh.nodes) >= PI {
                 continue;
             }
-            let slots = self.leading_slots(s, 2);
-            let (frame, input) = self.normalised(&slots);
-            let pred = self.rules.predict(&input);
-            for (c, _) in self.candidates(s, pred, &frame) {
-                if self.check(c, relaxed) {
-                    let mut r = self.commit(c, StepKind::Element);
-                    r.reference = Some(self.front.node(s));
-                    r.remedy = Remedy::RuleBased;
-                    r.skipped = skipped;
+            if let Some(c) = self.evaluate(s, relaxed, true)? {
+                if best.as_ref().is_none_or(|b| c.score > b.score) {
+                    best = Some(c);
+                }
+            }
+        }
+        if let Some(c) = best {
+            let mut r = self.commit_chosen(c);
+            r.remedy = Remedy::RuleBased;
+            r.skipped = skipped;
+            return Ok(r);
+        }
+        // 7. Split a loop along a chord.
+        for &lid in &loops {
+            if let Some(r) = self.chord_split(lid) {
+                return Ok(r);
+            }
+        }
+        // 8. Straighten the smallest stuck loop, moving its interior nodes.
+        if let Some(&lid) = loops.first() {
+            if self.relaxes < 400 {
+                if let Some(r) = self.relax_loop(lid) {
+                    self.relaxes += 1;
                     return Ok(r);
                 }
             }
         }
-        // 5. Split a loop along a chord.
-        let mut loops: Vec<u32> = self.front.live_loops().collect();
-        loops.sort_by_key(|&l| self.front.loops[l as usize].len);
-        for lid in loops {
-            if let Some(r) = self.chord_split(lid) {
+        // 9. Give the smallest stuck loop room: remove the elements around it.
+        if let Some(&lid) = loops.first() {
+            if self.rip_ups < 64 {
+                let r = self.rip_up(lid, 1 + self.rip_ups % 4);
+                self.rip_ups += 1;
                 return Ok(r);
             }
         }
@@ -692,16 +835,31 @@ impl Mesher {
         })
     }
 
-    /// Model prediction and remedies at one reference slot.
-    fn try_reference(
+    /// True when some slot of the loop is a reference point or sharp corner.
+    fn loop_has_reference(&self, lid: u32) -> bool {
+        let hi = self.params.reference_angle[1].to_radians();
+        self.front
+            .loop_slots(lid)
+            .into_iter()
+            .any(|s| self.front.angle(s, &self.mesh.nodes) <= hi)
+    }
+
+    /// The model's element at reference slot `s`, or the best remedy. With
+    /// `rules`, the rule model stands in for the model.
+    fn evaluate(
         &mut self,
         s: SlotId,
         limits: Limits,
-    ) -> Result<Option<StepReport>, MeshError> {
-        let n = self.leading_n();
+        rules: bool,
+    ) -> Result<Option<Chosen>, MeshError> {
+        let n = if rules { 2 } else { self.leading_n() };
         let slots = self.leading_slots(s, n);
         let (frame, input) = self.normalised(&slots);
-        let pred = self.model.predict(&input);
+        let pred = if rules {
+            self.rules.predict(&input)
+        } else {
+            self.model.predict(&input)
+        };
         let pred = if pred.pn.is_finite() {
             pred
         } else {
@@ -710,24 +868,310 @@ impl Mesher {
                 ..pred
             }
         };
+        let leading: Vec<u32> = slots.iter().map(|&t| self.front.node(t)).collect();
+        let mut best: Option<Chosen> = None;
         for (c, remedy) in self.candidates(s, pred, &frame) {
-            if self.check(c, limits) {
-                let leading: Vec<u32> = slots.iter().map(|&t| self.front.node(t)).collect();
-                let mut r = self.commit(c, StepKind::Element);
-                r.reference = Some(leading[n]);
-                r.leading = leading;
-                r.prediction = Some(pred);
-                r.predicted_pn = Some(frame.to_world(pred.pn));
-                r.remedy = remedy;
-                return Ok(Some(r));
-            }
-            if self.params.pure_model {
-                return Err(MeshError::ModelRejected {
-                    node: self.front.node(s),
+            let Some(score) = self.check(c, limits) else {
+                if self.params.pure_model && !rules {
+                    return Err(MeshError::ModelRejected {
+                        node: self.front.node(s),
+                    });
+                }
+                continue;
+            };
+            let better = best.as_ref().is_none_or(|b| score > b.score);
+            if better {
+                best = Some(Chosen {
+                    cand: c,
+                    remedy,
+                    score,
+                    prediction: pred,
+                    frame,
+                    leading: leading.clone(),
                 });
             }
+            if remedy == Remedy::None && score >= self.params.accept_score {
+                break;
+            }
         }
-        Ok(None)
+        Ok(best)
+    }
+
+    fn commit_chosen(&mut self, c: Chosen) -> StepReport {
+        let mut r = self.commit(c.cand, StepKind::Element);
+        r.reference = Some(c.leading[c.leading.len() / 2]);
+        r.predicted_pn = Some(c.frame.to_world(c.prediction.pn));
+        r.prediction = Some(c.prediction);
+        r.leading = c.leading;
+        r.remedy = c.remedy;
+        r
+    }
+
+    /// Removes every quad within `rings` element rings of loop `lid` and
+    /// rebuilds the front around the enlarged hole in the mesh.
+    fn rip_up(&mut self, lid: u32, rings: usize) -> StepReport {
+        let mut r = self.report(StepKind::RipUp);
+        let mut mark = vec![false; self.mesh.nodes.len()];
+        for s in self.front.loop_slots(lid) {
+            mark[self.front.node(s) as usize] = true;
+        }
+        r.reference = Some(self.front.node(self.front.loops[lid as usize].head));
+        for _ in 0..rings {
+            let hit: Vec<usize> = (0..self.mesh.quads.len())
+                .filter(|&k| self.mesh.quads[k].iter().any(|&v| mark[v as usize]))
+                .collect();
+            for &k in &hit {
+                for &v in &self.mesh.quads[k] {
+                    mark[v as usize] = true;
+                }
+            }
+            let before = self.mesh.quads.len();
+            let mut k = 0;
+            self.mesh.quads.retain(|_| {
+                let keep = hit.binary_search(&k).is_err();
+                k += 1;
+                keep
+            });
+            r.removed += before - self.mesh.quads.len();
+        }
+        self.rebuild_incidence();
+        let loops = Front::loops_of_unmeshed(&self.mesh);
+        self.front = Front::new(
+            &loops,
+            &self.mesh.nodes,
+            2.0 * self.boundary.median_segment(),
+        );
+        self.queue.clear();
+        self.version.clear();
+        for s in 0..self.front.slots.len() as SlotId {
+            self.push(s);
+        }
+        // The enlarged loop is split next: a chord across the wider region.
+        let target = self.front.live_loops().max_by_key(|&l| {
+            self.front
+                .loop_slots(l)
+                .iter()
+                .filter(|&&s| mark[self.front.node(s) as usize])
+                .count()
+        });
+        if let Some(t) = target {
+            if let Some(split) = self.chord_split(t) {
+                r.quads = split.quads;
+                r.new_nodes = split.new_nodes;
+            }
+        }
+        self.row_start = self.front.live_loops().collect();
+        r
+    }
+
+    fn push_quad(&mut self, q: [u32; 4]) {
+        let k = self.mesh.quads.len() as u32;
+        for &v in &q {
+            let v = v as usize;
+            if self.incident.len() <= v {
+                self.incident.resize(v + 1, Vec::new());
+            }
+            self.incident[v].push(k);
+        }
+        self.mesh.quads.push(q);
+    }
+
+    fn rebuild_incidence(&mut self) {
+        self.incident = vec![Vec::new(); self.mesh.nodes.len()];
+        for (k, q) in self.mesh.quads.iter().enumerate() {
+            for &v in q {
+                self.incident[v as usize].push(k as u32);
+            }
+        }
+    }
+
+    /// Seam at sharp slot `s`: merges P_l1 and P_r1 (at their midpoint, or
+    /// onto the one on the boundary) so the sharp corner closes. Kept only
+    /// if every quad around the merged node stays strictly convex with a
+    /// scaled Jacobian of at least 0.2 and the new front edges cross nothing.
+    fn try_seam(&mut self, s: SlotId) -> Option<StepReport> {
+        let f = &self.front;
+        if f.loop_len(s) < 6 {
+            return None;
+        }
+        let (l, r) = (f.prev(s), f.next(s));
+        let (l2, r2) = (f.prev(l), f.next(r));
+        let (nl, nr) = (f.node(l), f.node(r));
+        if nl == nr || f.node(l2) == nr || f.node(r2) == nl {
+            return None;
+        }
+        let nb = self.mesh.n_boundary() as u32;
+        let (pl, pr) = (self.mesh.nodes[nl as usize], self.mesh.nodes[nr as usize]);
+        let (keep, gone, pos) = match (nl < nb, nr < nb) {
+            (true, true) => return None,
+            (true, false) => (nl, nr, pl),
+            (false, true) => (nr, nl, pr),
+            (false, false) => (nl, nr, pl.lerp(pr, 0.5)),
+        };
+        // Both nodes must stand on the front only here.
+        let probe = Point::splat(1e-12 * (1.0 + pos.abs().max_element()));
+        for (v, pv) in [(nl, pl), (nr, pr)] {
+            self.front
+                .edges_near(pv - probe, pv + probe, &mut self.scratch.near);
+            if self
+                .scratch
+                .near
+                .iter()
+                .any(|&e| self.front.node(e) == v && e != l && e != r)
+            {
+                return None;
+            }
+        }
+        let sub = |v: u32| if v == gone { keep } else { v };
+        let mut quads: Vec<u32> = self.incident.get(nl as usize).cloned().unwrap_or_default();
+        quads.extend(self.incident.get(nr as usize).cloned().unwrap_or_default());
+        let at = |v: u32| {
+            if v == keep || v == gone {
+                pos
+            } else {
+                self.mesh.nodes[v as usize]
+            }
+        };
+        for &k in &quads {
+            let q = self.mesh.quads[k as usize].map(sub);
+            let p = q.map(at);
+            if !(0..4).all(|i| crate::geom::orient(p[(i + 3) % 4], p[i], p[(i + 1) % 4]) > 0.0) {
+                return None;
+            }
+            if crate::quality::QuadQuality::of(p).scaled_jacobian < 0.2 {
+                return None;
+            }
+        }
+        // New front edges l2 → X → r2 and the moved mesh edges at X.
+        let mut ends: Vec<u32> = vec![self.front.node(l2), self.front.node(r2)];
+        for &k in &quads {
+            let q = self.mesh.quads[k as usize].map(sub);
+            for i in 0..4 {
+                if q[i] == keep {
+                    ends.push(q[(i + 1) % 4]);
+                    ends.push(q[(i + 3) % 4]);
+                }
+            }
+        }
+        ends.sort_unstable();
+        ends.dedup();
+        for &w in &ends {
+            let pw = self.mesh.nodes[w as usize];
+            self.front
+                .edges_near(pos.min(pw), pos.max(pw), &mut self.scratch.near);
+            for &e in &self.scratch.near {
+                let (c, d) = (self.front.node(e), self.front.node(self.front.next(e)));
+                let skip = |v: u32| v == w || v == nl || v == nr || v == self.front.node(s);
+                if skip(c) || skip(d) {
+                    continue;
+                }
+                let (pc, pd) = (self.mesh.nodes[c as usize], self.mesh.nodes[d as usize]);
+                if crate::geom::segments_intersect(pos, pw, pc, pd) {
+                    return None;
+                }
+            }
+        }
+        if self.incident.len() < self.mesh.nodes.len() {
+            self.incident.resize(self.mesh.nodes.len(), Vec::new());
+        }
+        let mut rep = self.report(StepKind::Seam);
+        rep.reference = Some(self.front.node(s));
+        self.front.remove_pair(s, &self.mesh.nodes);
+        self.front.unfile_edges_at(l, &self.mesh.nodes);
+        self.mesh.nodes[keep as usize] = pos;
+        self.front.refile_edges_at(l, keep, &self.mesh.nodes);
+        let moved = std::mem::take(&mut self.incident[gone as usize]);
+        for &k in &moved {
+            let q = &mut self.mesh.quads[k as usize];
+            *q = q.map(sub);
+        }
+        self.incident[keep as usize].extend(moved);
+        for t in [l, l2, r2] {
+            self.push(t);
+        }
+        Some(rep)
+    }
+
+    /// Moves each interior (non-boundary) node of loop `lid` half-way to
+    /// the midpoint of its front neighbours when every quad around it stays
+    /// strictly convex with a scaled Jacobian of at least
+    /// `min(former, 0.3)` and its front edges cross nothing.
+    fn relax_loop(&mut self, lid: u32) -> Option<StepReport> {
+        if self.incident.len() < self.mesh.nodes.len() {
+            self.incident.resize(self.mesh.nodes.len(), Vec::new());
+        }
+        let nb = self.mesh.n_boundary() as u32;
+        let slots = self.front.loop_slots(lid);
+        let mut count: std::collections::BTreeMap<u32, usize> = Default::default();
+        for &s in &slots {
+            *count.entry(self.front.node(s)).or_default() += 1;
+        }
+        let mut moved = 0;
+        for &s in &slots {
+            let v = self.front.node(s);
+            if v < nb || count[&v] > 1 {
+                continue;
+            }
+            let (pp, pn) = (
+                self.world(self.front.prev(s)),
+                self.world(self.front.next(s)),
+            );
+            let old = self.mesh.nodes[v as usize];
+            let new = old.lerp(pp.lerp(pn, 0.5), 0.5);
+            if (new - old).length() < 1e-9 * pp.distance(pn) {
+                continue;
+            }
+            let quads = self.incident[v as usize].clone();
+            let before: Vec<f64> = quads
+                .iter()
+                .map(|&k| {
+                    crate::quality::QuadQuality::of(self.mesh.corners(&self.mesh.quads[k as usize]))
+                        .scaled_jacobian
+                })
+                .collect();
+            self.front.unfile_edges_at(s, &self.mesh.nodes);
+            self.mesh.nodes[v as usize] = new;
+            let mut ok = quads.iter().zip(&before).all(|(&k, &b)| {
+                let p = self.mesh.corners(&self.mesh.quads[k as usize]);
+                (0..4).all(|i| crate::geom::orient(p[(i + 3) % 4], p[i], p[(i + 1) % 4]) > 0.0)
+                    && crate::quality::QuadQuality::of(p).scaled_jacobian >= b.min(0.3)
+            });
+            if ok {
+                let prev_node = self.front.node(self.front.prev(s));
+                let next_node = self.front.node(self.front.next(s));
+                'edges: for w in [prev_node, next_node] {
+                    let pw = self.mesh.nodes[w as usize];
+                    self.front
+                        .edges_near(new.min(pw), new.max(pw), &mut self.scratch.near);
+                    for &e in &self.scratch.near {
+                        let (c, d) = (self.front.node(e), self.front.node(self.front.next(e)));
+                        if c == v || d == v || c == w || d == w {
+                            continue;
+                        }
+                        let (pc, pd) = (self.mesh.nodes[c as usize], self.mesh.nodes[d as usize]);
+                        if crate::geom::segments_intersect(new, pw, pc, pd) {
+                            ok = false;
+                            break 'edges;
+                        }
+                    }
+                }
+            }
+            if !ok {
+                self.mesh.nodes[v as usize] = old;
+            } else {
+                moved += 1;
+            }
+            self.front.refile_edges_at(s, v, &self.mesh.nodes);
+        }
+        if moved == 0 {
+            return None;
+        }
+        for &s in &slots {
+            self.push(s);
+        }
+        let mut r = self.report(StepKind::Relax);
+        r.reference = Some(self.front.node(slots[0]));
+        Some(r)
     }
 
     fn add_node(&mut self, p: Point) -> u32 {
@@ -746,7 +1190,7 @@ impl Mesher {
                 let layer = f.slot(s).layer + 1;
                 let (p0, r1, l1) = (f.node(s), f.node(rr), f.node(l));
                 let v = self.add_node(pn);
-                self.mesh.quads.push([p0, r1, v, l1]);
+                self.push_quad([p0, r1, v, l1]);
                 self.front.replace_node(s, v, layer, &self.mesh.nodes);
                 r.new_nodes.push(v);
                 r.element_type = Some(ElementType::New);
@@ -757,7 +1201,7 @@ impl Mesher {
                 let (qp, qn) = (f.prev(q), f.next(q));
                 let (p0, r1, l1, x) = (f.node(s), f.node(rr), f.node(l), f.node(q));
                 let layer = f.slot(s).layer + 1;
-                self.mesh.quads.push([p0, r1, x, l1]);
+                self.push_quad([p0, r1, x, l1]);
                 self.front.replace_node(s, x, layer, &self.mesh.nodes);
                 self.front.exchange_successors(s, q, &self.mesh.nodes);
                 r.element_type = Some(ElementType::New);
@@ -766,9 +1210,8 @@ impl Mesher {
             Cand::Right { s } => {
                 let (l, rr) = (f.prev(s), f.next(s));
                 let r2 = f.next(rr);
-                self.mesh
-                    .quads
-                    .push([f.node(s), f.node(rr), f.node(r2), f.node(l)]);
+                let quad = [f.node(s), f.node(rr), f.node(r2), f.node(l)];
+                self.push_quad(quad);
                 self.front.remove_pair(s, &self.mesh.nodes);
                 r.element_type = Some(ElementType::Right);
                 touched = vec![r2, l];
@@ -776,9 +1219,8 @@ impl Mesher {
             Cand::Left { s } => {
                 let (l, rr) = (f.prev(s), f.next(s));
                 let l2 = f.prev(l);
-                self.mesh
-                    .quads
-                    .push([f.node(s), f.node(rr), f.node(l2), f.node(l)]);
+                let quad = [f.node(s), f.node(rr), f.node(l2), f.node(l)];
+                self.push_quad(quad);
                 self.front.remove_pair(l, &self.mesh.nodes);
                 r.element_type = Some(ElementType::Left);
                 touched = vec![rr, l2];
@@ -816,7 +1258,7 @@ impl Mesher {
                 }
                 let mut r = self.report(StepKind::Close4);
                 let quad = [nodes[0], nodes[1], nodes[2], nodes[3]];
-                self.mesh.quads.push(quad);
+                self.push_quad(quad);
                 self.front.remove_loop(lid, &self.mesh.nodes);
                 r.quads.push(quad);
                 Some(r)
@@ -846,7 +1288,7 @@ impl Mesher {
                             nodes[i]
                         }
                     });
-                    self.mesh.quads.push(quad);
+                    self.push_quad(quad);
                     r.quads.push(quad);
                 }
                 self.front.remove_loop(lid, &self.mesh.nodes);
@@ -875,10 +1317,11 @@ impl Mesher {
 
     /// A square element on the shortest front edge whose square fits
     /// (thesis §5.1: no front node qualifies as a reference point).
-    fn square_cut(&mut self, limits: Limits) -> Option<StepReport> {
+    fn square_cut(&mut self, only: Option<u32>, limits: Limits) -> Option<StepReport> {
         let mut edges: Vec<(f64, SlotId)> = self
             .front
             .live_loops()
+            .filter(|&l| only.is_none_or(|o| o == l) && self.front.loops[l as usize].len >= 16)
             .flat_map(|l| self.front.loop_slots(l))
             .map(|s| (self.world(s).distance(self.world(self.front.next(s))), s))
             .collect();
@@ -910,7 +1353,7 @@ impl Mesher {
                     let va = self.add_node(a2);
                     let vb = self.add_node(b2);
                     let quad = [self.front.node(s), self.front.node(t), vb, va];
-                    self.mesh.quads.push(quad);
+                    self.push_quad(quad);
                     let ids = self
                         .front
                         .insert_after(s, &[va, vb], layer, &self.mesh.nodes);
@@ -934,10 +1377,10 @@ impl Mesher {
     fn chord_split(&mut self, lid: u32) -> Option<StepReport> {
         let slots = self.front.loop_slots(lid);
         let n = slots.len();
-        if n < 4 {
+        if n < 8 {
             return None;
         }
-        let min_part = 20f64.to_radians();
+        let min_part = 40f64.to_radians();
         let mut best: Option<(f64, SlotId, SlotId, usize)> = None;
         let stride = (n / 200).max(1);
         for i in (0..n).step_by(stride) {
@@ -980,7 +1423,11 @@ impl Mesher {
                 if k == 0 && (d + 1 < 4 || n - d + 1 < 4) {
                     k = 2;
                 }
-                score += 0.5 * ((len / (k + 1) as f64) / h - 1.0).abs();
+                let spacing = (len / (k + 1) as f64) / h;
+                if !(0.4..=2.5).contains(&spacing) {
+                    continue;
+                }
+                score += 0.5 * (spacing - 1.0).abs();
                 if best.is_some_and(|(bs, ..)| score >= bs) {
                     continue;
                 }
@@ -1007,6 +1454,8 @@ impl Mesher {
         let ids = self.front.insert_after(a, &seq, layer, &self.mesh.nodes);
         let b_star = ids[k];
         self.front.exchange_successors(b_star, b, &self.mesh.nodes);
+        self.row_start.push(self.front.slot(a).loop_id);
+        self.row_start.push(self.front.slot(b).loop_id);
         let mut touched = vec![a, b, b_star, ids[ids.len() - 1]];
         touched.extend(ids.iter().copied());
         for s in touched {
@@ -1071,7 +1520,7 @@ impl Mesher {
             max_corner: PI - 1e-6,
             min_front: 1e-6,
         };
-        if !self.check(cand, relaxed) {
+        if self.check(cand, relaxed).is_none() {
             return Err(MeshError::InvalidCorrection { node: c.reference });
         }
         let mut r = self.commit(cand, StepKind::Correction);
@@ -1115,6 +1564,7 @@ impl Mesher {
     /// [`Mesher::run`]; an unfinished mesh is returned as it stands.
     pub fn finish(&self) -> QuadMesh {
         let mut mesh = self.mesh.clone();
+        mesh.compact();
         smooth(&mut mesh, &self.params.smooth);
         mesh
     }

@@ -8,13 +8,11 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 fn list(out: &mut String, ids: impl IntoIterator<Item = usize>) {
-    let mut k = 0;
-    for id in ids {
+    for (k, id) in ids.into_iter().enumerate() {
         if k > 0 {
             out.push_str(if k % 16 == 0 { ",\n" } else { ", " });
         }
         let _ = write!(out, "{id}");
-        k += 1;
     }
     out.push('\n');
 }

@@ -62,8 +62,8 @@ impl ThesisModel {
         let sig = |v: f64| 1.0 / (1.0 + (-self.mu1 * v).exp());
         let pts = [input.left[1], input.left[0], input.right[1]];
         let mut p = self.mu0;
-        for k in 0..3 {
-            p += self.type_lambda[k] * sig(pts[k].x) + self.type_gamma[k] * sig(pts[k].y);
+        for ((pt, lambda), gamma) in pts.iter().zip(self.type_lambda).zip(self.type_gamma) {
+            p += lambda * sig(pt.x) + gamma * sig(pt.y);
         }
         p
     }
