@@ -19,9 +19,9 @@ for f in "$bench"/boundaries/*.poly "$bench"/peer/*.poly "$bench"/edge/*.poly; d
   fi
   j=$(python3 "$bench/tools/judge.py" "$f" "$msh")
   if echo "$j" | grep -q '"valid": true'; then
-    pass=$((pass+1)); echo "ok   $name $j"
+    pass=$((pass+1)); echo "ok   $name $(echo $j)"
   else
-    fail=$((fail+1)); echo "FAIL $name $j"
+    fail=$((fail+1)); echo "FAIL $name $(echo $j)"
   fi
 done
 echo "judged: $pass passed, $fail failed"

@@ -1,1 +1,59 @@
-fn main() {}
+//! Criterion benchmarks of whole meshing runs (extraction + smoothing).
+//! `cargo bench` reports medians; `cargo run --release --example scaling`
+//! prints the time per element from 1k to 1M elements.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use quadex::extract::MeshParams;
+use quadex::model::RulesModel;
+use quadex::{Boundary, Point};
+use std::sync::Arc;
+
+/// A unit square with `n` segments per side.
+pub fn square(n: usize) -> Boundary {
+    let mut pts = Vec::with_capacity(4 * n);
+    let t = |k: usize| k as f64 / n as f64;
+    pts.extend((0..n).map(|k| Point::new(t(k), 0.0)));
+    pts.extend((0..n).map(|k| Point::new(1.0, t(k))));
+    pts.extend((0..n).map(|k| Point::new(1.0 - t(k), 1.0)));
+    pts.extend((0..n).map(|k| Point::new(0.0, 1.0 - t(k))));
+    let l = (0..pts.len()).collect();
+    Boundary::new(pts, vec![l], None).expect("square")
+}
+
+fn bench(c: &mut Criterion) {
+    let mut g = c.benchmark_group("mesh");
+    g.sample_size(10);
+    for n in [32usize, 64, 128] {
+        let b = square(n);
+        g.bench_with_input(BenchmarkId::new("square", n * n), &b, |bch, b| {
+            bch.iter(|| {
+                quadex::mesh_boundary(
+                    b,
+                    Arc::new(RulesModel::DEFAULT),
+                    &MeshParams::DEFAULT,
+                    |_| {},
+                )
+                .unwrap()
+            })
+        });
+    }
+    let bench_dir =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    for name in ["circle", "disk100"] {
+        let b = quadex::io::read_boundary(&bench_dir.join(format!("{name}.poly"))).unwrap();
+        g.bench_function(name, |bch| {
+            bch.iter(|| {
+                quadex::mesh_boundary(
+                    &b,
+                    Arc::new(RulesModel::DEFAULT),
+                    &MeshParams::DEFAULT,
+                    |_| {},
+                )
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -29,7 +29,7 @@ pub enum BoundaryError {
     Branching { node: i64, degree: usize },
     #[error("loop {loop_index} has only {nodes} nodes; a loop needs at least 3")]
     LoopTooShort { loop_index: usize, nodes: usize },
-    #[error("loop {loop_index}: node {node} repeats the position of the node before it")]
+    #[error("loop {loop_index}: node {node} (almost) repeats the position of the node before it")]
     DuplicateNode { loop_index: usize, node: i64 },
     #[error("loop {loop_index} encloses no area (its nodes are collinear or fold back)")]
     ZeroArea { loop_index: usize },
@@ -94,9 +94,20 @@ impl Boundary {
                     node: bad as i64,
                 });
             }
+        }
+        // Consecutive nodes closer than a thousandth of the median segment
+        // are the same node entered twice.
+        let mut lens: Vec<f64> = loops
+            .iter()
+            .flat_map(|l| (0..l.len()).map(move |k| (l[k], l[(k + 1) % l.len()])))
+            .map(|(a, b)| points[a].distance(points[b]))
+            .collect();
+        lens.sort_by(f64::total_cmp);
+        let tol = 1e-3 * lens.get(lens.len() / 2).copied().unwrap_or(0.0);
+        for (li, l) in loops.iter().enumerate() {
             for k in 0..l.len() {
                 let (a, b) = (l[k], l[(k + 1) % l.len()]);
-                if points[a] == points[b] {
+                if points[a].distance(points[b]) <= tol {
                     return Err(BoundaryError::DuplicateNode {
                         loop_index: li,
                         node: lab(b),
@@ -387,7 +398,7 @@ mod tests {
     #[test]
     fn crossing_names_the_loops() {
         let p = |x, y| Point::new(x, y);
-        let pts = vec![p(0., 0.), p(1., 1.), p(1., 0.), p(0., 1.)];
+        let pts = vec![p(0., 0.), p(2., 2.), p(2., 0.), p(0., 1.)];
         let e = Boundary::new(pts, vec![vec![0, 1, 2, 3]], None).unwrap_err();
         assert!(
             matches!(

@@ -72,6 +72,9 @@ pub struct MeshParams {
     /// A sharp front corner below this angle is closed by a seam when the
     /// merge keeps the mesh valid (default 30).
     pub seam_angle: f64,
+    /// Stop with [`MeshError::StepLimit`] after this many steps (`None`:
+    /// a bound derived from the boundary's area and shortest segment).
+    pub max_steps: Option<usize>,
     /// Laplacian smoothing after extraction.
     pub smooth: SmoothParams,
     /// Turn the remedies off: a prediction the guard rejects ends the run
@@ -91,6 +94,7 @@ impl MeshParams {
         accept_score: 0.5,
         defer_score: 0.25,
         seam_angle: 30.0,
+        max_steps: None,
         smooth: SmoothParams::DEFAULT,
         pure_model: false,
     };
@@ -313,7 +317,9 @@ impl Mesher {
         }
         let est = (boundary.area() / (min_seg * min_seg)).min(1e9) as usize;
         let mut m = Mesher {
-            step_limit: 20 * est.max(boundary.node_count()) + 10_000,
+            step_limit: params
+                .max_steps
+                .unwrap_or(8 * est.max(boundary.node_count()) + 10_000),
             boundary,
             params,
             model,

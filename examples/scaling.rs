@@ -1,0 +1,79 @@
+//! Prints time per element for growing meshes: generated unit squares
+//! (n × n quads) and the benchmark disks. Median of 3 runs, release build.
+//!
+//! `cargo run --release --example scaling [MAX_SIDE]`
+
+use quadex::extract::{MeshParams, Mesher};
+use quadex::model::RulesModel;
+use quadex::{Boundary, Point};
+use std::sync::Arc;
+use std::time::Instant;
+
+fn square(n: usize) -> Boundary {
+    let mut pts = Vec::with_capacity(4 * n);
+    let t = |k: usize| k as f64 / n as f64;
+    pts.extend((0..n).map(|k| Point::new(t(k), 0.0)));
+    pts.extend((0..n).map(|k| Point::new(1.0, t(k))));
+    pts.extend((0..n).map(|k| Point::new(1.0 - t(k), 1.0)));
+    pts.extend((0..n).map(|k| Point::new(0.0, 1.0 - t(k))));
+    let l = (0..pts.len()).collect();
+    Boundary::new(pts, vec![l], None).expect("square")
+}
+
+fn time(b: &Boundary) -> Result<(usize, f64, f64), String> {
+    let mut runs = Vec::new();
+    let mut quads = 0;
+    let mut smooth_share = 0.0;
+    for _ in 0..3 {
+        let t0 = Instant::now();
+        let mut m = Mesher::new(
+            b.clone(),
+            Arc::new(RulesModel::DEFAULT),
+            MeshParams::DEFAULT,
+        );
+        m.run(|_| {}).map_err(|e| e.to_string())?;
+        let t1 = Instant::now();
+        let mesh = m.finish();
+        let t2 = Instant::now();
+        quads = mesh.quads.len();
+        runs.push((t2 - t0).as_secs_f64());
+        smooth_share = (t2 - t1).as_secs_f64() / (t2 - t0).as_secs_f64();
+    }
+    runs.sort_by(f64::total_cmp);
+    Ok((quads, runs[1], smooth_share))
+}
+
+fn main() {
+    let max: usize = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1024);
+    println!("| case | quads | median s | µs / quad | smoothing share |");
+    println!("|---|---:|---:|---:|---:|");
+    let mut n = 32;
+    while n <= max {
+        match time(&square(n)) {
+            Ok((q, t, s)) => println!(
+                "| square {n}×{n} | {q} | {t:.3} | {:.2} | {:.0}% |",
+                1e6 * t / q as f64,
+                100.0 * s
+            ),
+            Err(e) => println!("| square {n}×{n} | – | failed: {e} | | |"),
+        }
+        n *= 2;
+    }
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    for name in ["disk100", "disk400", "disk1600", "disk6400"] {
+        let Ok(b) = quadex::io::read_boundary(&dir.join(format!("{name}.poly"))) else {
+            continue;
+        };
+        match time(&b) {
+            Ok((q, t, s)) => println!(
+                "| {name} | {q} | {t:.3} | {:.2} | {:.0}% |",
+                1e6 * t / q as f64,
+                100.0 * s
+            ),
+            Err(e) => println!("| {name} | – | did not finish: {e} | | |"),
+        }
+    }
+}

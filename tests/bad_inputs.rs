@@ -1,0 +1,140 @@
+//! Every broken boundary in `bench/bad/` is refused with an error that
+//! names the problem; none panics.
+
+mod common;
+
+use quadex::io::{read_boundary, ReadError};
+use quadex::BoundaryError;
+
+fn refuse(name: &str) -> ReadError {
+    let path = common::bench().join("bad").join(name);
+    match read_boundary(&path) {
+        Ok(_) => panic!("{name} was accepted"),
+        Err(e) => {
+            let msg = e.to_string();
+            assert!(
+                !msg.is_empty() && !msg.contains('\n'),
+                "{name}: message {msg:?}"
+            );
+            e
+        }
+    }
+}
+
+macro_rules! bad {
+    ($test:ident, $file:expr, $pat:pat) => {
+        #[test]
+        fn $test() {
+            let e = refuse($file);
+            assert!(matches!(e, $pat), "{}: {e:?}", $file);
+        }
+    };
+}
+
+bad!(
+    bad_segment_index,
+    "bad_segment_index.poly",
+    ReadError::Boundary(BoundaryError::BadSegmentIndex { node: 9, .. })
+);
+bad!(
+    bowtie,
+    "bowtie.poly",
+    ReadError::Boundary(BoundaryError::Crossing { .. } | BoundaryError::ZeroArea { .. })
+);
+bad!(
+    branching,
+    "branching.poly",
+    ReadError::Boundary(BoundaryError::Branching { .. } | BoundaryError::OpenChain { .. })
+);
+bad!(
+    collinear,
+    "collinear.poly",
+    ReadError::Boundary(BoundaryError::ZeroArea { .. } | BoundaryError::Crossing { .. })
+);
+bad!(
+    duplicate_node,
+    "duplicate_node_freemesh_boundary10.poly",
+    ReadError::Boundary(BoundaryError::DuplicateNode { .. })
+);
+bad!(empty, "empty.poly", ReadError::Empty);
+bad!(garbage, "garbage.poly", ReadError::Syntax { line: 1, .. });
+bad!(
+    hole_crossing,
+    "hole_crossing.poly",
+    ReadError::Boundary(BoundaryError::Crossing { .. })
+);
+bad!(
+    hole_outside,
+    "hole_outside.poly",
+    ReadError::Boundary(BoundaryError::HoleOutside { .. })
+);
+bad!(
+    inf,
+    "inf.poly",
+    ReadError::Boundary(BoundaryError::NonFinite { node: 3 })
+);
+bad!(
+    nan,
+    "nan.poly",
+    ReadError::Boundary(BoundaryError::NonFinite { node: 3 })
+);
+bad!(
+    odd_count,
+    "odd_count.poly",
+    ReadError::Boundary(BoundaryError::OddNodeCount { count: 11 })
+);
+bad!(
+    open_chain,
+    "open_chain.poly",
+    ReadError::Boundary(BoundaryError::OpenChain { .. })
+);
+bad!(
+    touching_hole,
+    "touching_hole.poly",
+    ReadError::Boundary(BoundaryError::Crossing { .. })
+);
+bad!(truncated, "truncated.poly", ReadError::Truncated { .. });
+bad!(
+    two_nodes,
+    "two_nodes.poly",
+    ReadError::Boundary(BoundaryError::TooFewNodes { .. } | BoundaryError::LoopTooShort { .. })
+);
+
+#[test]
+fn every_bad_file_has_a_test() {
+    assert_eq!(common::cases("bad").len(), 16);
+}
+
+/// The command line refuses each bad file with exit code 2, one line on
+/// stderr, and no output file.
+#[test]
+fn cli_refuses_bad_files() {
+    let exe = env!("CARGO_BIN_EXE_quadex");
+    let dir = tempfile::tempdir().unwrap();
+    for case in common::cases("bad")
+        .iter()
+        .chain(std::iter::once(&common::bench().join("bad/empty.poly")))
+    {
+        let out = dir.path().join("out.msh");
+        let o = std::process::Command::new(exe)
+            .arg("mesh")
+            .arg(case)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{}: {err}", case.display());
+        assert_eq!(
+            err.trim_end().lines().count(),
+            1,
+            "{}: {err}",
+            case.display()
+        );
+        assert!(
+            err.contains(case.file_name().unwrap().to_str().unwrap()),
+            "{err}"
+        );
+        assert!(!out.exists());
+    }
+}
