@@ -5,26 +5,14 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use quadex::extract::MeshParams;
 use quadex::model::RulesModel;
-use quadex::{Boundary, Point};
+use quadex::Boundary;
 use std::sync::Arc;
-
-/// A unit square with `n` segments per side.
-pub fn square(n: usize) -> Boundary {
-    let mut pts = Vec::with_capacity(4 * n);
-    let t = |k: usize| k as f64 / n as f64;
-    pts.extend((0..n).map(|k| Point::new(t(k), 0.0)));
-    pts.extend((0..n).map(|k| Point::new(1.0, t(k))));
-    pts.extend((0..n).map(|k| Point::new(1.0 - t(k), 1.0)));
-    pts.extend((0..n).map(|k| Point::new(0.0, 1.0 - t(k))));
-    let l = (0..pts.len()).collect();
-    Boundary::new(pts, vec![l], None).expect("square")
-}
 
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("mesh");
     g.sample_size(10);
     for n in [32usize, 64, 128] {
-        let b = square(n);
+        let b = Boundary::unit_square(n);
         g.bench_with_input(BenchmarkId::new("square", n * n), &b, |bch, b| {
             bch.iter(|| {
                 quadex::mesh_boundary(

@@ -5,20 +5,9 @@
 
 use quadex::extract::{MeshParams, Mesher};
 use quadex::model::RulesModel;
-use quadex::{Boundary, Point};
+use quadex::Boundary;
 use std::sync::Arc;
 use std::time::Instant;
-
-fn square(n: usize) -> Boundary {
-    let mut pts = Vec::with_capacity(4 * n);
-    let t = |k: usize| k as f64 / n as f64;
-    pts.extend((0..n).map(|k| Point::new(t(k), 0.0)));
-    pts.extend((0..n).map(|k| Point::new(1.0, t(k))));
-    pts.extend((0..n).map(|k| Point::new(1.0 - t(k), 1.0)));
-    pts.extend((0..n).map(|k| Point::new(0.0, 1.0 - t(k))));
-    let l = (0..pts.len()).collect();
-    Boundary::new(pts, vec![l], None).expect("square")
-}
 
 fn time(b: &Boundary) -> Result<(usize, f64, f64), String> {
     let mut runs = Vec::new();
@@ -52,7 +41,7 @@ fn main() {
     println!("|---|---:|---:|---:|---:|");
     let mut n = 32;
     while n <= max {
-        match time(&square(n)) {
+        match time(&Boundary::unit_square(n)) {
             Ok((q, t, s)) => println!(
                 "| square {n}×{n} | {q} | {t:.3} | {:.2} | {:.0}% |",
                 1e6 * t / q as f64,

@@ -178,6 +178,25 @@ impl Boundary {
         })
     }
 
+    /// A unit square with `n` equal segments per side (a test and
+    /// benchmark domain).
+    pub fn unit_square(n: usize) -> Boundary {
+        let n = n.max(1);
+        let t = |k: usize| k as f64 / n as f64;
+        let mut pts = Vec::with_capacity(4 * n);
+        pts.extend((0..n).map(|k| Point::new(t(k), 0.0)));
+        pts.extend((0..n).map(|k| Point::new(1.0, t(k))));
+        pts.extend((0..n).map(|k| Point::new(1.0 - t(k), 1.0)));
+        pts.extend((0..n).map(|k| Point::new(0.0, 1.0 - t(k))));
+        let ids = (0..pts.len()).collect();
+        let labels = (1..=pts.len() as i64).collect();
+        Boundary {
+            points: pts,
+            loops: vec![ids],
+            labels,
+        }
+    }
+
     /// Total number of boundary nodes.
     pub fn node_count(&self) -> usize {
         self.loops.iter().map(Vec::len).sum()

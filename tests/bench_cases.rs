@@ -11,34 +11,32 @@ use quadex::extract::{MeshParams, Mesher, StepOutcome};
 use quadex::model::RulesModel;
 use std::sync::Arc;
 
-/// Cases the mesher does not finish yet (reported in the README).
+/// Cases the mesher does not finish within 12,000 steps yet (see README and
+/// BENCHMARKS.md).
 const OPEN: &[&str] = &[
+    "disk100",
     "disk400",
     "iceland",
-    "italy",
     "naca0012",
     "plate_hole",
     "star8",
     "switzerland",
     "freemesh_b15",
+    "freemesh_basic2",
     "freemesh_bird1",
-    "freemesh_boundary11",
     "freemesh_boundary13",
     "freemesh_boundary14",
     "freemesh_boundary15",
     "freemesh_boundary16",
-    "freemesh_boundary8",
     "freemesh_boundary9",
     "freemesh_boundary_fly_r2",
-    "freemesh_dolphine2",
-    "freemesh_engeer",
     "freemesh_fat2",
     "freemesh_random1_1",
     "freemesh_random2_1",
     "freemesh_random2_2",
-    "freemesh_star1",
     "freemesh_test3",
     "freemesh_tool2",
+    "hole_ccw",
 ];
 
 #[test]

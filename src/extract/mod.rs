@@ -292,6 +292,8 @@ pub struct Mesher {
     /// Quads incident to each node.
     incident: Vec<Vec<u32>>,
     relaxes: usize,
+    /// Relaxations since the last other step.
+    relax_streak: usize,
 }
 
 /// The element chosen at a reference point.
@@ -336,6 +338,7 @@ impl Mesher {
             rip_ups: 0,
             incident: Vec::new(),
             relaxes: 0,
+            relax_streak: 0,
         };
         m.row_start = m.front.live_loops().collect();
         for s in 0..m.front.slots.len() as SlotId {
@@ -394,6 +397,32 @@ impl Mesher {
                     )));
                 }
             }
+        }
+        // Quads and the region the front still bounds tile the domain.
+        let meshed: f64 = self
+            .mesh
+            .quads
+            .iter()
+            .map(|q| crate::geom::polygon_area(self.mesh.corners(q)))
+            .sum();
+        let open: f64 = self
+            .front
+            .live_loops()
+            .map(|l| {
+                crate::geom::polygon_area(
+                    self.front
+                        .loop_slots(l)
+                        .iter()
+                        .map(|&s| self.mesh.nodes[self.front.node(s) as usize]),
+                )
+            })
+            .sum();
+        let domain = self.boundary.area();
+        if (meshed + open - domain).abs() > 1e-9 * domain.abs() {
+            return Err(crate::mesh::InvariantError::Area {
+                covered: meshed + open,
+                domain,
+            });
         }
         self.mesh.check_invariants(self.is_done())
     }
@@ -664,6 +693,9 @@ impl Mesher {
             });
         }
         let r = self.auto_step()?;
+        if r.kind != StepKind::Relax {
+            self.relax_streak = 0;
+        }
         self.history.push(Action::Auto);
         self.stats.record(&r);
         Ok(StepOutcome::Stepped(Box::new(r)))
@@ -818,9 +850,10 @@ impl Mesher {
         }
         // 8. Straighten the smallest stuck loop, moving its interior nodes.
         if let Some(&lid) = loops.first() {
-            if self.relaxes < 400 {
+            if self.relaxes < 400 && self.relax_streak < 3 {
                 if let Some(r) = self.relax_loop(lid) {
                     self.relaxes += 1;
+                    self.relax_streak += 1;
                     return Ok(r);
                 }
             }
@@ -1061,20 +1094,11 @@ impl Mesher {
         }
         ends.sort_unstable();
         ends.dedup();
+        let tip = self.front.node(s);
         for &w in &ends {
             let pw = self.mesh.nodes[w as usize];
-            self.front
-                .edges_near(pos.min(pw), pos.max(pw), &mut self.scratch.near);
-            for &e in &self.scratch.near {
-                let (c, d) = (self.front.node(e), self.front.node(self.front.next(e)));
-                let skip = |v: u32| v == w || v == nl || v == nr || v == self.front.node(s);
-                if skip(c) || skip(d) {
-                    continue;
-                }
-                let (pc, pd) = (self.mesh.nodes[c as usize], self.mesh.nodes[d as usize]);
-                if crate::geom::segments_intersect(pos, pw, pc, pd) {
-                    return None;
-                }
+            if self.crosses_front(pos, pw, &[w, nl, nr, tip]) {
+                return None;
             }
         }
         if self.incident.len() < self.mesh.nodes.len() {
@@ -1109,8 +1133,10 @@ impl Mesher {
         let nb = self.mesh.n_boundary() as u32;
         let slots = self.front.loop_slots(lid);
         let mut count: std::collections::BTreeMap<u32, usize> = Default::default();
-        for &s in &slots {
-            *count.entry(self.front.node(s)).or_default() += 1;
+        for l in self.front.live_loops() {
+            for t in self.front.loop_slots(l) {
+                *count.entry(self.front.node(t)).or_default() += 1;
+            }
         }
         let mut moved = 0;
         for &s in &slots {
@@ -1145,20 +1171,11 @@ impl Mesher {
             if ok {
                 let prev_node = self.front.node(self.front.prev(s));
                 let next_node = self.front.node(self.front.next(s));
-                'edges: for w in [prev_node, next_node] {
+                for w in [prev_node, next_node] {
                     let pw = self.mesh.nodes[w as usize];
-                    self.front
-                        .edges_near(new.min(pw), new.max(pw), &mut self.scratch.near);
-                    for &e in &self.scratch.near {
-                        let (c, d) = (self.front.node(e), self.front.node(self.front.next(e)));
-                        if c == v || d == v || c == w || d == w {
-                            continue;
-                        }
-                        let (pc, pd) = (self.mesh.nodes[c as usize], self.mesh.nodes[d as usize]);
-                        if crate::geom::segments_intersect(new, pw, pc, pd) {
-                            ok = false;
-                            break 'edges;
-                        }
+                    if self.crosses_front(new, pw, &[v, w]) {
+                        ok = false;
+                        break;
                     }
                 }
             }
@@ -1473,20 +1490,26 @@ impl Mesher {
     /// The open segment between slots `a` and `b` meets no front edge.
     fn chord_clear(&mut self, a: SlotId, b: SlotId) -> bool {
         let (pa, pb) = (self.world(a), self.world(b));
-        let (na, nb) = (self.front.node(a), self.front.node(b));
+        let skip = [self.front.node(a), self.front.node(b)];
+        !self.crosses_front(pa, pb, &skip)
+    }
+
+    /// True when segment `pa–pb` meets a front edge that has none of the
+    /// nodes `skip` as an end.
+    fn crosses_front(&mut self, pa: Point, pb: Point, skip: &[u32]) -> bool {
         self.front
             .edges_near(pa.min(pb), pa.max(pb), &mut self.scratch.near);
-        for &e in &self.scratch.near {
+        self.scratch.near.iter().any(|&e| {
             let (c, d) = (self.front.node(e), self.front.node(self.front.next(e)));
-            if c == na || c == nb || d == na || d == nb {
-                continue;
-            }
-            let (pc, pd) = (self.mesh.nodes[c as usize], self.mesh.nodes[d as usize]);
-            if crate::geom::segments_intersect(pa, pb, pc, pd) {
-                return false;
-            }
-        }
-        true
+            !skip.contains(&c)
+                && !skip.contains(&d)
+                && crate::geom::segments_intersect(
+                    pa,
+                    pb,
+                    self.mesh.nodes[c as usize],
+                    self.mesh.nodes[d as usize],
+                )
+        })
     }
 
     /// Commits an element chosen by the user at reference node `c.reference`.
