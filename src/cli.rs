@@ -249,7 +249,7 @@ fn progress_bar(front: usize) -> Option<ProgressBar> {
 
 /// No arguments: mesh the shipped example and write an SVG beside it.
 fn example() -> Result<()> {
-    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/plate_hole.poly");
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/annulus.poly");
     let out = std::env::temp_dir().join("quadex_example.svg");
     run(Command::Mesh {
         input,
