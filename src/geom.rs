@@ -37,6 +37,13 @@ pub fn ccw_angle(p: Point, from: Point, to: Point) -> f64 {
     }
 }
 
+/// True when the quad `p` (corners in order) is strictly convex and
+/// counter-clockwise: every corner turns left, exactly.
+#[inline]
+pub fn is_strictly_convex(p: [Point; 4]) -> bool {
+    (0..4).all(|k| orient(p[(k + 3) % 4], p[k], p[(k + 1) % 4]) > 0.0)
+}
+
 /// True when the closed segments `a–b` and `c–d` share at least one point.
 pub fn segments_intersect(a: Point, b: Point, c: Point, d: Point) -> bool {
     let d1 = orient(c, d, a);

@@ -134,8 +134,7 @@ pub fn smooth(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
             let ok = adj.quads[q0..q1].iter().zip(&before).all(|(&k, &b)| {
                 let q = &mesh.quads[k as usize];
                 let p = mesh.corners(q);
-                let convex =
-                    (0..4).all(|i| crate::geom::orient(p[(i + 3) % 4], p[i], p[(i + 1) % 4]) > 0.0);
+                let convex = crate::geom::is_strictly_convex(p);
                 convex && quad_sj(mesh, q) >= b.min(params.threshold)
             });
             if ok {

@@ -10,7 +10,7 @@
 //! chosen over all rotations as the valid one of best minimum scaled
 //! Jacobian.
 
-use crate::geom::{orient, Point};
+use crate::geom::{is_strictly_convex, Point};
 use crate::quality::QuadQuality;
 
 /// A way to fill a 6-node loop: the quads (indices into the loop, with
@@ -21,10 +21,6 @@ pub struct Fill {
     pub interior: Option<Point>,
     pub quads: Vec<[usize; 4]>,
     pub min_sj: f64,
-}
-
-fn convex(p: [Point; 4]) -> bool {
-    (0..4).all(|k| orient(p[(k + 3) % 4], p[k], p[(k + 1) % 4]) > 0.0)
 }
 
 /// Evaluates quads over `pts` (index 6 = `interior`); `None` if any is not
@@ -40,7 +36,7 @@ fn score(pts: &[Point], interior: Option<Point>, quads: &[[usize; 4]]) -> Option
     let mut min_sj = f64::INFINITY;
     for q in quads {
         let p = q.map(at);
-        if !convex(p) {
+        if !is_strictly_convex(p) {
             return None;
         }
         min_sj = min_sj.min(QuadQuality::of(p).scaled_jacobian);

@@ -4,7 +4,7 @@
 //! leaves has no sliver angle.
 
 use crate::front::{Front, SlotId};
-use crate::geom::{ccw_angle, orient, segments_intersect, Point};
+use crate::geom::{ccw_angle, is_strictly_convex, orient, segments_intersect, Point};
 
 /// One corner of a candidate quad.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,11 +64,8 @@ pub fn check(
     };
     let p = corners.map(pos);
     let ids = corners.map(id);
-    // Strictly convex and CCW.
-    for k in 0..4 {
-        if orient(p[(k + 3) % 4], p[k], p[(k + 1) % 4]) <= 0.0 {
-            return None;
-        }
+    if !is_strictly_convex(p) {
+        return None;
     }
     // Corner limits and what the front keeps.
     let mut front_factor: f64 = 1.0;

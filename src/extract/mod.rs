@@ -307,6 +307,15 @@ struct Chosen {
     leading: Vec<u32>,
 }
 
+impl Chosen {
+    /// Keeps `self` in `best` if it scores higher (the first wins ties).
+    fn keep_if_best(self, best: &mut Option<Chosen>) {
+        if best.as_ref().is_none_or(|b| self.score > b.score) {
+            *best = Some(self);
+        }
+    }
+}
+
 impl Mesher {
     /// A mesher over `boundary` with `model` and `params`.
     pub fn new(boundary: Boundary, model: Arc<dyn Model>, params: MeshParams) -> Mesher {
@@ -341,6 +350,7 @@ impl Mesher {
             relax_streak: 0,
         };
         m.row_start = m.front.live_loops().collect();
+        m.incident = vec![Vec::new(); m.mesh.nodes.len()];
         for s in 0..m.front.slots.len() as SlotId {
             m.push(s);
         }
@@ -770,8 +780,8 @@ impl Mesher {
                     chosen = Some(c);
                     break;
                 }
-                Some(c) if best.as_ref().is_none_or(|b| c.score > b.score) => best = Some(c),
-                _ => {}
+                Some(c) => c.keep_if_best(&mut best),
+                None => {}
             }
             deferred.push(e.slot);
             skipped += 1;
@@ -831,9 +841,7 @@ impl Mesher {
                 continue;
             }
             if let Some(c) = self.evaluate(s, relaxed, true)? {
-                if best.as_ref().is_none_or(|b| c.score > b.score) {
-                    best = Some(c);
-                }
+                c.keep_if_best(&mut best);
             }
         }
         if let Some(c) = best {
@@ -1006,11 +1014,7 @@ impl Mesher {
     fn push_quad(&mut self, q: [u32; 4]) {
         let k = self.mesh.quads.len() as u32;
         for &v in &q {
-            let v = v as usize;
-            if self.incident.len() <= v {
-                self.incident.resize(v + 1, Vec::new());
-            }
-            self.incident[v].push(k);
+            self.incident[v as usize].push(k);
         }
         self.mesh.quads.push(q);
     }
@@ -1062,8 +1066,8 @@ impl Mesher {
             }
         }
         let sub = |v: u32| if v == gone { keep } else { v };
-        let mut quads: Vec<u32> = self.incident.get(nl as usize).cloned().unwrap_or_default();
-        quads.extend(self.incident.get(nr as usize).cloned().unwrap_or_default());
+        let mut quads: Vec<u32> = self.incident[nl as usize].clone();
+        quads.extend_from_slice(&self.incident[nr as usize]);
         let at = |v: u32| {
             if v == keep || v == gone {
                 pos
@@ -1074,7 +1078,7 @@ impl Mesher {
         for &k in &quads {
             let q = self.mesh.quads[k as usize].map(sub);
             let p = q.map(at);
-            if !(0..4).all(|i| crate::geom::orient(p[(i + 3) % 4], p[i], p[(i + 1) % 4]) > 0.0) {
+            if !crate::geom::is_strictly_convex(p) {
                 return None;
             }
             if crate::quality::QuadQuality::of(p).scaled_jacobian < 0.2 {
@@ -1101,9 +1105,6 @@ impl Mesher {
                 return None;
             }
         }
-        if self.incident.len() < self.mesh.nodes.len() {
-            self.incident.resize(self.mesh.nodes.len(), Vec::new());
-        }
         let mut rep = self.report(StepKind::Seam);
         rep.reference = Some(self.front.node(s));
         self.front.remove_pair(s, &self.mesh.nodes);
@@ -1127,9 +1128,6 @@ impl Mesher {
     /// strictly convex with a scaled Jacobian of at least
     /// `min(former, 0.3)` and its front edges cross nothing.
     fn relax_loop(&mut self, lid: u32) -> Option<StepReport> {
-        if self.incident.len() < self.mesh.nodes.len() {
-            self.incident.resize(self.mesh.nodes.len(), Vec::new());
-        }
         let nb = self.mesh.n_boundary() as u32;
         let slots = self.front.loop_slots(lid);
         let mut count: std::collections::BTreeMap<u32, usize> = Default::default();
@@ -1165,7 +1163,7 @@ impl Mesher {
             self.mesh.nodes[v as usize] = new;
             let mut ok = quads.iter().zip(&before).all(|(&k, &b)| {
                 let p = self.mesh.corners(&self.mesh.quads[k as usize]);
-                (0..4).all(|i| crate::geom::orient(p[(i + 3) % 4], p[i], p[(i + 1) % 4]) > 0.0)
+                crate::geom::is_strictly_convex(p)
                     && crate::quality::QuadQuality::of(p).scaled_jacobian >= b.min(0.3)
             });
             if ok {
@@ -1199,6 +1197,7 @@ impl Mesher {
 
     fn add_node(&mut self, p: Point) -> u32 {
         self.mesh.nodes.push(p);
+        self.incident.push(Vec::new());
         (self.mesh.nodes.len() - 1) as u32
     }
 
@@ -1272,8 +1271,7 @@ impl Mesher {
         match slots.len() {
             4 => {
                 let q = [pts[0], pts[1], pts[2], pts[3]];
-                if !(0..4).all(|k| crate::geom::orient(q[(k + 3) % 4], q[k], q[(k + 1) % 4]) > 0.0)
-                {
+                if !crate::geom::is_strictly_convex(q) {
                     return None;
                 }
                 if !self.loop_is_clear(&slots, &pts) {
