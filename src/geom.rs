@@ -44,6 +44,18 @@ pub fn is_strictly_convex(p: [Point; 4]) -> bool {
     (0..4).all(|k| orient(p[(k + 3) % 4], p[k], p[(k + 1) % 4]) > 0.0)
 }
 
+/// Distance from `p` to the closed segment `a–b`.
+pub fn point_segment_distance(p: Point, a: Point, b: Point) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance(a + ab * t)
+}
+
 /// True when the closed segments `a–b` and `c–d` share at least one point.
 pub fn segments_intersect(a: Point, b: Point, c: Point, d: Point) -> bool {
     let d1 = orient(c, d, a);

@@ -1,43 +1,14 @@
 //! Meshes the benchmark boundaries (`bench/boundaries`, `peer`, `edge`;
 //! the two largest disks are left to the benchmark) with default settings.
 //! Every mesh produced must tile its domain exactly (checked after
-//! smoothing), keep the boundary nodes and be all-quad. Cases on which the
-//! mesher does not yet finish are listed in `OPEN` (and in the README);
-//! a case not listed there must finish.
+//! smoothing), keep the boundary nodes and be all-quad, and every case must
+//! finish.
 
 mod common;
 
 use quadex::extract::{MeshParams, Mesher, StepOutcome};
 use quadex::model::RulesModel;
 use std::sync::Arc;
-
-/// Cases the mesher does not finish within 12,000 steps yet (see README and
-/// BENCHMARKS.md).
-const OPEN: &[&str] = &[
-    "disk100",
-    "disk400",
-    "iceland",
-    "naca0012",
-    "plate_hole",
-    "star8",
-    "switzerland",
-    "freemesh_b15",
-    "freemesh_basic2",
-    "freemesh_bird1",
-    "freemesh_boundary13",
-    "freemesh_boundary14",
-    "freemesh_boundary15",
-    "freemesh_boundary16",
-    "freemesh_boundary9",
-    "freemesh_boundary_fly_r2",
-    "freemesh_fat2",
-    "freemesh_random1_1",
-    "freemesh_random2_1",
-    "freemesh_random2_2",
-    "freemesh_test3",
-    "freemesh_tool2",
-    "hole_ccw",
-];
 
 #[test]
 fn benchmark_cases_mesh_validly() {
@@ -51,11 +22,7 @@ fn benchmark_cases_mesh_validly() {
             }
             let b = quadex::io::read_boundary(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
             let area = b.area();
-            let params = MeshParams {
-                max_steps: Some(12_000),
-                ..MeshParams::DEFAULT
-            };
-            let mut m = Mesher::new(b, Arc::new(RulesModel::DEFAULT), params);
+            let mut m = Mesher::new(b, Arc::new(RulesModel::DEFAULT), MeshParams::DEFAULT);
             match m.run(|_| {}) {
                 Ok(()) => {
                     let mesh = m.finish();
@@ -71,18 +38,11 @@ fn benchmark_cases_mesh_validly() {
             }
         }
     }
-    println!("finished {} cases; open: {failures:?}", finished.len());
-    for (name, e) in &failures {
-        assert!(
-            OPEN.contains(&name.as_str()),
-            "{name} no longer finishes: {e}"
-        );
-    }
-    for name in &finished {
-        if OPEN.contains(&name.as_str()) {
-            println!("{name} now finishes: take it off OPEN");
-        }
-    }
+    println!("finished {} cases", finished.len());
+    assert!(
+        failures.is_empty(),
+        "cases that do not finish: {failures:?}"
+    );
 }
 
 /// On small cases the front and the partial mesh are checked after every

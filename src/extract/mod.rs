@@ -6,11 +6,13 @@
 //! other types, a corrected Pn, the next reference point, and finally a
 //! rule-based element. Loops of 4 and 6 nodes are closed with the final
 //! patterns; a loop that no element can reduce is split along a chord into
-//! two even loops.
+//! two even loops. When nothing reduces the front any more, or the step
+//! budget is spent, the region left is filled by [`fill`].
 //!
 //! The same step API drives the command line, the tests and the editor.
 
 pub mod closure;
+pub mod fill;
 pub mod guard;
 
 use crate::boundary::Boundary;
@@ -31,6 +33,11 @@ use thiserror::Error;
 /// Loops up to this many nodes are split along a chord before a square is
 /// cut on them.
 const SMALL_LOOP: usize = 48;
+
+/// Steps allowed before the region left is filled, per element a uniform
+/// mesh at the median boundary segment would have (plus one per boundary
+/// node and 200).
+const FILL_BUDGET: f64 = 2.0;
 
 /// Order in which reference points are taken (thesis §5.1, Figure 40).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -75,6 +82,10 @@ pub struct MeshParams {
     /// Stop with [`MeshError::StepLimit`] after this many steps (`None`:
     /// a bound derived from the boundary's area and shortest segment).
     pub max_steps: Option<usize>,
+    /// Fill the region left with [`fill::fill_region`] when extraction
+    /// cannot go on or has used its step budget (default true). Off, such a
+    /// run ends with [`MeshError::Stuck`] or [`MeshError::StepLimit`].
+    pub fill: bool,
     /// Laplacian smoothing after extraction.
     pub smooth: SmoothParams,
     /// Turn the remedies off: a prediction the guard rejects ends the run
@@ -95,6 +106,7 @@ impl MeshParams {
         defer_score: 0.25,
         seam_angle: 30.0,
         max_steps: None,
+        fill: true,
         smooth: SmoothParams::DEFAULT,
         pure_model: false,
     };
@@ -159,6 +171,8 @@ pub enum StepKind {
     /// Elements around a loop that could not be reduced were removed to
     /// give it room.
     RipUp,
+    /// The region left was filled by a ring and a split triangulation.
+    Fill,
     /// An element given by the user.
     Correction,
 }
@@ -229,6 +243,8 @@ pub struct Correction {
 enum Action {
     Auto,
     Correction(Correction),
+    /// A fill taken after rewinding (see [`Mesher::rewind_and_fill`]).
+    Fill,
 }
 
 /// Result of [`Mesher::step`].
@@ -294,6 +310,14 @@ pub struct Mesher {
     relaxes: usize,
     /// Relaxations since the last other step.
     relax_streak: usize,
+    /// Steps after which the region left is filled.
+    fill_after: usize,
+    /// No fill is tried before this step (set after a fill fails).
+    fill_retry_at: usize,
+    /// Set while history is being replayed (no rewinding then).
+    replaying: bool,
+    /// A rewind has been tried.
+    rewound: bool,
 }
 
 /// The element chosen at a reference point.
@@ -327,10 +351,16 @@ impl Mesher {
             min_seg = min_seg.min(boundary.points[a].distance(boundary.points[b]));
         }
         let est = (boundary.area() / (min_seg * min_seg)).min(1e9) as usize;
+        let work = est.max(boundary.node_count());
+        let step_limit = params.max_steps.unwrap_or(8 * work + 10_000);
         let mut m = Mesher {
-            step_limit: params
-                .max_steps
-                .unwrap_or(8 * est.max(boundary.node_count()) + 10_000),
+            step_limit,
+            fill_after: (FILL_BUDGET * (boundary.area() / (h * h)).min(1e9)) as usize
+                + boundary.node_count()
+                + 200,
+            fill_retry_at: 0,
+            replaying: false,
+            rewound: false,
             boundary,
             params,
             model,
@@ -702,7 +732,17 @@ impl Mesher {
                 remaining: self.front.len(),
             });
         }
-        let r = self.auto_step()?;
+        let r = match self.auto_step() {
+            Ok(r) => r,
+            Err(e) => {
+                if self.params.fill && !self.replaying {
+                    if let Some(r) = self.rewind_and_fill() {
+                        return Ok(StepOutcome::Stepped(Box::new(r)));
+                    }
+                }
+                return Err(e);
+            }
+        };
         if r.kind != StepKind::Relax {
             self.relax_streak = 0;
         }
@@ -730,6 +770,17 @@ impl Mesher {
     }
 
     fn auto_step(&mut self) -> Result<StepReport, MeshError> {
+        if self.params.fill && self.history.len() >= self.fill_after {
+            if let Some(r) = self.fill_rest() {
+                return Ok(r);
+            }
+        }
+        if self.params.fill && !self.replaying && self.history.len() >= self.fill_after {
+            return Err(MeshError::StepLimit {
+                limit: self.fill_after,
+                remaining: self.front.len(),
+            });
+        }
         let limits = self.limits();
         // 0. A loop with no reference point starts a row with a square.
         while let Some(lid) = self.row_start.pop() {
@@ -874,6 +925,12 @@ impl Mesher {
                 return Ok(r);
             }
         }
+        // 10. Fill the region left.
+        if self.params.fill {
+            if let Some(r) = self.fill_rest() {
+                return Ok(r);
+            }
+        }
         let lid = self.front.live_loops().next().unwrap_or(0);
         let head = self.front.loops[lid as usize].head;
         Err(MeshError::Stuck {
@@ -883,6 +940,96 @@ impl Mesher {
     }
 
     /// True when some slot of the loop is a reference point or sharp corner.
+    /// When extraction has led the front into a state no fill can take, the
+    /// run goes back to an earlier step (3/4, 1/2, 1/4 of the way, then the
+    /// start) and fills the region left there. The history then holds the
+    /// steps kept and the fill, so undo goes back to the step rewound to.
+    fn rewind_and_fill(&mut self) -> Option<StepReport> {
+        if self.rewound {
+            return None;
+        }
+        self.rewound = true;
+        let n = self.history.len();
+        for k in [3 * n / 4, n / 2, n / 4, 0] {
+            let mut fresh = Mesher::new(
+                self.boundary.clone(),
+                self.model.clone(),
+                self.params.clone(),
+            );
+            fresh.replaying = true;
+            for a in &self.history[..k] {
+                fresh.replay(a);
+            }
+            fresh.replaying = false;
+            fresh.fill_retry_at = 0;
+            if let Some(mut r) = fresh.fill_rest() {
+                r.skipped = n - k;
+                fresh.history.push(Action::Fill);
+                fresh.stats.record(&r);
+                fresh.rewound = true;
+                *self = fresh;
+                return Some(r);
+            }
+        }
+        None
+    }
+
+    /// Replays one recorded action.
+    fn replay(&mut self, a: &Action) -> bool {
+        match a {
+            Action::Auto => self.step().is_ok(),
+            Action::Correction(c) => self.correct(c).is_ok(),
+            Action::Fill => {
+                self.fill_retry_at = 0;
+                match self.fill_rest() {
+                    Some(r) => {
+                        self.history.push(Action::Fill);
+                        self.stats.record(&r);
+                        true
+                    }
+                    None => false,
+                }
+            }
+        }
+    }
+
+    /// Fills the whole region left with [`fill::fill_region`] and empties
+    /// the front.
+    fn fill_rest(&mut self) -> Option<StepReport> {
+        let step = self.history.len();
+        if step < self.fill_retry_at {
+            return None;
+        }
+        let ids: Vec<u32> = self.front.live_loops().collect();
+        let loops: Vec<Vec<u32>> = ids
+            .iter()
+            .map(|&l| {
+                self.front
+                    .loop_slots(l)
+                    .iter()
+                    .map(|&s| self.front.node(s))
+                    .collect()
+            })
+            .collect();
+        let Ok(f) = fill::fill_region(&loops, &self.mesh.nodes) else {
+            self.fill_retry_at = step + (step / 4).max(50);
+            return None;
+        };
+        let mut r = self.report(StepKind::Fill);
+        for p in f.points {
+            let v = self.add_node(p);
+            r.new_nodes.push(v);
+        }
+        for q in f.quads {
+            self.push_quad(q);
+            r.quads.push(q);
+        }
+        for l in ids {
+            self.front.remove_loop(l, &self.mesh.nodes);
+        }
+        Some(r)
+    }
+
     fn loop_has_reference(&self, lid: u32) -> bool {
         let hi = self.params.reference_angle[1].to_radians();
         self.front
@@ -1576,13 +1723,13 @@ impl Mesher {
             self.model.clone(),
             self.params.clone(),
         );
-        for a in actions {
-            let ok = match &a {
-                Action::Auto => fresh.step().is_ok(),
-                Action::Correction(c) => fresh.correct(c).is_ok(),
-            };
+        fresh.replaying = true;
+        for a in &actions {
+            let ok = fresh.replay(a);
             debug_assert!(ok, "replay diverged");
         }
+        fresh.replaying = false;
+        fresh.rewound = self.rewound;
         *self = fresh;
         true
     }

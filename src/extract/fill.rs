@@ -1,0 +1,528 @@
+//! Region fill: the last-resort closure of whatever front is left when
+//! extraction, seams, chord splits, relaxation and rip-up cannot go on.
+//!
+//! The thesis closes a loop by extraction down to 4 or 6 nodes (method §2.7,
+//! thesis Figure 20) and leaves a front that can no longer be reduced to a
+//! failure. quadex instead fills the remaining region with a construction
+//! that keeps every front node and edge and needs only an even node count per
+//! loop, which element extraction preserves:
+//!
+//! 1. **Ring.** Every front node `p_i` gets an inner node `q_i` on the
+//!    bisector of its front angle. The radial edge `p_i q_i` is split by a
+//!    node `r_i` at every second node, so each cell `p_i p_{i+1} q_{i+1} q_i`
+//!    has six sides (its inner side gets a node `m_i` in step 3) and is cut
+//!    into two quads. The parity works because every loop has an even
+//!    number of nodes.
+//! 2. **Triangulation.** The inner loops `q` are the constraints of a
+//!    constrained Delaunay triangulation (spade), refined inside with a
+//!    25° angle limit and a size taken from the front edges.
+//! 3. **Split.** Every triangle becomes three quads through its centroid and
+//!    edge midpoints. On an inner-loop edge the midpoint is `m_i`, moved a
+//!    little towards the triangle's centroid so that the ring quad beside it
+//!    stays strictly convex.
+//!
+//! The ring height is tried at decreasing scales until every new quad is
+//! strictly convex and no edge crosses another; the result is then a valid
+//! tiling of the region by construction (the new quads are all positively
+//! oriented and their boundary is the front). Smoothing afterwards evens the
+//! element sizes out.
+
+use std::collections::BTreeMap;
+
+use spade::{
+    AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
+};
+
+use crate::geom::{ccw_angle, is_strictly_convex, Point};
+
+/// The quads that fill a region, over the existing nodes (ids below
+/// `first_new`) and the new nodes `points` (id `first_new + k`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RegionFill {
+    pub first_new: u32,
+    pub points: Vec<Point>,
+    pub quads: Vec<[u32; 4]>,
+}
+
+/// Why a region could not be filled.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FillError {
+    #[error("front loop {loop_index} has {len} nodes; a fill needs an even count of at least 4")]
+    OddLoop { loop_index: usize, len: usize },
+    #[error("the front has no usable edge length")]
+    NoSize,
+    #[error("the ring's inner loops cross each other")]
+    Crossing,
+    #[error("a ring edge crosses the front or another ring edge")]
+    RingCrossing,
+    #[error("the inner edge after node {node} borders no triangle of the region")]
+    Unbordered { node: u32 },
+    #[error("a new quad at node {node} would not be strictly convex")]
+    NotConvex { node: u32 },
+}
+
+/// Smallest new quad area, as a fraction of the squared mean front edge (and
+/// never below 1e-12 of the squared coordinate magnitude, so that a shoelace
+/// sum over absolute coordinates still sees it positive).
+const MIN_AREA: f64 = 1e-7;
+
+/// Ring heights tried, as fractions of the room at a node: its shorter
+/// front edge (longer where the front angle is sharp) or its distance to the
+/// nearest other front edge, whichever is less.
+const RING_SCALES: [f64; 7] = [0.45, 0.3, 0.2, 0.12, 0.06, 0.03, 0.01];
+
+/// Fills the region bounded by `loops` (node ids in `nodes`; the region lies
+/// to the left of every loop, as on the front). Every loop must have an even
+/// number of nodes. Fails, with the reason of the last try, when no ring
+/// height gives a valid fill.
+pub fn fill_region(loops: &[Vec<u32>], nodes: &[Point]) -> Result<RegionFill, FillError> {
+    if let Some((loop_index, l)) = loops
+        .iter()
+        .enumerate()
+        .find(|(_, l)| l.len() < 4 || l.len() % 2 == 1)
+    {
+        return Err(FillError::OddLoop {
+            loop_index,
+            len: l.len(),
+        });
+    }
+    let mut edge_sum = 0.0;
+    let mut edge_count = 0usize;
+    for l in loops {
+        for k in 0..l.len() {
+            edge_sum += nodes[l[k] as usize].distance(nodes[l[(k + 1) % l.len()] as usize]);
+            edge_count += 1;
+        }
+    }
+    let size = edge_sum / edge_count as f64;
+    if !(size.is_finite() && size > 0.0) {
+        return Err(FillError::NoSize);
+    }
+    let clear = clearances(loops, nodes);
+    let mut last = FillError::NoSize;
+    for refine in [true, false] {
+        for scale in RING_SCALES {
+            match try_fill(loops, nodes, &clear, scale, size, refine) {
+                Ok(f) => return Ok(f),
+                Err(e) => last = e,
+            }
+        }
+    }
+    Err(last)
+}
+
+/// New nodes being built: positions and their ids.
+struct Builder {
+    first_new: u32,
+    points: Vec<Point>,
+    quads: Vec<[u32; 4]>,
+}
+
+impl Builder {
+    fn add(&mut self, p: Point) -> u32 {
+        self.points.push(p);
+        self.first_new + self.points.len() as u32 - 1
+    }
+    fn at(&self, v: u32, nodes: &[Point]) -> Point {
+        if v < self.first_new {
+            nodes[v as usize]
+        } else {
+            self.points[(v - self.first_new) as usize]
+        }
+    }
+}
+
+fn try_fill(
+    loops: &[Vec<u32>],
+    nodes: &[Point],
+    clear: &[Vec<f64>],
+    scale: f64,
+    size: f64,
+    refine: bool,
+) -> Result<RegionFill, FillError> {
+    let mut b = Builder {
+        first_new: nodes.len() as u32,
+        points: Vec::new(),
+        quads: Vec::new(),
+    };
+    // 1. Inner nodes q_i and split radial nodes r_i.
+    let mut inner: Vec<Vec<u32>> = Vec::with_capacity(loops.len());
+    let mut radial: Vec<Vec<Option<u32>>> = Vec::with_capacity(loops.len());
+    for (l, clear) in loops.iter().zip(clear) {
+        let n = l.len();
+        let mut q = Vec::with_capacity(n);
+        let mut r = Vec::with_capacity(n);
+        for i in 0..n {
+            let p = nodes[l[i] as usize];
+            let next = nodes[l[(i + 1) % n] as usize];
+            let prev = nodes[l[(i + n - 1) % n] as usize];
+            let theta = ccw_angle(p, next, prev);
+            let e = (next - p).normalize_or_zero();
+            let (s, c) = (0.5 * theta).sin_cos();
+            let dir = Point::new(e.x * c - e.y * s, e.x * s + e.y * c);
+            let h = p.distance(next).min(p.distance(prev)) / s.max(0.5);
+            let room = clear[i].min(clear[(i + 1) % n]).min(clear[(i + n - 1) % n]);
+            let d = scale * h.min(room);
+            let qi = b.add(p + dir * d);
+            q.push(qi);
+            r.push(if i % 2 == 1 {
+                Some(b.add(p + dir * (0.5 * d)))
+            } else {
+                None
+            });
+        }
+        inner.push(q);
+        radial.push(r);
+    }
+    // 2. Constrained triangulation of the inner loops.
+    let mut vertices: Vec<Point2<f64>> = Vec::new();
+    let mut edges: Vec<[usize; 2]> = Vec::new();
+    let mut vertex_node: Vec<u32> = Vec::new();
+    for q in &inner {
+        let base = vertices.len();
+        for (k, &v) in q.iter().enumerate() {
+            let p = b.at(v, nodes);
+            vertices.push(Point2::new(p.x, p.y));
+            vertex_node.push(v);
+            edges.push([base + k, base + (k + 1) % q.len()]);
+        }
+    }
+    let expected = vertices.len();
+    let mut conflict = false;
+    let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
+        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(vertices, edges, |_| conflict = true)
+            .map_err(|_| FillError::Crossing)?;
+    if conflict || cdt.num_vertices() != expected {
+        return Err(FillError::Crossing);
+    }
+    let params = RefinementParameters::<f64>::new()
+        .keep_constraint_edges()
+        .exclude_outer_faces(true)
+        .with_angle_limit(AngleLimit::from_deg(if refine { 25.0 } else { 0.0 }))
+        .with_max_allowed_area(if refine {
+            2.0 * size * size
+        } else {
+            f64::INFINITY
+        })
+        .with_max_additional_vertices(if refine { 4 * expected + 1000 } else { 0 });
+    let result = cdt.refine(params);
+    let outer: std::collections::BTreeSet<usize> =
+        result.excluded_faces.iter().map(|f| f.index()).collect();
+    for v in cdt.vertices().skip(expected) {
+        let p = v.position();
+        vertex_node.push(b.add(Point::new(p.x, p.y)));
+    }
+    // Which inner-loop edge (a, b) is which m_i: keyed by the directed pair.
+    let mut inner_edge: BTreeMap<(u32, u32), (usize, usize)> = BTreeMap::new();
+    for (li, q) in inner.iter().enumerate() {
+        for k in 0..q.len() {
+            inner_edge.insert((q[k], q[(k + 1) % q.len()]), (li, k));
+        }
+    }
+    let mut mids: Vec<Vec<Option<u32>>> = inner.iter().map(|q| vec![None; q.len()]).collect();
+    let mut shared: BTreeMap<(u32, u32), u32> = BTreeMap::new();
+    // 3. Triangles into quads.
+    for face in cdt.inner_faces() {
+        if outer.contains(&face.fix().index()) {
+            continue;
+        }
+        let t = face.vertices().map(|v| vertex_node[v.fix().index()]);
+        let tp = t.map(|v| b.at(v, nodes));
+        let g = (tp[0] + tp[1] + tp[2]) / 3.0;
+        let gi = b.add(g);
+        let mut mid = [0u32; 3];
+        for k in 0..3 {
+            let (u, w) = (t[k], t[(k + 1) % 3]);
+            let m = 0.5 * (tp[k] + tp[(k + 1) % 3]);
+            mid[k] = if let Some(&(li, ki)) = inner_edge.get(&(u, w)) {
+                let id = b.add(m + 0.15 * (g - m));
+                mids[li][ki] = Some(id);
+                id
+            } else {
+                let key = (u.min(w), u.max(w));
+                match shared.get(&key) {
+                    Some(&id) => id,
+                    None => {
+                        let id = b.add(m);
+                        shared.insert(key, id);
+                        id
+                    }
+                }
+            };
+        }
+        for k in 0..3 {
+            b.quads.push([t[k], mid[k], gi, mid[(k + 2) % 3]]);
+        }
+    }
+    // Ring quads, two per front edge.
+    for (li, l) in loops.iter().enumerate() {
+        let n = l.len();
+        for i in 0..n {
+            let j = (i + 1) % n;
+            let m = mids[li][i].ok_or(FillError::Unbordered { node: l[i] })?;
+            let (q, r) = (&inner[li], &radial[li]);
+            if let Some(rj) = r[j] {
+                b.quads.push([l[i], l[j], rj, q[i]]);
+                b.quads.push([q[i], rj, q[j], m]);
+            } else {
+                let ri = r[i].ok_or(FillError::Unbordered { node: l[i] })?;
+                b.quads.push([l[i], l[j], q[j], ri]);
+                b.quads.push([ri, q[j], m, q[i]]);
+            }
+        }
+    }
+    // Strictly convex, and not so thin that its area is lost to rounding
+    // when computed from absolute coordinates (as other tools do).
+    let reach = loops
+        .iter()
+        .flatten()
+        .map(|&v| nodes[v as usize].abs().max_element())
+        .fold(0.0, f64::max);
+    let min_area = (MIN_AREA * size * size).max(1e-12 * reach * reach);
+    for quad in &b.quads {
+        let p = quad.map(|v| b.at(v, nodes));
+        if !is_strictly_convex(p) || crate::geom::polygon_area(p) < min_area {
+            return Err(FillError::NotConvex { node: quad[0] });
+        }
+    }
+    if !ring_is_clear(loops, &inner, nodes, &b) {
+        return Err(FillError::RingCrossing);
+    }
+    Ok(RegionFill {
+        first_new: b.first_new,
+        points: b.points,
+        quads: b.quads,
+    })
+}
+
+/// A uniform grid over segments, for crossing and distance queries.
+struct SegGrid {
+    lo: Point,
+    cell: Point,
+    nx: usize,
+    ny: usize,
+    cells: Vec<Vec<usize>>,
+}
+
+impl SegGrid {
+    fn new(segs: &[(Point, Point)]) -> SegGrid {
+        let mut lo = Point::splat(f64::INFINITY);
+        let mut hi = Point::splat(f64::NEG_INFINITY);
+        let mut len = 0.0;
+        for &(a, c) in segs {
+            lo = lo.min(a.min(c));
+            hi = hi.max(a.max(c));
+            len += a.distance(c);
+        }
+        let side = (len / segs.len().max(1) as f64).max(1e-300);
+        let dims = ((hi - lo) / side).ceil().max(Point::ONE);
+        let (nx, ny) = (dims.x.min(2048.0) as usize, dims.y.min(2048.0) as usize);
+        let cell = ((hi - lo) / Point::new(nx as f64, ny as f64)).max(Point::splat(1e-300));
+        let mut g = SegGrid {
+            lo,
+            cell,
+            nx,
+            ny,
+            cells: vec![Vec::new(); nx * ny],
+        };
+        for (k, &(a, c)) in segs.iter().enumerate() {
+            let (x0, y0, x1, y1) = g.range(a.min(c), a.max(c));
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    g.cells[y * nx + x].push(k);
+                }
+            }
+        }
+        g
+    }
+
+    fn range(&self, lo: Point, hi: Point) -> (usize, usize, usize, usize) {
+        let at = |p: Point| {
+            let c = ((p - self.lo) / self.cell).floor();
+            (
+                (c.x.max(0.0) as usize).min(self.nx - 1),
+                (c.y.max(0.0) as usize).min(self.ny - 1),
+            )
+        };
+        let (x0, y0) = at(lo);
+        let (x1, y1) = at(hi);
+        (x0, y0, x1, y1)
+    }
+
+    /// Segments filed in cells that meet the box `lo..hi` (with repeats).
+    fn near(&self, lo: Point, hi: Point, out: &mut Vec<usize>) {
+        out.clear();
+        let (x0, y0, x1, y1) = self.range(lo, hi);
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                out.extend_from_slice(&self.cells[y * self.nx + x]);
+            }
+        }
+    }
+}
+
+/// For every loop node, the distance to the nearest front edge that does
+/// not end at that node, looked for within twice its longer edge.
+fn clearances(loops: &[Vec<u32>], nodes: &[Point]) -> Vec<Vec<f64>> {
+    let mut ends: Vec<(u32, u32)> = Vec::new();
+    for l in loops {
+        for k in 0..l.len() {
+            ends.push((l[k], l[(k + 1) % l.len()]));
+        }
+    }
+    let segs: Vec<(Point, Point)> = ends
+        .iter()
+        .map(|&(u, v)| (nodes[u as usize], nodes[v as usize]))
+        .collect();
+    let grid = SegGrid::new(&segs);
+    let mut near = Vec::new();
+    loops
+        .iter()
+        .map(|l| {
+            let n = l.len();
+            (0..n)
+                .map(|i| {
+                    let p = nodes[l[i] as usize];
+                    let reach = 2.0
+                        * p.distance(nodes[l[(i + 1) % n] as usize])
+                            .max(p.distance(nodes[l[(i + n - 1) % n] as usize]));
+                    grid.near(p - Point::splat(reach), p + Point::splat(reach), &mut near);
+                    near.iter()
+                        .filter(|&&k| ends[k].0 != l[i] && ends[k].1 != l[i])
+                        .map(|&k| crate::geom::point_segment_distance(p, segs[k].0, segs[k].1))
+                        .fold(reach, f64::min)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// True when no radial or inner-loop edge crosses a front edge or another
+/// ring edge (the triangulation already ruled out crossings among inner
+/// edges).
+fn ring_is_clear(loops: &[Vec<u32>], inner: &[Vec<u32>], nodes: &[Point], b: &Builder) -> bool {
+    let mut ends: Vec<(u32, u32)> = Vec::new();
+    for (l, q) in loops.iter().zip(inner) {
+        let n = l.len();
+        for i in 0..n {
+            ends.push((l[i], l[(i + 1) % n]));
+            ends.push((l[i], q[i]));
+            ends.push((q[i], q[(i + 1) % n]));
+        }
+    }
+    let segs: Vec<(Point, Point)> = ends
+        .iter()
+        .map(|&(u, v)| (b.at(u, nodes), b.at(v, nodes)))
+        .collect();
+    let grid = SegGrid::new(&segs);
+    let mut near = Vec::new();
+    for (s, &(a, c)) in ends.iter().enumerate() {
+        grid.near(
+            segs[s].0.min(segs[s].1),
+            segs[s].0.max(segs[s].1),
+            &mut near,
+        );
+        for &t in &near {
+            let (d, e) = ends[t];
+            if t <= s || a == d || a == e || c == d || c == e {
+                continue;
+            }
+            if crate::geom::segments_intersect(segs[s].0, segs[s].1, segs[t].0, segs[t].1) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check(loops: &[Vec<u32>], nodes: &[Point]) -> RegionFill {
+        let f = fill_region(loops, nodes).expect("a fill");
+        let all: Vec<Point> = nodes.iter().chain(&f.points).copied().collect();
+        let mut area = 0.0;
+        for q in &f.quads {
+            let p = q.map(|v| all[v as usize]);
+            assert!(is_strictly_convex(p), "{q:?}");
+            area += crate::geom::polygon_area(p);
+        }
+        let want: f64 = loops
+            .iter()
+            .map(|l| {
+                let p: Vec<Point> = l.iter().map(|&v| nodes[v as usize]).collect();
+                crate::geom::polygon_area(p)
+            })
+            .sum();
+        assert!(
+            (area - want).abs() < 1e-9 * want.abs().max(1.0),
+            "{area} vs {want}"
+        );
+        // Every front edge is used by exactly one quad, in its direction.
+        for l in loops {
+            for k in 0..l.len() {
+                let (a, c) = (l[k], l[(k + 1) % l.len()]);
+                let uses = f
+                    .quads
+                    .iter()
+                    .filter(|q| (0..4).any(|i| q[i] == a && q[(i + 1) % 4] == c))
+                    .count();
+                assert_eq!(uses, 1, "edge {a}-{c}");
+            }
+        }
+        f
+    }
+
+    #[test]
+    fn fills_a_square_loop() {
+        let nodes: Vec<Point> = (0..8)
+            .map(|k| {
+                let t = k as f64 / 2.0;
+                match k / 2 {
+                    0 => Point::new(t, 0.0),
+                    1 => Point::new(1.0, t - 1.0),
+                    2 => Point::new(3.0 - t, 1.0),
+                    _ => Point::new(0.0, 4.0 - t),
+                }
+            })
+            .collect();
+        check(&[(0..8).collect()], &nodes);
+    }
+
+    #[test]
+    fn fills_a_zigzag_and_a_hole() {
+        // An outer loop with a sharp notch and a square hole (clockwise).
+        let nodes = vec![
+            Point::new(0.0, 0.0),
+            Point::new(4.0, 0.0),
+            Point::new(4.0, 4.0),
+            Point::new(2.2, 4.0),
+            Point::new(2.0, 1.0),
+            Point::new(1.8, 4.0),
+            Point::new(0.0, 4.0),
+            Point::new(0.0, 2.0),
+            Point::new(3.0, 1.0),
+            Point::new(3.0, 2.0),
+            Point::new(3.5, 2.0),
+            Point::new(3.5, 1.0),
+        ];
+        check(&[(0..8).collect(), vec![8, 9, 10, 11]], &nodes);
+    }
+
+    #[test]
+    fn refuses_odd_loops() {
+        let nodes = vec![
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 0.0),
+            Point::new(0.0, 1.0),
+        ];
+        assert_eq!(
+            fill_region(&[vec![0, 1, 2]], &nodes),
+            Err(FillError::OddLoop {
+                loop_index: 0,
+                len: 3
+            })
+        );
+    }
+}
