@@ -55,6 +55,9 @@ enum Command {
         /// Pure model: no remedies; a rejected prediction stops the run.
         #[arg(long)]
         pure_model: bool,
+        /// No region fill: a run extraction cannot finish stops with an error.
+        #[arg(long)]
+        no_fill: bool,
         /// Write the quality figures and step counts as JSON.
         #[arg(long)]
         report: Option<PathBuf>,
@@ -141,6 +144,7 @@ fn run(c: Command) -> Result<()> {
             points,
             smooth,
             pure_model,
+            no_fill,
             report,
         } => {
             let fmt = MeshFormat::from_path(&output)
@@ -159,6 +163,7 @@ fn run(c: Command) -> Result<()> {
                     ..SmoothParams::DEFAULT
                 },
                 pure_model,
+                fill: !no_fill,
                 ..MeshParams::DEFAULT
             };
             let t0 = Instant::now();
@@ -259,6 +264,7 @@ fn example() -> Result<()> {
         points: 7,
         smooth: SmoothParams::DEFAULT.iterations,
         pure_model: false,
+        no_fill: false,
         report: None,
     })
 }
