@@ -20,7 +20,7 @@ fn main() {
             }
             let f = m.front();
             for l in f.live_loops() {
-                let nodes: Vec<u32> = f.loop_slots(l).iter().map(|&s| f.node(s)).collect();
+                let nodes: Vec<u32> = f.loop_nodes(l);
                 println!("  loop {l}: {nodes:?}");
             }
             for (i, q) in m.mesh().quads.iter().enumerate() {

@@ -36,10 +36,10 @@ pub struct FrontLoop {
     pub alive: bool,
 }
 
-/// Uniform grid of front edges, each edge filed under its start slot in
-/// every cell its bounding box touches.
+/// Uniform grid of segments, each filed under an id (the front files an
+/// edge under its start slot) in every cell its bounding box touches.
 #[derive(Clone, Debug)]
-struct EdgeGrid {
+pub(crate) struct EdgeGrid {
     origin: Point,
     inv_cell: f64,
     nx: usize,
@@ -48,7 +48,7 @@ struct EdgeGrid {
 }
 
 impl EdgeGrid {
-    fn new(bb: Aabb, cell: f64, max_cells: usize) -> EdgeGrid {
+    pub(crate) fn new(bb: Aabb, cell: f64, max_cells: usize) -> EdgeGrid {
         let size = bb.size().max(Point::splat(cell));
         let mut cell = cell.max(size.max_element() * 1e-6);
         while (size.x / cell).ceil() * (size.y / cell).ceil() > max_cells as f64 {
@@ -78,7 +78,7 @@ impl EdgeGrid {
         )
     }
 
-    fn insert(&mut self, s: SlotId, a: Point, b: Point) {
+    pub(crate) fn insert(&mut self, s: SlotId, a: Point, b: Point) {
         let (x0, y0, x1, y1) = self.cell_range(a.min(b), a.max(b));
         for y in y0..=y1 {
             for x in x0..=x1 {
@@ -99,7 +99,8 @@ impl EdgeGrid {
         }
     }
 
-    fn query(&self, lo: Point, hi: Point, out: &mut Vec<SlotId>) {
+    /// The ids filed in cells that meet the box `lo..hi`, sorted, once each.
+    pub(crate) fn query(&self, lo: Point, hi: Point, out: &mut Vec<SlotId>) {
         out.clear();
         let (x0, y0, x1, y1) = self.cell_range(lo, hi);
         for y in y0..=y1 {
@@ -240,6 +241,11 @@ impl Front {
             s = self.next(s);
         }
         v
+    }
+
+    /// The node ids of loop `lid`, in order from its head.
+    pub fn loop_nodes(&self, lid: u32) -> Vec<u32> {
+        self.loop_slots(lid).iter().map(|&s| self.node(s)).collect()
     }
 
     /// Front edges (by start slot) whose bounding box may meet `[lo, hi]`.

@@ -33,7 +33,8 @@ use spade::{
     AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
 };
 
-use crate::geom::{ccw_angle, is_strictly_convex, Point};
+use crate::front::EdgeGrid;
+use crate::geom::{ccw_angle, is_strictly_convex, Aabb, Point};
 
 /// The quads that fill a region, over the existing nodes (ids below
 /// `first_new`) and the new nodes `points` (id `first_new + k`).
@@ -98,11 +99,17 @@ pub fn fill_region(loops: &[Vec<u32>], nodes: &[Point]) -> Result<RegionFill, Fi
     if !(size.is_finite() && size > 0.0) {
         return Err(FillError::NoSize);
     }
+    let reach = loops
+        .iter()
+        .flatten()
+        .map(|&v| nodes[v as usize].abs().max_element())
+        .fold(0.0, f64::max);
+    let min_area = (MIN_AREA * size * size).max(1e-12 * reach * reach);
     let clear = clearances(loops, nodes);
     let mut last = FillError::NoSize;
     for refine in [true, false] {
         for scale in RING_SCALES {
-            match try_fill(loops, nodes, &clear, scale, size, refine) {
+            match try_fill(loops, nodes, &clear, scale, size, min_area, refine) {
                 Ok(f) => return Ok(f),
                 Err(e) => last = e,
             }
@@ -138,6 +145,7 @@ fn try_fill(
     clear: &[Vec<f64>],
     scale: f64,
     size: f64,
+    min_area: f64,
     refine: bool,
 ) -> Result<RegionFill, FillError> {
     let mut b = Builder {
@@ -273,12 +281,6 @@ fn try_fill(
     }
     // Strictly convex, and not so thin that its area is lost to rounding
     // when computed from absolute coordinates (as other tools do).
-    let reach = loops
-        .iter()
-        .flatten()
-        .map(|&v| nodes[v as usize].abs().max_element())
-        .fold(0.0, f64::max);
-    let min_area = (MIN_AREA * size * size).max(1e-12 * reach * reach);
     for quad in &b.quads {
         let p = quad.map(|v| b.at(v, nodes));
         if !is_strictly_convex(p) || crate::geom::polygon_area(p) < min_area {
@@ -295,70 +297,21 @@ fn try_fill(
     })
 }
 
-/// A uniform grid over segments, for crossing and distance queries.
-struct SegGrid {
-    lo: Point,
-    cell: Point,
-    nx: usize,
-    ny: usize,
-    cells: Vec<Vec<usize>>,
-}
-
-impl SegGrid {
-    fn new(segs: &[(Point, Point)]) -> SegGrid {
-        let mut lo = Point::splat(f64::INFINITY);
-        let mut hi = Point::splat(f64::NEG_INFINITY);
-        let mut len = 0.0;
-        for &(a, c) in segs {
-            lo = lo.min(a.min(c));
-            hi = hi.max(a.max(c));
-            len += a.distance(c);
-        }
-        let side = (len / segs.len().max(1) as f64).max(1e-300);
-        let dims = ((hi - lo) / side).ceil().max(Point::ONE);
-        let (nx, ny) = (dims.x.min(2048.0) as usize, dims.y.min(2048.0) as usize);
-        let cell = ((hi - lo) / Point::new(nx as f64, ny as f64)).max(Point::splat(1e-300));
-        let mut g = SegGrid {
-            lo,
-            cell,
-            nx,
-            ny,
-            cells: vec![Vec::new(); nx * ny],
-        };
-        for (k, &(a, c)) in segs.iter().enumerate() {
-            let (x0, y0, x1, y1) = g.range(a.min(c), a.max(c));
-            for y in y0..=y1 {
-                for x in x0..=x1 {
-                    g.cells[y * nx + x].push(k);
-                }
-            }
-        }
-        g
+/// The segments between the node pairs `ends` (positions from `at`), and
+/// a grid over them about one mean segment per cell.
+fn segment_grid(ends: &[(u32, u32)], at: impl Fn(u32) -> Point) -> (Vec<(Point, Point)>, EdgeGrid) {
+    let segs: Vec<(Point, Point)> = ends.iter().map(|&(u, v)| (at(u), at(v))).collect();
+    let bb = Aabb::of(segs.iter().flat_map(|&(a, c)| [a, c])).unwrap_or(Aabb {
+        min: Point::ZERO,
+        max: Point::ONE,
+    });
+    let len: f64 = segs.iter().map(|&(a, c)| a.distance(c)).sum();
+    let cell = (len / segs.len().max(1) as f64).max(1e-300);
+    let mut grid = EdgeGrid::new(bb, cell, (4 * segs.len()).clamp(1024, 4_000_000));
+    for (k, &(a, c)) in segs.iter().enumerate() {
+        grid.insert(k as u32, a, c);
     }
-
-    fn range(&self, lo: Point, hi: Point) -> (usize, usize, usize, usize) {
-        let at = |p: Point| {
-            let c = ((p - self.lo) / self.cell).floor();
-            (
-                (c.x.max(0.0) as usize).min(self.nx - 1),
-                (c.y.max(0.0) as usize).min(self.ny - 1),
-            )
-        };
-        let (x0, y0) = at(lo);
-        let (x1, y1) = at(hi);
-        (x0, y0, x1, y1)
-    }
-
-    /// Segments filed in cells that meet the box `lo..hi` (with repeats).
-    fn near(&self, lo: Point, hi: Point, out: &mut Vec<usize>) {
-        out.clear();
-        let (x0, y0, x1, y1) = self.range(lo, hi);
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                out.extend_from_slice(&self.cells[y * self.nx + x]);
-            }
-        }
-    }
+    (segs, grid)
 }
 
 /// For every loop node, the distance to the nearest front edge that does
@@ -370,11 +323,7 @@ fn clearances(loops: &[Vec<u32>], nodes: &[Point]) -> Vec<Vec<f64>> {
             ends.push((l[k], l[(k + 1) % l.len()]));
         }
     }
-    let segs: Vec<(Point, Point)> = ends
-        .iter()
-        .map(|&(u, v)| (nodes[u as usize], nodes[v as usize]))
-        .collect();
-    let grid = SegGrid::new(&segs);
+    let (segs, grid) = segment_grid(&ends, |v| nodes[v as usize]);
     let mut near = Vec::new();
     loops
         .iter()
@@ -386,10 +335,11 @@ fn clearances(loops: &[Vec<u32>], nodes: &[Point]) -> Vec<Vec<f64>> {
                     let reach = 2.0
                         * p.distance(nodes[l[(i + 1) % n] as usize])
                             .max(p.distance(nodes[l[(i + n - 1) % n] as usize]));
-                    grid.near(p - Point::splat(reach), p + Point::splat(reach), &mut near);
+                    grid.query(p - Point::splat(reach), p + Point::splat(reach), &mut near);
                     near.iter()
-                        .filter(|&&k| ends[k].0 != l[i] && ends[k].1 != l[i])
-                        .map(|&k| crate::geom::point_segment_distance(p, segs[k].0, segs[k].1))
+                        .map(|&k| k as usize)
+                        .filter(|&k| ends[k].0 != l[i] && ends[k].1 != l[i])
+                        .map(|k| crate::geom::point_segment_distance(p, segs[k].0, segs[k].1))
                         .fold(reach, f64::min)
                 })
                 .collect()
@@ -410,19 +360,16 @@ fn ring_is_clear(loops: &[Vec<u32>], inner: &[Vec<u32>], nodes: &[Point], b: &Bu
             ends.push((q[i], q[(i + 1) % n]));
         }
     }
-    let segs: Vec<(Point, Point)> = ends
-        .iter()
-        .map(|&(u, v)| (b.at(u, nodes), b.at(v, nodes)))
-        .collect();
-    let grid = SegGrid::new(&segs);
+    let (segs, grid) = segment_grid(&ends, |v| b.at(v, nodes));
     let mut near = Vec::new();
     for (s, &(a, c)) in ends.iter().enumerate() {
-        grid.near(
+        grid.query(
             segs[s].0.min(segs[s].1),
             segs[s].0.max(segs[s].1),
             &mut near,
         );
         for &t in &near {
+            let t = t as usize;
             let (d, e) = ends[t];
             if t <= s || a == d || a == e || c == d || c == e {
                 continue;
@@ -450,10 +397,7 @@ mod tests {
         }
         let want: f64 = loops
             .iter()
-            .map(|l| {
-                let p: Vec<Point> = l.iter().map(|&v| nodes[v as usize]).collect();
-                crate::geom::polygon_area(p)
-            })
+            .map(|l| crate::geom::polygon_area(l.iter().map(|&v| nodes[v as usize])))
             .sum();
         assert!(
             (area - want).abs() < 1e-9 * want.abs().max(1.0),

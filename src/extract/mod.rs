@@ -199,7 +199,7 @@ pub struct StepReport {
     pub pattern: Option<char>,
     pub quads: Vec<[u32; 4]>,
     pub new_nodes: Vec<u32>,
-    /// Quads removed (rip-up steps).
+    /// Quads removed (rip-up steps, and a fill after rewinding).
     pub removed: usize,
 }
 
@@ -774,12 +774,12 @@ impl Mesher {
             if let Some(r) = self.fill_rest() {
                 return Ok(r);
             }
-        }
-        if self.params.fill && !self.replaying && self.history.len() >= self.fill_after {
-            return Err(MeshError::StepLimit {
-                limit: self.fill_after,
-                remaining: self.front.len(),
-            });
+            if !self.replaying {
+                return Err(MeshError::StepLimit {
+                    limit: self.fill_after,
+                    remaining: self.front.len(),
+                });
+            }
         }
         let limits = self.limits();
         // 0. A loop with no reference point starts a row with a square.
@@ -951,21 +951,10 @@ impl Mesher {
         self.rewound = true;
         let n = self.history.len();
         for k in [3 * n / 4, n / 2, n / 4, 0] {
-            let mut fresh = Mesher::new(
-                self.boundary.clone(),
-                self.model.clone(),
-                self.params.clone(),
-            );
-            fresh.replaying = true;
-            for a in &self.history[..k] {
-                fresh.replay(a);
-            }
-            fresh.replaying = false;
-            fresh.fill_retry_at = 0;
-            if let Some(mut r) = fresh.fill_rest() {
-                r.skipped = n - k;
-                fresh.history.push(Action::Fill);
-                fresh.stats.record(&r);
+            let mut fresh = self.replayed(&self.history[..k]);
+            let kept = fresh.mesh.quads.len();
+            if let Some(mut r) = fresh.commit_fill() {
+                r.removed = self.mesh.quads.len().saturating_sub(kept);
                 fresh.rewound = true;
                 *self = fresh;
                 return Some(r);
@@ -979,18 +968,17 @@ impl Mesher {
         match a {
             Action::Auto => self.step().is_ok(),
             Action::Correction(c) => self.correct(c).is_ok(),
-            Action::Fill => {
-                self.fill_retry_at = 0;
-                match self.fill_rest() {
-                    Some(r) => {
-                        self.history.push(Action::Fill);
-                        self.stats.record(&r);
-                        true
-                    }
-                    None => false,
-                }
-            }
+            Action::Fill => self.commit_fill().is_some(),
         }
+    }
+
+    /// A fill taken as a step of its own (after rewinding, or replayed).
+    fn commit_fill(&mut self) -> Option<StepReport> {
+        self.fill_retry_at = 0;
+        let r = self.fill_rest()?;
+        self.history.push(Action::Fill);
+        self.stats.record(&r);
+        Some(r)
     }
 
     /// Fills the whole region left with [`fill::fill_region`] and empties
@@ -1001,16 +989,7 @@ impl Mesher {
             return None;
         }
         let ids: Vec<u32> = self.front.live_loops().collect();
-        let loops: Vec<Vec<u32>> = ids
-            .iter()
-            .map(|&l| {
-                self.front
-                    .loop_slots(l)
-                    .iter()
-                    .map(|&s| self.front.node(s))
-                    .collect()
-            })
-            .collect();
+        let loops: Vec<Vec<u32>> = ids.iter().map(|&l| self.front.loop_nodes(l)).collect();
         let Ok(f) = fill::fill_region(&loops, &self.mesh.nodes) else {
             self.fill_retry_at = step + (step / 4).max(50);
             return None;
@@ -1717,21 +1696,26 @@ impl Mesher {
         let Some(_) = self.history.pop() else {
             return false;
         };
-        let actions = std::mem::take(&mut self.history);
+        let mut fresh = self.replayed(&self.history);
+        fresh.rewound = self.rewound;
+        *self = fresh;
+        true
+    }
+
+    /// A new mesher over the same input with `actions` replayed.
+    fn replayed(&self, actions: &[Action]) -> Mesher {
         let mut fresh = Mesher::new(
             self.boundary.clone(),
             self.model.clone(),
             self.params.clone(),
         );
         fresh.replaying = true;
-        for a in &actions {
+        for a in actions {
             let ok = fresh.replay(a);
             debug_assert!(ok, "replay diverged");
         }
         fresh.replaying = false;
-        fresh.rewound = self.rewound;
-        *self = fresh;
-        true
+        fresh
     }
 
     /// The finished mesh, smoothed as the parameters say. Call after
