@@ -29,6 +29,7 @@ pub mod mesh;
 pub mod model;
 pub mod normalize;
 pub mod quality;
+pub mod samples;
 pub mod smooth;
 
 pub use boundary::{Boundary, BoundaryError};

@@ -26,6 +26,12 @@ pub enum InvariantError {
     Area { covered: f64, domain: f64 },
     #[error("front: {0}")]
     Front(String),
+    #[error("node {node} is pinched: two boundary edges leave it")]
+    Pinched { node: u32 },
+    #[error("the boundary does not close at node {node}")]
+    OpenBoundary { node: u32 },
+    #[error("no quads, so no boundary")]
+    Empty,
 }
 
 /// An all-quadrilateral mesh.
@@ -51,6 +57,77 @@ impl QuadMesh {
                 .map(|l| l.iter().map(|&i| i as u32).collect())
                 .collect(),
         }
+    }
+
+    /// A mesh from bare quads (any orientation): quads are turned
+    /// counter-clockwise, the boundary loops are found from the edges used
+    /// once (the outer loop, of largest area, first) and the nodes are
+    /// renumbered boundary first, in loop order. Unused points are dropped.
+    pub fn from_quads(
+        points: Vec<Point>,
+        quads: Vec<[u32; 4]>,
+    ) -> Result<QuadMesh, InvariantError> {
+        let mut qs = quads;
+        for (k, q) in qs.iter_mut().enumerate() {
+            if let Some(&node) = q.iter().find(|&&v| v as usize >= points.len()) {
+                return Err(InvariantError::BadNode { quad: k, node });
+            }
+            if polygon_area(q.map(|i| points[i as usize])) < 0.0 {
+                q.reverse();
+            }
+        }
+        // Boundary edges: directed edges without a reverse twin.
+        let mut directed: BTreeMap<(u32, u32), usize> = BTreeMap::new();
+        for q in &qs {
+            for k in 0..4 {
+                *directed.entry((q[k], q[(k + 1) % 4])).or_default() += 1;
+            }
+        }
+        let mut next: BTreeMap<u32, u32> = BTreeMap::new();
+        for &(a, b) in directed.keys() {
+            if !directed.contains_key(&(b, a)) && next.insert(a, b).is_some() {
+                return Err(InvariantError::Pinched { node: a });
+            }
+        }
+        let mut loops: Vec<Vec<u32>> = Vec::new();
+        let mut seen = std::collections::BTreeSet::new();
+        for &start in next.keys() {
+            if seen.contains(&start) {
+                continue;
+            }
+            let mut l = Vec::new();
+            let mut c = start;
+            while seen.insert(c) {
+                l.push(c);
+                c = *next
+                    .get(&c)
+                    .ok_or(InvariantError::OpenBoundary { node: c })?;
+            }
+            loops.push(l);
+        }
+        let area = |l: &Vec<u32>| polygon_area(l.iter().map(|&i| points[i as usize]));
+        let outer = (0..loops.len())
+            .max_by(|&a, &b| area(&loops[a]).total_cmp(&area(&loops[b])))
+            .ok_or(InvariantError::Empty)?;
+        loops.swap(0, outer);
+        // Renumber: boundary nodes first, then the others the quads use.
+        let mut new_id = vec![u32::MAX; points.len()];
+        let mut order = Vec::with_capacity(points.len());
+        let interior = qs.iter().flatten().copied();
+        for v in loops.iter().flatten().copied().chain(interior) {
+            if new_id[v as usize] == u32::MAX {
+                new_id[v as usize] = order.len() as u32;
+                order.push(v);
+            }
+        }
+        Ok(QuadMesh {
+            nodes: order.iter().map(|&v| points[v as usize]).collect(),
+            quads: qs.iter().map(|q| q.map(|v| new_id[v as usize])).collect(),
+            loops: loops
+                .iter()
+                .map(|l| l.iter().map(|&v| new_id[v as usize]).collect())
+                .collect(),
+        })
     }
 
     /// Number of boundary nodes.

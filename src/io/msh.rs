@@ -3,7 +3,7 @@
 //! 2.2, and a reader for quad meshes in either version.
 
 use super::{fmt_f64, ReadError};
-use crate::geom::{polygon_area, Point};
+use crate::geom::Point;
 use crate::mesh::QuadMesh;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -334,68 +334,7 @@ fn from_raw(nodes: &BTreeMap<u64, Point>, quads: &[[u64; 4]]) -> Result<QuadMesh
                 (pts.len() - 1) as u32
             });
         }
-        if polygon_area(out.map(|i| pts[i as usize])) < 0.0 {
-            out.reverse();
-        }
         qs.push(out);
     }
-    // Boundary edges: directed edges without a reverse twin.
-    let mut directed: BTreeMap<(u32, u32), usize> = BTreeMap::new();
-    for q in &qs {
-        for k in 0..4 {
-            *directed.entry((q[k], q[(k + 1) % 4])).or_default() += 1;
-        }
-    }
-    let mut next: BTreeMap<u32, u32> = BTreeMap::new();
-    for &(a, b) in directed.keys() {
-        if !directed.contains_key(&(b, a)) && next.insert(a, b).is_some() {
-            return Err(ReadError::NotQuadMesh(format!(
-                "node {a} is pinched on the boundary"
-            )));
-        }
-    }
-    let mut loops: Vec<Vec<u32>> = Vec::new();
-    let mut seen: BTreeMap<u32, ()> = BTreeMap::new();
-    for &start in next.keys() {
-        if seen.contains_key(&start) {
-            continue;
-        }
-        let mut l = Vec::new();
-        let mut c = start;
-        while seen.insert(c, ()).is_none() {
-            l.push(c);
-            c = *next
-                .get(&c)
-                .ok_or_else(|| ReadError::NotQuadMesh("open boundary".into()))?;
-        }
-        loops.push(l);
-    }
-    let area = |l: &Vec<u32>| polygon_area(l.iter().map(|&i| pts[i as usize]));
-    let outer = (0..loops.len())
-        .max_by(|&a, &b| area(&loops[a]).total_cmp(&area(&loops[b])))
-        .ok_or_else(|| ReadError::NotQuadMesh("no boundary".into()))?;
-    loops.swap(0, outer);
-    // Renumber: boundary nodes first.
-    let mut new_id = vec![u32::MAX; pts.len()];
-    let mut order = Vec::with_capacity(pts.len());
-    for l in &loops {
-        for &v in l {
-            new_id[v as usize] = order.len() as u32;
-            order.push(v);
-        }
-    }
-    for v in 0..pts.len() as u32 {
-        if new_id[v as usize] == u32::MAX {
-            new_id[v as usize] = order.len() as u32;
-            order.push(v);
-        }
-    }
-    Ok(QuadMesh {
-        nodes: order.iter().map(|&v| pts[v as usize]).collect(),
-        quads: qs.iter().map(|q| q.map(|v| new_id[v as usize])).collect(),
-        loops: loops
-            .iter()
-            .map(|l| l.iter().map(|&v| new_id[v as usize]).collect())
-            .collect(),
-    })
+    QuadMesh::from_quads(pts, qs).map_err(|e| ReadError::NotQuadMesh(e.to_string()))
 }

@@ -1,0 +1,687 @@
+//! Training samples (thesis Chapter 3, §3.1.3; method §3): a sample is the
+//! normalised front path `P_lN..P_l1, P0, P_r1..P_rN` around a reference
+//! point together with the element cut there, `(type, Pn)`.
+//!
+//! [`collect`] takes samples from a finished quad mesh: every corner of every
+//! good element (`Rs ≥ 0.8`, corners in [35°, 145°]) serves as P0 for each
+//! of the three element types, and the front path is continued outward from
+//! both ends along mesh edges, one sample per continuation whose interior
+//! angles stay in [35°, 235°]. [`Sample::from_front`] makes the sample of one
+//! extraction step from the real front (the editor's corrections).
+//!
+//! A [`TrainingSet`] holds samples of one input-point count, reads and
+//! writes CSV (the thesis's Table 3 column order) and JSON, merges and drops
+//! duplicates.
+
+use crate::geom::{ccw_angle, Point};
+use crate::mesh::QuadMesh;
+use crate::model::ElementType;
+use crate::normalize::{Frame, LeadingPoints};
+use crate::quality::QuadQuality;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeSet;
+use thiserror::Error;
+
+/// Where a sample came from.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum Source {
+    /// Element `element` (0-based) of the mesh in `file`.
+    Mesh { file: String, element: usize },
+    /// An element corrected (or accepted) by the user at one step.
+    Correction,
+}
+
+/// One training sample in the normalised frame (P0 at the origin, P_r1 at
+/// `(1, 0)`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Sample {
+    pub input: LeadingPoints,
+    pub element_type: ElementType,
+    /// Pn: the new node for type 0, P_r2 for type 1, P_l2 for type 2.
+    pub pn: Point,
+    pub source: Source,
+}
+
+impl Sample {
+    /// The sample of one extraction step from world points: the front path
+    /// `left = [P_l1..P_lN]`, `p0`, `right = [P_r1..P_rN]` and the element's
+    /// Pn (world). Returns `None` when `P_r1` coincides with P0.
+    pub fn from_front(
+        left: &[Point],
+        p0: Point,
+        right: &[Point],
+        element_type: ElementType,
+        pn: Point,
+        source: Source,
+    ) -> Option<Sample> {
+        let r1 = *right.first()?;
+        if (r1 - p0).length() <= 0.0 {
+            return None;
+        }
+        let frame = Frame::new(p0, r1);
+        Some(Sample {
+            input: LeadingPoints::normalise(&frame, left, right),
+            element_type,
+            pn: frame.to_local(pn),
+            source,
+        })
+    }
+
+    /// `N`, leading points per side.
+    pub fn n(&self) -> usize {
+        self.input.n()
+    }
+
+    /// The model inputs without the constants P0 and P_r1, in the thesis's
+    /// order `P_lN..P_l1, P_r2..P_rN` (`2N − 1` points).
+    pub fn variable_points(&self) -> Vec<Point> {
+        variable_points(&self.input)
+    }
+}
+
+/// The inputs of `lp` that are not constant after normalisation, in the
+/// thesis's order `P_lN..P_l1, P_r2..P_rN`.
+pub fn variable_points(lp: &LeadingPoints) -> Vec<Point> {
+    let mut v: Vec<Point> = lp.left.iter().rev().copied().collect();
+    v.extend_from_slice(lp.right.get(1..).unwrap_or(&[]));
+    v
+}
+
+/// The names of [`variable_points`] for `N` leading points per side:
+/// `l3, l2, l1, r2, r3` for `N = 3`.
+pub fn variable_names(n: usize) -> Vec<String> {
+    let mut v: Vec<String> = (1..=n).rev().map(|k| format!("l{k}")).collect();
+    v.extend((2..=n).map(|k| format!("r{k}")));
+    v
+}
+
+/// Parameters of sample collection (method §3), angles in degrees.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct CollectParams {
+    /// Smallest `Rs = A / ē²` of a good element. Default 0.8.
+    pub min_rs: f64,
+    /// Corner window of a good element. Default [35, 145].
+    pub corner: [f64; 2],
+    /// Window of the front's interior angle along the path. Default [35, 235].
+    pub turn: [f64; 2],
+    /// Most samples taken per element corner and type (a guard against
+    /// combinatorial growth on very irregular meshes). Default 4096.
+    pub max_per_corner: usize,
+}
+
+impl CollectParams {
+    pub const DEFAULT: CollectParams = CollectParams {
+        min_rs: 0.8,
+        corner: [35.0, 145.0],
+        turn: [35.0, 235.0],
+        max_per_corner: 4096,
+    };
+}
+
+impl Default for CollectParams {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// True for an element good enough to learn from.
+pub fn is_good(q: &QuadQuality, p: &CollectParams) -> bool {
+    q.rs >= p.min_rs && q.min_angle() >= p.corner[0] && q.max_angle() <= p.corner[1]
+}
+
+/// Node adjacency of a mesh, each list sorted (deterministic output).
+fn adjacency(mesh: &QuadMesh) -> Vec<Vec<u32>> {
+    let mut adj: Vec<BTreeSet<u32>> = vec![BTreeSet::new(); mesh.nodes.len()];
+    for q in &mesh.quads {
+        for k in 0..4 {
+            let (a, b) = (q[k], q[(k + 1) % 4]);
+            adj[a as usize].insert(b);
+            adj[b as usize].insert(a);
+        }
+    }
+    adj.into_iter().map(|s| s.into_iter().collect()).collect()
+}
+
+/// Collects the samples of a quad mesh with `n` leading points per side
+/// (`2n + 1` input points). `file` names the mesh in each sample's source.
+pub fn collect(mesh: &QuadMesh, n: usize, params: &CollectParams, file: &str) -> Vec<Sample> {
+    let adj = adjacency(mesh);
+    let c = Collector {
+        mesh,
+        adj: &adj,
+        n,
+        params,
+    };
+    let mut out = Vec::new();
+    for (e, q) in mesh.quads.iter().enumerate() {
+        if !is_good(&QuadQuality::of(mesh.corners(q)), params) {
+            continue;
+        }
+        for k in 0..4 {
+            // The element as (P0, r1, Pn, l1), counter-clockwise.
+            let [p0, r1, opp, l1] = [q[k], q[(k + 1) % 4], q[(k + 2) % 4], q[(k + 3) % 4]];
+            let source = Source::Mesh {
+                file: file.to_string(),
+                element: e,
+            };
+            // type 0: l1 → P0 → r1, Pn the opposite corner.
+            c.emit(&[l1], p0, &[r1], ElementType::New, opp, &source, &mut out);
+            // type 1: l1 → P0 → r1 → r2, Pn = r2 = opposite corner.
+            c.emit(
+                &[l1],
+                p0,
+                &[r1, opp],
+                ElementType::Right,
+                opp,
+                &source,
+                &mut out,
+            );
+            // type 2: l2 → l1 → P0 → r1, Pn = l2 = opposite corner.
+            c.emit(
+                &[l1, opp],
+                p0,
+                &[r1],
+                ElementType::Left,
+                opp,
+                &source,
+                &mut out,
+            );
+        }
+    }
+    out
+}
+
+struct Collector<'a> {
+    mesh: &'a QuadMesh,
+    adj: &'a [Vec<u32>],
+    n: usize,
+    params: &'a CollectParams,
+}
+
+impl Collector<'_> {
+    fn pos(&self, v: u32) -> Point {
+        self.mesh.nodes[v as usize]
+    }
+
+    /// All continuations of one side of the path to `n` nodes. `side` holds
+    /// the nodes from P0 outward (`[r1, r2, ..]` or `[l1, l2, ..]`); `back`
+    /// is the node before `side[0]` (P0). `right` selects the orientation of
+    /// the interior angle.
+    fn extend(&self, p0: u32, side: &[u32], right: bool, opp: u32) -> Vec<Vec<u32>> {
+        let mut done = Vec::new();
+        let mut stack = vec![side.to_vec()];
+        let (lo, hi) = (
+            self.params.turn[0].to_radians(),
+            self.params.turn[1].to_radians(),
+        );
+        while let Some(path) = stack.pop() {
+            if path.len() >= self.n {
+                done.push(path);
+                if done.len() >= self.params.max_per_corner {
+                    break;
+                }
+                continue;
+            }
+            let cur = path[path.len() - 1];
+            let prev = if path.len() >= 2 {
+                path[path.len() - 2]
+            } else {
+                p0
+            };
+            // Reverse so that the stack pops the candidates in sorted order.
+            for &next in self.adj[cur as usize].iter().rev() {
+                if next == p0 || next == opp || path.contains(&next) {
+                    continue;
+                }
+                let (c, pp, nx) = (self.pos(cur), self.pos(prev), self.pos(next));
+                // Interior angle at `cur`: CCW from its right neighbour to
+                // its left neighbour.
+                let theta = if right {
+                    ccw_angle(c, nx, pp)
+                } else {
+                    ccw_angle(c, pp, nx)
+                };
+                if theta < lo || theta > hi {
+                    continue;
+                }
+                let mut p = path.clone();
+                p.push(next);
+                stack.push(p);
+            }
+        }
+        done
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn emit(
+        &self,
+        left: &[u32],
+        p0: u32,
+        right: &[u32],
+        t: ElementType,
+        pn: u32,
+        source: &Source,
+        out: &mut Vec<Sample>,
+    ) {
+        if left.len() > self.n || right.len() > self.n {
+            return;
+        }
+        // The element's own corners may close the path only through `pn`.
+        let lefts = self.extend(p0, left, false, if left.len() > 1 { u32::MAX } else { pn });
+        let rights = self.extend(p0, right, true, if right.len() > 1 { u32::MAX } else { pn });
+        let mut taken = 0;
+        for l in &lefts {
+            for r in &rights {
+                if !disjoint(l, r, self.n) {
+                    continue;
+                }
+                let lp: Vec<Point> = l.iter().map(|&v| self.pos(v)).collect();
+                let rp: Vec<Point> = r.iter().map(|&v| self.pos(v)).collect();
+                if let Some(s) =
+                    Sample::from_front(&lp, self.pos(p0), &rp, t, self.pos(pn), source.clone())
+                {
+                    out.push(s);
+                    taken += 1;
+                    if taken >= self.params.max_per_corner {
+                        return;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Left and right leading points do not overlap, except the outermost pair
+/// for 7 or more input points (method §3).
+fn disjoint(l: &[u32], r: &[u32], n: usize) -> bool {
+    l.iter().enumerate().all(|(i, a)| {
+        r.iter()
+            .enumerate()
+            .all(|(j, b)| a != b || (n >= 3 && i == n - 1 && j == n - 1))
+    })
+}
+
+/// A problem reading a training set, with the line at fault.
+#[derive(Debug, Error)]
+pub enum SamplesError {
+    #[error("line {line}: {msg}")]
+    Parse { line: usize, msg: String },
+    #[error("the header does not name a sample layout: {0}")]
+    Header(String),
+    #[error("a set of {expected} input points cannot take samples of {found}")]
+    Points { expected: usize, found: usize },
+    #[error("{0}")]
+    Json(#[from] serde_json::Error),
+    #[error("{0}")]
+    Csv(#[from] csv::Error),
+}
+
+/// Samples of one input-point count (`2N + 1`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrainingSet {
+    /// Input points: 5, 7, 9 or 11.
+    pub points: usize,
+    pub samples: Vec<Sample>,
+}
+
+/// Rounding of coordinates when comparing samples for duplicates.
+const DEDUP_QUANTUM: f64 = 1e-9;
+
+impl TrainingSet {
+    /// An empty set of `points` input points.
+    pub fn new(points: usize) -> TrainingSet {
+        TrainingSet {
+            points,
+            samples: Vec::new(),
+        }
+    }
+
+    /// `N`, leading points per side.
+    pub fn n(&self) -> usize {
+        (self.points - 1) / 2
+    }
+
+    pub fn len(&self) -> usize {
+        self.samples.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.samples.is_empty()
+    }
+
+    /// Appends one sample of the same input-point count.
+    pub fn push(&mut self, s: Sample) -> Result<(), SamplesError> {
+        if 2 * s.n() + 1 != self.points {
+            return Err(SamplesError::Points {
+                expected: self.points,
+                found: 2 * s.n() + 1,
+            });
+        }
+        self.samples.push(s);
+        Ok(())
+    }
+
+    /// Appends every sample of `other` (same input-point count).
+    pub fn merge(&mut self, other: TrainingSet) -> Result<(), SamplesError> {
+        if other.points != self.points {
+            return Err(SamplesError::Points {
+                expected: self.points,
+                found: other.points,
+            });
+        }
+        self.samples.extend(other.samples);
+        Ok(())
+    }
+
+    /// Drops samples whose points, type and Pn equal (to 1e-9) an earlier
+    /// sample's; returns how many were dropped.
+    pub fn dedup(&mut self) -> usize {
+        let before = self.samples.len();
+        let mut seen = BTreeSet::new();
+        self.samples.retain(|s| {
+            let mut key: Vec<i64> = s
+                .input
+                .thesis_order()
+                .iter()
+                .chain(std::iter::once(&s.pn))
+                .flat_map(|p| [p.x, p.y])
+                .map(|v| (v / DEDUP_QUANTUM).round() as i64)
+                .collect();
+            key.push(s.element_type as i64);
+            seen.insert(key)
+        });
+        before - self.samples.len()
+    }
+
+    /// Counts of samples by type.
+    pub fn type_counts(&self) -> [usize; 3] {
+        let mut c = [0; 3];
+        for s in &self.samples {
+            c[s.element_type as usize] += 1;
+        }
+        c
+    }
+
+    /// The CSV header: the thesis's Table 3 column order
+    /// (`xlN, ylN, …, x0, y0, xr1, yr1, …, type, xn, yn`), then the source.
+    pub fn csv_header(n: usize) -> Vec<String> {
+        let mut h = Vec::new();
+        for k in (1..=n).rev() {
+            h.push(format!("xl{k}"));
+            h.push(format!("yl{k}"));
+        }
+        h.extend(["x0".into(), "y0".into()]);
+        for k in 1..=n {
+            h.push(format!("xr{k}"));
+            h.push(format!("yr{k}"));
+        }
+        h.extend(["type", "xn", "yn", "source", "element"].map(String::from));
+        h
+    }
+
+    /// The set as CSV text (one header line, one line per sample).
+    pub fn to_csv(&self) -> Result<String, SamplesError> {
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.write_record(Self::csv_header(self.n()))?;
+        for s in &self.samples {
+            let mut rec: Vec<String> = s
+                .input
+                .thesis_order()
+                .iter()
+                .flat_map(|p| [fmt(p.x), fmt(p.y)])
+                .collect();
+            rec.push(s.element_type.number().to_string());
+            rec.push(fmt(s.pn.x));
+            rec.push(fmt(s.pn.y));
+            match &s.source {
+                Source::Mesh { file, element } => {
+                    rec.push(file.clone());
+                    rec.push(element.to_string());
+                }
+                Source::Correction => {
+                    rec.push("correction".into());
+                    rec.push(String::new());
+                }
+            }
+            w.write_record(&rec)?;
+        }
+        let bytes = w.into_inner().map_err(|e| SamplesError::Parse {
+            line: 0,
+            msg: e.to_string(),
+        })?;
+        Ok(String::from_utf8_lossy(&bytes).into_owned())
+    }
+
+    /// Reads CSV written by [`TrainingSet::to_csv`]; the source columns may
+    /// be missing (then the source is "correction").
+    pub fn from_csv(text: &str) -> Result<TrainingSet, SamplesError> {
+        let mut r = csv::ReaderBuilder::new()
+            .flexible(true)
+            .trim(csv::Trim::All)
+            .from_reader(text.as_bytes());
+        let header: Vec<String> = r.headers()?.iter().map(str::to_lowercase).collect();
+        let coords = header
+            .iter()
+            .position(|h| h == "type")
+            .ok_or_else(|| SamplesError::Header(header.join(",")))?;
+        let points = coords / 2;
+        if coords % 2 != 0 || !matches!(points, 5 | 7 | 9 | 11) {
+            return Err(SamplesError::Header(header.join(",")));
+        }
+        let n = (points - 1) / 2;
+        let expected = Self::csv_header(n);
+        if header[..coords + 3] != expected[..coords + 3] {
+            return Err(SamplesError::Header(header.join(",")));
+        }
+        let mut set = TrainingSet::new(points);
+        for (i, rec) in r.records().enumerate() {
+            let line = i + 2;
+            let rec = rec?;
+            let num = |k: usize| -> Result<f64, SamplesError> {
+                let f = rec.get(k).ok_or_else(|| SamplesError::Parse {
+                    line,
+                    msg: format!("missing column {}", expected[k]),
+                })?;
+                let v: f64 = f.parse().map_err(|_| SamplesError::Parse {
+                    line,
+                    msg: format!("{}: not a number: {f:?}", expected[k]),
+                })?;
+                if v.is_finite() {
+                    Ok(v)
+                } else {
+                    Err(SamplesError::Parse {
+                        line,
+                        msg: format!("{}: not finite", expected[k]),
+                    })
+                }
+            };
+            let mut pts = Vec::with_capacity(points);
+            for k in 0..points {
+                pts.push(Point::new(num(2 * k)?, num(2 * k + 1)?));
+            }
+            let t = num(coords)?;
+            let element_type = ElementType::from_number(t as u8)
+                .filter(|_| t.fract() == 0.0 && t >= 0.0)
+                .ok_or_else(|| SamplesError::Parse {
+                    line,
+                    msg: format!("type must be 0, 1 or 2, not {t}"),
+                })?;
+            let pn = Point::new(num(coords + 1)?, num(coords + 2)?);
+            let source = match rec.get(coords + 3) {
+                None | Some("") | Some("correction") => Source::Correction,
+                Some(file) => Source::Mesh {
+                    file: file.to_string(),
+                    element: rec
+                        .get(coords + 4)
+                        .and_then(|e| e.parse().ok())
+                        .unwrap_or(0),
+                },
+            };
+            let left: Vec<Point> = pts[..n].iter().rev().copied().collect();
+            let right: Vec<Point> = pts[n + 1..].to_vec();
+            set.samples.push(Sample {
+                input: LeadingPoints { left, right },
+                element_type,
+                pn,
+                source,
+            });
+        }
+        Ok(set)
+    }
+
+    pub fn to_json(&self) -> Result<String, SamplesError> {
+        Ok(serde_json::to_string_pretty(self)?)
+    }
+
+    pub fn from_json(text: &str) -> Result<TrainingSet, SamplesError> {
+        let set: TrainingSet = serde_json::from_str(text)?;
+        if !matches!(set.points, 5 | 7 | 9 | 11) {
+            return Err(SamplesError::Points {
+                expected: 7,
+                found: set.points,
+            });
+        }
+        if let Some(s) = set.samples.iter().find(|s| 2 * s.n() + 1 != set.points) {
+            return Err(SamplesError::Points {
+                expected: set.points,
+                found: 2 * s.n() + 1,
+            });
+        }
+        Ok(set)
+    }
+}
+
+/// Shortest decimal that reads back to the same f64.
+fn fmt(v: f64) -> String {
+    // `{}` on f64 prints the shortest round-trip representation.
+    let v = if v == 0.0 { 0.0 } else { v };
+    format!("{v}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 3 × 2 grid of unit squares (nodes row by row).
+    fn grid(nx: usize, ny: usize) -> QuadMesh {
+        let mut m = QuadMesh::default();
+        for j in 0..=ny {
+            for i in 0..=nx {
+                m.nodes.push(Point::new(i as f64, j as f64));
+            }
+        }
+        let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+        for j in 0..ny {
+            for i in 0..nx {
+                m.quads
+                    .push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn single_square_gives_the_three_types() {
+        let m = grid(1, 1);
+        // 5 points: type 1 and 2 need l2/r2 outside the element: none.
+        // Type 0 needs r2 beyond r1 and l2 beyond l1: none in one quad.
+        assert!(collect(&m, 2, &CollectParams::DEFAULT, "m").is_empty());
+    }
+
+    #[test]
+    fn grid_samples_are_the_hand_checked_ones() {
+        let m = grid(3, 3);
+        let s = collect(&m, 2, &CollectParams::DEFAULT, "g");
+        assert!(!s.is_empty());
+        // Every sample: P_r1 = (1,0) after normalisation; the domain lies
+        // above the x axis, so type 0's Pn is the unit square's far corner.
+        for x in &s {
+            assert!((x.input.right[0] - Point::X).length() < 1e-12);
+            match x.element_type {
+                ElementType::New => assert!((x.pn - Point::new(1.0, 1.0)).length() < 1e-12),
+                ElementType::Right => {
+                    assert_eq!(x.pn, x.input.right[1]);
+                    assert!((x.pn - Point::new(1.0, 1.0)).length() < 1e-12);
+                }
+                ElementType::Left => {
+                    assert_eq!(x.pn, x.input.left[1]);
+                    assert!((x.pn - Point::new(1.0, 1.0)).length() < 1e-12);
+                }
+            }
+        }
+        // The centre element's corner at (1,1): type 0 with the path
+        // straight on both sides, l1 = (1,2) → P0 = (1,1) → r1 = (2,1).
+        let e = 4; // the centre quad of a 3 × 3 grid
+        let straight: Vec<&Sample> = s
+            .iter()
+            .filter(|x| {
+                x.source
+                    == Source::Mesh {
+                        file: "g".into(),
+                        element: e,
+                    }
+                    && x.element_type == ElementType::New
+                    && (x.input.right[1] - Point::new(2.0, 0.0)).length() < 1e-12
+                    && (x.input.left[1] - Point::new(0.0, 2.0)).length() < 1e-12
+            })
+            .collect();
+        // One per corner of the centre element (4 corners, all interior).
+        assert_eq!(straight.len(), 4);
+        let counts = {
+            let mut t = TrainingSet::new(5);
+            t.samples = s.clone();
+            t.type_counts()
+        };
+        assert!(counts.iter().all(|&c| c > 0), "{counts:?}");
+    }
+
+    #[test]
+    fn bad_elements_give_no_samples() {
+        let mut m = grid(3, 3);
+        // Squash the grid into thin rectangles: Rs = 0.1 / 0.3025 < 0.8.
+        for p in &mut m.nodes {
+            p.y *= 0.1;
+        }
+        assert!(collect(&m, 2, &CollectParams::DEFAULT, "g").is_empty());
+    }
+
+    #[test]
+    fn csv_and_json_round_trip() {
+        let m = grid(3, 3);
+        let mut t = TrainingSet::new(7);
+        t.samples = collect(&m, 3, &CollectParams::DEFAULT, "g,\"quoted\"");
+        t.samples.push(Sample {
+            source: Source::Correction,
+            ..t.samples[0].clone()
+        });
+        let back = TrainingSet::from_csv(&t.to_csv().unwrap()).unwrap();
+        assert_eq!(back, t);
+        let back = TrainingSet::from_json(&t.to_json().unwrap()).unwrap();
+        assert_eq!(back, t);
+    }
+
+    #[test]
+    fn dedup_and_merge() {
+        let m = grid(4, 4);
+        let mut t = TrainingSet::new(5);
+        t.samples = collect(&m, 2, &CollectParams::DEFAULT, "g");
+        let all = t.len();
+        let dropped = t.dedup();
+        assert!(dropped > 0 && t.len() + dropped == all);
+        let mut u = t.clone();
+        u.merge(t.clone()).unwrap();
+        assert_eq!(u.dedup(), t.len());
+        assert!(u.merge(TrainingSet::new(7)).is_err());
+    }
+
+    #[test]
+    fn bad_csv_names_the_line() {
+        let h = TrainingSet::csv_header(2).join(",");
+        let text = format!("{h}\n1,1,0,1,0,0,1,0,2,0,7,1,1,,\n");
+        let e = TrainingSet::from_csv(&text).unwrap_err().to_string();
+        assert!(e.contains("line 2") && e.contains("type"), "{e}");
+        let e = TrainingSet::from_csv("a,b\n1,2\n").unwrap_err().to_string();
+        assert!(e.contains("header"), "{e}");
+    }
+}
