@@ -22,6 +22,8 @@
 
 pub mod boundary;
 pub mod extract;
+pub mod factors;
+pub mod fit;
 pub mod front;
 pub mod geom;
 pub mod io;

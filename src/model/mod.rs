@@ -9,6 +9,7 @@
 //! the editor treat the knowledge-based rules, the thesis's printed
 //! regression and fitted models alike.
 
+pub mod fitted;
 pub mod rules;
 pub mod thesis;
 
@@ -16,6 +17,7 @@ use crate::geom::Point;
 use crate::normalize::LeadingPoints;
 use serde::{Deserialize, Serialize};
 
+pub use fitted::{FittedModel, Form, ModelFile};
 pub use rules::RulesModel;
 pub use thesis::ThesisModel;
 

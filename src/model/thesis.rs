@@ -12,7 +12,8 @@
 //! The printed values are shipped as they are and never tuned; what they do
 //! is measured and stated in the README.
 
-use super::{ElementType, Model, Prediction};
+use super::fitted::ThesisForm;
+use super::{Model, Prediction};
 use crate::geom::Point;
 use crate::normalize::LeadingPoints;
 use serde::{Deserialize, Serialize};
@@ -57,42 +58,36 @@ impl ThesisModel {
         yn_phi: [-0.0025, 0.0019, 0.0011, -1.9436, -0.0611],
     };
 
+    /// The same coefficients in the general thesis form of
+    /// [`super::fitted`] (the single implementation of the formulas).
+    pub fn form(&self) -> ThesisForm {
+        let interleave = |a: &[f64; 5], b: &[f64; 5]| -> Vec<f64> {
+            a.iter().zip(b).flat_map(|(x, y)| [*x, *y]).collect()
+        };
+        let mut xn = self.xn_poly.to_vec();
+        xn.extend(interleave(&self.xn_eps, &self.xn_tau));
+        let mut yn = self.yn_poly.to_vec();
+        yn.extend(interleave(&self.yn_chi, &self.yn_phi));
+        let l = self.type_lambda;
+        let g = self.type_gamma;
+        ThesisForm {
+            n: 3,
+            mu0: self.mu0,
+            mu1: self.mu1,
+            type_coef: [l[0], g[0], l[1], g[1], l[2], g[2]],
+            xn,
+            yn,
+        }
+    }
+
     /// The type model's raw output P.
     pub fn type_score(&self, input: &LeadingPoints) -> f64 {
-        let sig = |v: f64| 1.0 / (1.0 + (-self.mu1 * v).exp());
-        let pts = [input.left[1], input.left[0], input.right[1]];
-        let mut p = self.mu0;
-        for ((pt, lambda), gamma) in pts.iter().zip(self.type_lambda).zip(self.type_gamma) {
-            p += lambda * sig(pt.x) + gamma * sig(pt.y);
-        }
-        p
+        self.form().type_score(input)
     }
 
     /// Xn and Yn.
     pub fn position(&self, input: &LeadingPoints) -> Point {
-        let l1 = input.left[0];
-        let pts = [
-            input.left[2],
-            input.left[1],
-            input.left[0],
-            input.right[1],
-            input.right[2],
-        ];
-        let poly = |c: &[f64; 5]| {
-            c[0] + c[1] * l1.x.powi(3)
-                + c[2] * l1.y.powi(3)
-                + c[3] * l1.x.powi(2)
-                + c[4] * l1.y.powi(2)
-        };
-        let lin = |a: &[f64; 5], b: &[f64; 5]| {
-            (0..5)
-                .map(|k| a[k] * pts[k].x + b[k] * pts[k].y)
-                .sum::<f64>()
-        };
-        Point::new(
-            poly(&self.xn_poly) + lin(&self.xn_eps, &self.xn_tau),
-            poly(&self.yn_poly) + lin(&self.yn_chi, &self.yn_phi),
-        )
+        self.form().position(input)
     }
 }
 
@@ -106,17 +101,6 @@ impl Model for ThesisModel {
     }
 
     fn predict(&self, input: &LeadingPoints) -> Prediction {
-        let p = self.type_score(input);
-        let element_type = if p <= 0.75 {
-            ElementType::New
-        } else if p <= 1.5 {
-            ElementType::Right
-        } else {
-            ElementType::Left
-        };
-        Prediction {
-            element_type,
-            pn: self.position(input),
-        }
+        self.form().predict(input)
     }
 }

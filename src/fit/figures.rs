@@ -1,0 +1,203 @@
+//! Fit figures (thesis §4.3.1; method §4): `SSE = Σ(y − ŷ)²`,
+//! `RMSE = √(SSE/n)`, `R` the Pearson correlation of y and ŷ,
+//! `DC = 1 − SSE/SST`; for the type also the accuracy and the confusion
+//! matrix. Laid out like thesis Table 8 by [`FitReport::table`].
+
+use crate::model::Form;
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+
+/// Figures of one output on one set of samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Figures {
+    pub n: usize,
+    pub sse: f64,
+    pub rmse: f64,
+    pub r: f64,
+    pub dc: f64,
+}
+
+impl Figures {
+    /// Figures of predictions `yhat` of `y`.
+    pub fn of(y: &[f64], yhat: &[f64]) -> Figures {
+        let n = y.len();
+        if n == 0 {
+            return Figures::default();
+        }
+        let nf = n as f64;
+        let my = y.iter().sum::<f64>() / nf;
+        let mh = yhat.iter().sum::<f64>() / nf;
+        let (mut sse, mut sst, mut sxy, mut shh) = (0.0, 0.0, 0.0, 0.0);
+        for (a, b) in y.iter().zip(yhat) {
+            sse += (a - b) * (a - b);
+            sst += (a - my) * (a - my);
+            sxy += (a - my) * (b - mh);
+            shh += (b - mh) * (b - mh);
+        }
+        let r = if sst > 0.0 && shh > 0.0 {
+            sxy / (sst * shh).sqrt()
+        } else if sse == 0.0 {
+            1.0
+        } else {
+            0.0
+        };
+        Figures {
+            n,
+            sse,
+            rmse: (sse / nf).sqrt(),
+            r,
+            dc: if sst > 0.0 {
+                1.0 - sse / sst
+            } else if sse == 0.0 {
+                1.0
+            } else {
+                f64::NEG_INFINITY
+            },
+        }
+    }
+}
+
+/// Figures of the type output: the regression figures of its raw value
+/// (the thesis's score P, or the classifier's expected type), and the
+/// accuracy and confusion matrix of the type it selects.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TypeFigures {
+    #[serde(flatten)]
+    pub figures: Figures,
+    pub accuracy: f64,
+    /// `confusion[actual][predicted]`.
+    pub confusion: [[usize; 3]; 3],
+}
+
+impl TypeFigures {
+    pub fn of(y: &[u8], value: &[f64], predicted: &[u8]) -> TypeFigures {
+        let yf: Vec<f64> = y.iter().map(|&t| t as f64).collect();
+        let mut confusion = [[0usize; 3]; 3];
+        for (&a, &p) in y.iter().zip(predicted) {
+            confusion[a as usize][p as usize] += 1;
+        }
+        let hits: usize = (0..3).map(|k| confusion[k][k]).sum();
+        TypeFigures {
+            figures: Figures::of(&yf, value),
+            accuracy: if y.is_empty() {
+                0.0
+            } else {
+                hits as f64 / y.len() as f64
+            },
+            confusion,
+        }
+    }
+}
+
+/// One output on the training samples and on held-out samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Split<T> {
+    pub train: T,
+    pub holdout: T,
+}
+
+/// How well a fitted model fits (thesis Table 8, plus held-out figures
+/// from k-fold cross-validation with a fixed seed).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FitReport {
+    pub form: Form,
+    pub points: usize,
+    pub samples: usize,
+    /// Folds of the held-out figures (each sample is predicted once by the
+    /// model fitted on the other folds).
+    pub folds: usize,
+    pub seed: u64,
+    #[serde(rename = "type")]
+    pub type_: Split<TypeFigures>,
+    pub xn: Split<Figures>,
+    pub yn: Split<Figures>,
+}
+
+impl FitReport {
+    /// A single score to choose between forms: held-out type accuracy
+    /// plus the held-out R of Xn and Yn.
+    pub fn score(&self) -> f64 {
+        self.type_.holdout.accuracy + self.xn.holdout.r + self.yn.holdout.r
+    }
+
+    /// The figures as a text table in the layout of thesis Table 8.
+    pub fn table(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "form {}, {} input points, {} samples, {}-fold held-out (seed {})",
+            self.form.name(),
+            self.points,
+            self.samples,
+            self.folds,
+            self.seed
+        );
+        let _ = writeln!(
+            s,
+            "{:<6} {:<8} {:>12} {:>8} {:>8} {:>8} {:>9}",
+            "output", "set", "SSE", "RMSE", "R", "DC", "accuracy"
+        );
+        let mut row = |name: &str, set: &str, f: &Figures, acc: Option<f64>| {
+            let _ = writeln!(
+                s,
+                "{:<6} {:<8} {:>12.4} {:>8.4} {:>8.4} {:>8.4} {:>9}",
+                name,
+                set,
+                f.sse,
+                f.rmse,
+                f.r,
+                f.dc,
+                acc.map(|a| format!("{:.2}%", 100.0 * a))
+                    .unwrap_or_default()
+            );
+        };
+        row(
+            "type",
+            "train",
+            &self.type_.train.figures,
+            Some(self.type_.train.accuracy),
+        );
+        row(
+            "type",
+            "held-out",
+            &self.type_.holdout.figures,
+            Some(self.type_.holdout.accuracy),
+        );
+        row("Xn", "train", &self.xn.train, None);
+        row("Xn", "held-out", &self.xn.holdout, None);
+        row("Yn", "train", &self.yn.train, None);
+        row("Yn", "held-out", &self.yn.holdout, None);
+        let c = &self.type_.holdout.confusion;
+        let _ = writeln!(
+            s,
+            "held-out confusion (rows: actual type 0,1,2; columns: predicted)"
+        );
+        for (k, r) in c.iter().enumerate() {
+            let _ = writeln!(s, "  {k}: {:>8} {:>8} {:>8}", r[0], r[1], r[2]);
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn perfect_and_constant_predictions() {
+        let y = [1.0, 2.0, 3.0, 4.0];
+        let f = Figures::of(&y, &y);
+        assert_eq!((f.sse, f.rmse, f.r, f.dc), (0.0, 0.0, 1.0, 1.0));
+        let f = Figures::of(&y, &[2.5; 4]);
+        assert_eq!(f.sse, 5.0);
+        assert_eq!(f.r, 0.0);
+        assert!((f.dc - 0.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn confusion_counts() {
+        let t = TypeFigures::of(&[0, 1, 2, 2], &[0.0, 1.0, 2.0, 1.0], &[0, 1, 2, 1]);
+        assert_eq!(t.accuracy, 0.75);
+        assert_eq!(t.confusion[2][1], 1);
+    }
+}

@@ -1,0 +1,306 @@
+//! Model fitting (thesis Chapter 4, §4.3; method §4): from a
+//! [`TrainingSet`] to the coefficients of a [`Form`], with the fit figures
+//! on the training samples and on held-out samples (k-fold, fixed seed).
+//!
+//! - [`thesis`]: Xn and Yn by linear least squares (SVD); the type by a 1-D
+//!   search over μ1 with least squares inside (replacing the thesis's
+//!   Auto2Fit global optimiser).
+//! - [`quadratic`]: a multinomial logistic classifier for the type (Newton
+//!   iterations with an L2 penalty) and a ridge quadratic per type for Pn.
+//!
+//! Linear algebra is nalgebra's.
+
+pub mod figures;
+pub mod quadratic;
+pub mod thesis;
+
+pub use figures::{Figures, FitReport, Split, TypeFigures};
+
+use crate::geom::Point;
+use crate::model::fitted::{Coefficients, FittedModel, ModelFile, TrainingSummary};
+use crate::model::Form;
+use crate::normalize::LeadingPoints;
+use crate::samples::{Source, TrainingSet};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeSet;
+use thiserror::Error;
+
+/// Parameters of fitting, with documented defaults.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct FitParams {
+    /// Folds of the held-out figures (k-fold cross-validation). Default 5;
+    /// 0 or 1 skips it (held-out figures are then those of training).
+    pub folds: usize,
+    /// Seed of the fold assignment. Default 2011 (the thesis's year).
+    pub seed: u64,
+    /// Ridge penalty of the quadratic Pn model (on standardised inputs,
+    /// intercept free). Default 1e-3.
+    pub ridge: f64,
+    /// L2 penalty of the logistic type classifier. Default 1e-2.
+    pub logistic_l2: f64,
+    /// Newton iterations of the classifier at most. Default 30.
+    pub newton_iterations: usize,
+    /// Range of the μ1 search of the thesis's type model. Default [0.01, 100].
+    pub mu1_range: [f64; 2],
+}
+
+impl FitParams {
+    pub const DEFAULT: FitParams = FitParams {
+        folds: 5,
+        seed: 2011,
+        ridge: 1e-3,
+        logistic_l2: 1e-2,
+        newton_iterations: 30,
+        mu1_range: [0.01, 100.0],
+    };
+}
+
+impl Default for FitParams {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// Why a fit cannot be made.
+#[derive(Debug, Error, PartialEq)]
+pub enum FitError {
+    #[error("{found} samples are too few for the {form} form (at least {needed})")]
+    TooFew {
+        form: &'static str,
+        found: usize,
+        needed: usize,
+    },
+    #[error("the least-squares system of {what} is singular")]
+    Singular { what: &'static str },
+    #[error("sample {index} has a coordinate that is not finite")]
+    NotFinite { index: usize },
+}
+
+/// Samples as the fitting code reads them.
+#[derive(Clone, Debug)]
+pub struct Data {
+    pub n: usize,
+    pub inputs: Vec<LeadingPoints>,
+    pub types: Vec<u8>,
+    pub pn: Vec<Point>,
+}
+
+impl Data {
+    pub fn of(set: &TrainingSet) -> Result<Data, FitError> {
+        for (index, s) in set.samples.iter().enumerate() {
+            let finite = s.input.thesis_order().iter().all(|p| p.is_finite()) && s.pn.is_finite();
+            if !finite {
+                return Err(FitError::NotFinite { index });
+            }
+        }
+        Ok(Data {
+            n: set.n(),
+            inputs: set.samples.iter().map(|s| s.input.clone()).collect(),
+            types: set
+                .samples
+                .iter()
+                .map(|s| s.element_type.number())
+                .collect(),
+            pn: set.samples.iter().map(|s| s.pn).collect(),
+        })
+    }
+
+    pub fn len(&self) -> usize {
+        self.types.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.types.is_empty()
+    }
+
+    fn subset(&self, idx: &[usize]) -> Data {
+        Data {
+            n: self.n,
+            inputs: idx.iter().map(|&i| self.inputs[i].clone()).collect(),
+            types: idx.iter().map(|&i| self.types[i]).collect(),
+            pn: idx.iter().map(|&i| self.pn[i]).collect(),
+        }
+    }
+}
+
+/// Fits the coefficients of `form` to `data`.
+pub fn fit_coefficients(
+    data: &Data,
+    form: Form,
+    params: &FitParams,
+) -> Result<Coefficients, FitError> {
+    match form {
+        Form::Thesis => thesis::fit(data, params).map(Coefficients::Thesis),
+        Form::Quadratic => quadratic::fit(data, params).map(Coefficients::Quadratic),
+    }
+}
+
+/// Predictions of `coef` on `data`: type value, type, Pn.
+fn predict_all(coef: &Coefficients, data: &Data) -> (Vec<f64>, Vec<u8>, Vec<Point>) {
+    let mut value = Vec::with_capacity(data.len());
+    let mut types = Vec::with_capacity(data.len());
+    let mut pn = Vec::with_capacity(data.len());
+    for lp in &data.inputs {
+        let p = coef.predict(lp);
+        value.push(coef.type_value(lp));
+        types.push(p.element_type.number());
+        pn.push(p.pn);
+    }
+    (value, types, pn)
+}
+
+/// The figures of predictions against the samples.
+fn figures(
+    data: &Data,
+    value: &[f64],
+    types: &[u8],
+    pn: &[Point],
+) -> (TypeFigures, Figures, Figures) {
+    let col = |v: &[Point], x: bool| -> Vec<f64> {
+        v.iter().map(|p| if x { p.x } else { p.y }).collect()
+    };
+    (
+        TypeFigures::of(&data.types, value, types),
+        Figures::of(&col(&data.pn, true), &col(pn, true)),
+        Figures::of(&col(&data.pn, false), &col(pn, false)),
+    )
+}
+
+/// A deterministic shuffle (splitmix64 + Fisher–Yates).
+fn shuffled(n: usize, seed: u64) -> Vec<usize> {
+    let mut state = seed;
+    let mut next = || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let mut idx: Vec<usize> = (0..n).collect();
+    for i in (1..n).rev() {
+        let j = (next() % (i as u64 + 1)) as usize;
+        idx.swap(i, j);
+    }
+    idx
+}
+
+/// Fits `form` to `set` and measures it: figures on the training samples
+/// and, pooled over `params.folds` folds, on held-out samples.
+pub fn fit_with_report(
+    set: &TrainingSet,
+    form: Form,
+    params: &FitParams,
+) -> Result<(Coefficients, FitReport), FitError> {
+    let data = Data::of(set)?;
+    let coef = fit_coefficients(&data, form, params)?;
+    let (v, t, p) = predict_all(&coef, &data);
+    let train = figures(&data, &v, &t, &p);
+    let folds = params.folds.min(data.len());
+    let holdout = if folds >= 2 {
+        let order = shuffled(data.len(), params.seed);
+        let mut v = vec![0.0; data.len()];
+        let mut t = vec![0u8; data.len()];
+        let mut p = vec![Point::ZERO; data.len()];
+        for f in 0..folds {
+            let test: Vec<usize> = order.iter().copied().skip(f).step_by(folds).collect();
+            let test_set: BTreeSet<usize> = test.iter().copied().collect();
+            let train_idx: Vec<usize> = (0..data.len()).filter(|i| !test_set.contains(i)).collect();
+            let c = fit_coefficients(&data.subset(&train_idx), form, params)?;
+            let (fv, ft, fp) = predict_all(&c, &data.subset(&test));
+            for (k, &i) in test.iter().enumerate() {
+                v[i] = fv[k];
+                t[i] = ft[k];
+                p[i] = fp[k];
+            }
+        }
+        figures(&data, &v, &t, &p)
+    } else {
+        train
+    };
+    let report = FitReport {
+        form,
+        points: set.points,
+        samples: data.len(),
+        folds,
+        seed: params.seed,
+        type_: Split {
+            train: train.0,
+            holdout: holdout.0,
+        },
+        xn: Split {
+            train: train.1,
+            holdout: holdout.1,
+        },
+        yn: Split {
+            train: train.2,
+            holdout: holdout.2,
+        },
+    };
+    Ok((coef, report))
+}
+
+/// What a training set holds, for a model file.
+pub fn summary(set: &TrainingSet) -> TrainingSummary {
+    let sources: BTreeSet<String> = set
+        .samples
+        .iter()
+        .map(|s| match &s.source {
+            Source::Mesh { file, .. } => file.clone(),
+            Source::Correction => "correction".into(),
+        })
+        .collect();
+    TrainingSummary {
+        samples: set.len(),
+        types: set.type_counts(),
+        sources: sources.into_iter().collect(),
+    }
+}
+
+/// Fits `form` (or, with `None`, every form, keeping the best held-out
+/// score) and returns the model file with its figures.
+pub fn fit_model(
+    set: &TrainingSet,
+    form: Option<Form>,
+    name: &str,
+    params: &FitParams,
+) -> Result<(ModelFile, Vec<FitReport>), FitError> {
+    let forms: Vec<Form> = form.map_or(Form::ALL.to_vec(), |f| vec![f]);
+    let mut best: Option<(Coefficients, FitReport)> = None;
+    let mut reports = Vec::new();
+    for f in forms {
+        let (c, r) = fit_with_report(set, f, params)?;
+        reports.push(r.clone());
+        if best.as_ref().is_none_or(|(_, b)| r.score() > b.score()) {
+            best = Some((c, r));
+        }
+    }
+    let (coef, report) = best.ok_or(FitError::TooFew {
+        form: "any",
+        found: 0,
+        needed: 1,
+    })?;
+    Ok((
+        ModelFile::new(name, coef, summary(set), Some(report)),
+        reports,
+    ))
+}
+
+/// The fitted model of a model file (a shorthand for the editor's refit).
+pub fn refit(set: &TrainingSet, form: Form, params: &FitParams) -> Result<FittedModel, FitError> {
+    let data = Data::of(set)?;
+    Ok(FittedModel {
+        name: format!("fitted ({})", form.name()),
+        coefficients: fit_coefficients(&data, form, params)?,
+    })
+}
+
+/// Least squares `min |X w − y|` by SVD.
+pub(crate) fn lstsq(
+    x: &nalgebra::DMatrix<f64>,
+    y: &nalgebra::DVector<f64>,
+    what: &'static str,
+) -> Result<nalgebra::DVector<f64>, FitError> {
+    let svd = x.clone().svd(true, true);
+    svd.solve(y, 1e-12).map_err(|_| FitError::Singular { what })
+}

@@ -1,0 +1,275 @@
+//! Fitting the quadratic form: a richer model than the thesis's.
+//!
+//! Inputs are every leading coordinate but the constant P0 and P_r1,
+//! standardised; features are `1, z_i, z_i z_j`. The type is a multinomial
+//! logistic classifier (types 1 and 2 against type 0), fitted by Newton's
+//! method with a step-halving line search and an L2 penalty (which keeps
+//! separable classes finite). Pn is one ridge regression per type, solved
+//! by Cholesky on the normal equations.
+
+use super::{Data, FitError, FitParams};
+use crate::model::fitted::{
+    quadratic_features_into, quadratic_len, raw_inputs, softmax, QuadraticForm,
+};
+use nalgebra::{DMatrix, DVector};
+
+/// Newton stops when no coefficient moves more than this.
+const NEWTON_TOL: f64 = 1e-8;
+
+/// Fits the quadratic form.
+pub fn fit(data: &Data, params: &FitParams) -> Result<QuadraticForm, FitError> {
+    let n_obs = data.len();
+    if n_obs < 3 {
+        return Err(FitError::TooFew {
+            form: "quadratic",
+            found: n_obs,
+            needed: 3,
+        });
+    }
+    let raw: Vec<Vec<f64>> = data.inputs.iter().map(raw_inputs).collect();
+    let m = raw[0].len();
+    let mut mean = vec![0.0; m];
+    for r in &raw {
+        for (a, v) in mean.iter_mut().zip(r) {
+            *a += v / n_obs as f64;
+        }
+    }
+    let mut scale = vec![0.0; m];
+    for r in &raw {
+        for ((s, v), mu) in scale.iter_mut().zip(r).zip(&mean) {
+            *s += (v - mu) * (v - mu) / n_obs as f64;
+        }
+    }
+    for s in &mut scale {
+        *s = s.sqrt().max(1e-9);
+    }
+    let p = quadratic_len(m);
+    let mut rows = Vec::with_capacity(n_obs * p);
+    let mut f = Vec::with_capacity(p);
+    let mut z = vec![0.0; m];
+    for r in &raw {
+        for k in 0..m {
+            z[k] = (r[k] - mean[k]) / scale[k];
+        }
+        quadratic_features_into(&z, &mut f);
+        rows.extend_from_slice(&f);
+    }
+    let x = DMatrix::from_row_slice(n_obs, p, &rows);
+
+    let mut xn: [Vec<f64>; 3] = Default::default();
+    let mut yn: [Vec<f64>; 3] = Default::default();
+    for t in 0..3u8 {
+        let idx: Vec<usize> = (0..n_obs).filter(|&i| data.types[i] == t).collect();
+        if idx.is_empty() {
+            xn[t as usize] = vec![0.0; p];
+            yn[t as usize] = vec![0.0; p];
+            continue;
+        }
+        let xt = x.select_rows(&idx);
+        let targets = DMatrix::from_fn(idx.len(), 2, |r, c| {
+            let q = data.pn[idx[r]];
+            if c == 0 {
+                q.x
+            } else {
+                q.y
+            }
+        });
+        let w = ridge(&xt, &targets, params.ridge)?;
+        xn[t as usize] = w.column(0).iter().copied().collect();
+        yn[t as usize] = w.column(1).iter().copied().collect();
+    }
+    let type_logit = logistic(&x, &data.types, params)?;
+    Ok(QuadraticForm {
+        n: data.n,
+        mean,
+        scale,
+        type_logit,
+        xn,
+        yn,
+    })
+}
+
+/// `(XᵀX + αI') W = XᵀY`, the intercept (column 0) unpenalised.
+fn ridge(x: &DMatrix<f64>, y: &DMatrix<f64>, alpha: f64) -> Result<DMatrix<f64>, FitError> {
+    let mut g = x.tr_mul(x);
+    for k in 1..g.nrows() {
+        g[(k, k)] += alpha;
+    }
+    // A tiny floor on the intercept keeps a one-type set solvable.
+    g[(0, 0)] += 1e-12;
+    let rhs = x.tr_mul(y);
+    match g.clone().cholesky() {
+        Some(c) => Ok(c.solve(&rhs)),
+        None => g
+            .svd(true, true)
+            .solve(&rhs, 1e-12)
+            .map_err(|_| FitError::Singular { what: "Pn" }),
+    }
+}
+
+/// Penalised negative log-likelihood of logits `(0, a, b)`.
+fn loss(x: &DMatrix<f64>, y: &[u8], w: &DVector<f64>, p: usize, alpha: f64) -> f64 {
+    let a = x * w.rows(0, p);
+    let b = x * w.rows(p, p);
+    let mut l = 0.0;
+    for i in 0..y.len() {
+        let pr = softmax(a[i], b[i]);
+        l -= pr[y[i] as usize].max(1e-300).ln();
+    }
+    let pen: f64 = (1..p).map(|k| w[k] * w[k] + w[p + k] * w[p + k]).sum();
+    l + 0.5 * alpha * pen
+}
+
+/// Multinomial logistic regression by Newton's method.
+fn logistic(x: &DMatrix<f64>, y: &[u8], params: &FitParams) -> Result<[Vec<f64>; 2], FitError> {
+    let (n, p) = x.shape();
+    let alpha = params.logistic_l2.max(1e-12);
+    let mut w = DVector::<f64>::zeros(2 * p);
+    let mut current = loss(x, y, &w, p, alpha);
+    for _ in 0..params.newton_iterations {
+        let a = x * w.rows(0, p);
+        let b = x * w.rows(p, p);
+        let mut r1 = DVector::zeros(n);
+        let mut r2 = DVector::zeros(n);
+        let mut w11 = DVector::zeros(n);
+        let mut w22 = DVector::zeros(n);
+        let mut w12 = DVector::zeros(n);
+        for i in 0..n {
+            let pr = softmax(a[i], b[i]);
+            r1[i] = pr[1] - f64::from(y[i] == 1);
+            r2[i] = pr[2] - f64::from(y[i] == 2);
+            w11[i] = pr[1] * (1.0 - pr[1]);
+            w22[i] = pr[2] * (1.0 - pr[2]);
+            w12[i] = -pr[1] * pr[2];
+        }
+        let mut grad = DVector::zeros(2 * p);
+        grad.rows_mut(0, p).copy_from(&x.tr_mul(&r1));
+        grad.rows_mut(p, p).copy_from(&x.tr_mul(&r2));
+        for k in 1..p {
+            grad[k] += alpha * w[k];
+            grad[p + k] += alpha * w[p + k];
+        }
+        let weighted = |d: &DVector<f64>| -> DMatrix<f64> {
+            let mut xd = x.clone();
+            for mut c in xd.column_iter_mut() {
+                c.component_mul_assign(d);
+            }
+            x.tr_mul(&xd)
+        };
+        let mut h = DMatrix::zeros(2 * p, 2 * p);
+        let h12 = weighted(&w12);
+        h.view_mut((0, 0), (p, p)).copy_from(&weighted(&w11));
+        h.view_mut((p, p), (p, p)).copy_from(&weighted(&w22));
+        h.view_mut((0, p), (p, p)).copy_from(&h12);
+        h.view_mut((p, 0), (p, p)).copy_from(&h12.transpose());
+        for k in 0..p {
+            h[(k, k)] += if k == 0 { 1e-9 } else { alpha };
+            h[(p + k, p + k)] += if k == 0 { 1e-9 } else { alpha };
+        }
+        let step = match h.clone().cholesky() {
+            Some(c) => c.solve(&grad),
+            None => h
+                .svd(true, true)
+                .solve(&grad, 1e-12)
+                .map_err(|_| FitError::Singular { what: "type" })?,
+        };
+        // Step halving until the loss does not grow.
+        let mut t = 1.0;
+        let mut next = &w - &step * t;
+        let mut l = loss(x, y, &next, p, alpha);
+        while l > current && t > 1e-6 {
+            t *= 0.5;
+            next = &w - &step * t;
+            l = loss(x, y, &next, p, alpha);
+        }
+        let moved = (&step * t).amax();
+        if l <= current {
+            w = next;
+            current = l;
+        }
+        if moved < NEWTON_TOL || t <= 1e-6 {
+            break;
+        }
+    }
+    Ok([
+        w.rows(0, p).iter().copied().collect(),
+        w.rows(p, p).iter().copied().collect(),
+    ])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Point;
+    use crate::model::fitted::QuadraticForm;
+    use crate::normalize::LeadingPoints;
+
+    fn inputs(m: usize) -> Vec<LeadingPoints> {
+        let mut s = 777u64;
+        let mut r = move || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        (0..m)
+            .map(|_| LeadingPoints {
+                left: (0..2).map(|_| Point::new(r(), r() + 1.0)).collect(),
+                right: vec![Point::X, Point::new(r() + 2.0, r())],
+            })
+            .collect()
+    }
+
+    #[test]
+    fn recovers_a_quadratic_pn_and_a_separable_type() {
+        // Pn an exact quadratic of the inputs; the type set by which side
+        // of two lines P_l1 falls: both are learnt almost exactly.
+        let inputs = inputs(1500);
+        let types: Vec<u8> = inputs
+            .iter()
+            .map(|lp| {
+                let l1 = lp.left[0];
+                if l1.x < -0.3 {
+                    2
+                } else if l1.x > 0.4 {
+                    1
+                } else {
+                    0
+                }
+            })
+            .collect();
+        let pn: Vec<Point> = inputs
+            .iter()
+            .map(|lp| {
+                let (l1, r2) = (lp.left[0], lp.right[1]);
+                Point::new(
+                    0.5 + l1.x * r2.y - 0.25 * l1.y * l1.y,
+                    1.0 + 0.3 * r2.x + l1.x * l1.y,
+                )
+            })
+            .collect();
+        let data = Data {
+            n: 2,
+            inputs,
+            types,
+            pn,
+        };
+        let params = FitParams {
+            ridge: 1e-9,
+            ..FitParams::DEFAULT
+        };
+        let q: QuadraticForm = fit(&data, &params).unwrap();
+        let mut hits = 0;
+        for (i, lp) in data.inputs.iter().enumerate() {
+            let pr = q.predict(lp);
+            hits += usize::from(pr.element_type.number() == data.types[i]);
+            // Pn of the true type's regression is exact.
+            let f = q.features(lp);
+            let t = data.types[i] as usize;
+            let x: f64 = q.xn[t].iter().zip(&f).map(|(a, b)| a * b).sum();
+            let y: f64 = q.yn[t].iter().zip(&f).map(|(a, b)| a * b).sum();
+            assert!((Point::new(x, y) - data.pn[i]).length() < 1e-5);
+        }
+        assert!(hits as f64 / data.len() as f64 > 0.99, "{hits}");
+    }
+}

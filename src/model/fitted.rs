@@ -1,0 +1,427 @@
+//! Fitted regression models (method §4; thesis §4.3) and their versioned
+//! JSON file.
+//!
+//! Two forms:
+//!
+//! - [`ThesisForm`]: the thesis's three models (a logistic-sum type score
+//!   over P_l2, P_l1, P_r2 thresholded at 0.75 and 1.5; Xn and Yn as a cubic
+//!   and square in P_l1 plus a linear term in every leading point),
+//!   generalised from 7 to any `2N + 1` input points;
+//! - [`QuadraticForm`]: a richer form. The type is a multinomial logistic
+//!   classifier and Pn a ridge-regularised quadratic, one per type, both
+//!   over all leading coordinates (standardised), with every product of
+//!   two of them.
+//!
+//! The fitting itself is in [`crate::fit`].
+
+use super::{ElementType, Model, Prediction};
+use crate::fit::FitReport;
+use crate::geom::Point;
+use crate::normalize::LeadingPoints;
+use crate::samples::variable_points;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// The model forms `quadex fit` knows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Form {
+    /// The thesis's forms (§4.3.1).
+    Thesis,
+    /// Multinomial logistic type and per-type ridge quadratic Pn.
+    Quadratic,
+}
+
+impl Form {
+    pub const ALL: [Form; 2] = [Form::Thesis, Form::Quadratic];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Form::Thesis => "thesis",
+            Form::Quadratic => "quadratic",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Form> {
+        Form::ALL.into_iter().find(|f| f.name() == s)
+    }
+}
+
+/// The logistic function.
+#[inline]
+pub fn sigmoid(v: f64) -> f64 {
+    1.0 / (1.0 + (-v).exp())
+}
+
+/// The points the thesis's type model reads: P_l2, P_l1, P_r2.
+fn type_points(lp: &LeadingPoints) -> [Point; 3] {
+    [lp.left[1], lp.left[0], lp.right[1]]
+}
+
+/// Features of the thesis's type model for a given μ1:
+/// `σ(μ1 X_i), σ(μ1 Y_i)` for i = l2, l1, r2 (the coefficients are
+/// `λ_i, γ_i` interleaved).
+pub fn thesis_type_features(lp: &LeadingPoints, mu1: f64) -> [f64; 6] {
+    let p = type_points(lp);
+    let s = |v: f64| sigmoid(mu1 * v);
+    [
+        s(p[0].x),
+        s(p[0].y),
+        s(p[1].x),
+        s(p[1].y),
+        s(p[2].x),
+        s(p[2].y),
+    ]
+}
+
+/// Features of the thesis's Xn / Yn model: `1, X_l1³, Y_l1³, X_l1², Y_l1²`,
+/// then `X_i, Y_i` for every leading point but P0 and P_r1 (thesis order
+/// `l_N..l1, r2..r_N`).
+pub fn thesis_coord_features(lp: &LeadingPoints) -> Vec<f64> {
+    let l1 = lp.left[0];
+    let mut f = vec![1.0, l1.x.powi(3), l1.y.powi(3), l1.x.powi(2), l1.y.powi(2)];
+    for p in variable_points(lp) {
+        f.push(p.x);
+        f.push(p.y);
+    }
+    f
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// The type from the thesis's score P: 0 if P ≤ 0.75, 1 if P ≤ 1.5, else 2.
+pub fn type_of_score(p: f64) -> ElementType {
+    if p <= 0.75 {
+        ElementType::New
+    } else if p <= 1.5 {
+        ElementType::Right
+    } else {
+        ElementType::Left
+    }
+}
+
+/// Coefficients of the thesis's forms for `2N + 1` input points.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ThesisForm {
+    /// `N`, leading points per side.
+    pub n: usize,
+    pub mu0: f64,
+    pub mu1: f64,
+    /// `λ_i, γ_i` interleaved for P_l2, P_l1, P_r2.
+    pub type_coef: [f64; 6],
+    /// Xn: `λ0..λ4`, then `ε_i, τ_i` interleaved (see
+    /// [`thesis_coord_features`]).
+    pub xn: Vec<f64>,
+    /// Yn: `η0..η4`, then `χ_i, φ_i` interleaved.
+    pub yn: Vec<f64>,
+}
+
+impl ThesisForm {
+    /// The type score P.
+    pub fn type_score(&self, lp: &LeadingPoints) -> f64 {
+        self.mu0 + dot(&self.type_coef, &thesis_type_features(lp, self.mu1))
+    }
+
+    /// Xn and Yn.
+    pub fn position(&self, lp: &LeadingPoints) -> Point {
+        let f = thesis_coord_features(lp);
+        Point::new(dot(&self.xn, &f), dot(&self.yn, &f))
+    }
+
+    pub fn predict(&self, lp: &LeadingPoints) -> Prediction {
+        Prediction {
+            element_type: type_of_score(self.type_score(lp)),
+            pn: self.position(lp),
+        }
+    }
+}
+
+/// Number of quadratic features over `m` standardised inputs.
+pub fn quadratic_len(m: usize) -> usize {
+    1 + m + m * (m + 1) / 2
+}
+
+/// Quadratic features `1, z_i, z_i z_j (i ≤ j)` of standardised inputs,
+/// written into `out` (cleared first).
+pub fn quadratic_features_into(z: &[f64], out: &mut Vec<f64>) {
+    out.clear();
+    out.push(1.0);
+    out.extend_from_slice(z);
+    for i in 0..z.len() {
+        for j in i..z.len() {
+            out.push(z[i] * z[j]);
+        }
+    }
+}
+
+/// The raw inputs of the quadratic form: the coordinates of every leading
+/// point but P0 and P_r1, thesis order.
+pub fn raw_inputs(lp: &LeadingPoints) -> Vec<f64> {
+    variable_points(lp)
+        .into_iter()
+        .flat_map(|p| [p.x, p.y])
+        .collect()
+}
+
+/// Coefficients of the quadratic form.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct QuadraticForm {
+    /// `N`, leading points per side.
+    pub n: usize,
+    /// Standardisation of the raw inputs: `z = (x − mean) / scale`.
+    pub mean: Vec<f64>,
+    pub scale: Vec<f64>,
+    /// Logits of types 1 and 2 against type 0 (whose logit is 0).
+    pub type_logit: [Vec<f64>; 2],
+    /// Xn, one quadratic per type.
+    pub xn: [Vec<f64>; 3],
+    /// Yn, one quadratic per type.
+    pub yn: [Vec<f64>; 3],
+}
+
+impl QuadraticForm {
+    /// The quadratic features of `lp`.
+    pub fn features(&self, lp: &LeadingPoints) -> Vec<f64> {
+        let z: Vec<f64> = raw_inputs(lp)
+            .iter()
+            .zip(self.mean.iter().zip(&self.scale))
+            .map(|(x, (m, s))| (x - m) / s)
+            .collect();
+        let mut f = Vec::with_capacity(quadratic_len(z.len()));
+        quadratic_features_into(&z, &mut f);
+        f
+    }
+
+    /// Type probabilities from features.
+    pub fn probabilities(&self, f: &[f64]) -> [f64; 3] {
+        softmax(dot(&self.type_logit[0], f), dot(&self.type_logit[1], f))
+    }
+
+    /// The type and Pn from features.
+    pub fn predict_features(&self, f: &[f64]) -> (ElementType, [f64; 3], Point) {
+        let p = self.probabilities(f);
+        let k = (0..3).max_by(|&a, &b| p[a].total_cmp(&p[b])).unwrap_or(0);
+        let t = ElementType::from_number(k as u8).unwrap_or(ElementType::New);
+        (t, p, Point::new(dot(&self.xn[k], f), dot(&self.yn[k], f)))
+    }
+
+    pub fn predict(&self, lp: &LeadingPoints) -> Prediction {
+        let (element_type, _, pn) = self.predict_features(&self.features(lp));
+        Prediction { element_type, pn }
+    }
+}
+
+/// Softmax of logits `(0, a, b)`.
+pub fn softmax(a: f64, b: f64) -> [f64; 3] {
+    let m = a.max(b).max(0.0);
+    let e = [(-m).exp(), (a - m).exp(), (b - m).exp()];
+    let s = e[0] + e[1] + e[2];
+    [e[0] / s, e[1] / s, e[2] / s]
+}
+
+/// The coefficients of a fitted model, by form.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "form", rename_all = "lowercase")]
+pub enum Coefficients {
+    Thesis(ThesisForm),
+    Quadratic(QuadraticForm),
+}
+
+impl Coefficients {
+    pub fn form(&self) -> Form {
+        match self {
+            Coefficients::Thesis(_) => Form::Thesis,
+            Coefficients::Quadratic(_) => Form::Quadratic,
+        }
+    }
+
+    /// `N`, leading points per side.
+    pub fn n(&self) -> usize {
+        match self {
+            Coefficients::Thesis(t) => t.n,
+            Coefficients::Quadratic(q) => q.n,
+        }
+    }
+
+    pub fn predict(&self, lp: &LeadingPoints) -> Prediction {
+        match self {
+            Coefficients::Thesis(t) => t.predict(lp),
+            Coefficients::Quadratic(q) => q.predict(lp),
+        }
+    }
+
+    /// The raw type output used for the fit figures: the thesis's score P,
+    /// or the expected type number under the classifier's probabilities.
+    pub fn type_value(&self, lp: &LeadingPoints) -> f64 {
+        match self {
+            Coefficients::Thesis(t) => t.type_score(lp),
+            Coefficients::Quadratic(q) => {
+                let p = q.probabilities(&q.features(lp));
+                p[1] + 2.0 * p[2]
+            }
+        }
+    }
+}
+
+/// What a model was trained on.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TrainingSummary {
+    pub samples: usize,
+    /// Samples of type 0, 1, 2.
+    pub types: [usize; 3],
+    /// The meshes the samples came from (sorted), and "correction".
+    pub sources: Vec<String>,
+}
+
+/// A fitted model as a [`Model`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FittedModel {
+    pub name: String,
+    pub coefficients: Coefficients,
+}
+
+impl Model for FittedModel {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn leading_points(&self) -> Option<usize> {
+        Some(self.coefficients.n())
+    }
+
+    fn predict(&self, input: &LeadingPoints) -> Prediction {
+        self.coefficients.predict(input)
+    }
+}
+
+/// The file format's name and version.
+pub const MODEL_FORMAT: &str = "quadex-model";
+pub const MODEL_VERSION: u32 = 1;
+
+/// A model file: versioned JSON with the coefficients, what they were
+/// trained on and how well they fit.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ModelFile {
+    pub format: String,
+    pub version: u32,
+    pub name: String,
+    /// Input points, `2N + 1`.
+    pub points: usize,
+    pub coefficients: Coefficients,
+    pub training: TrainingSummary,
+    pub figures: Option<FitReport>,
+}
+
+/// A model file that cannot be used.
+#[derive(Debug, Error)]
+pub enum ModelFileError {
+    #[error("not a quadex model file: {0}")]
+    Json(#[from] serde_json::Error),
+    #[error("format {found:?} is not {MODEL_FORMAT:?}")]
+    Format { found: String },
+    #[error("version {found} is newer than this quadex reads ({MODEL_VERSION})")]
+    Version { found: u32 },
+    #[error("{points} input points do not match the coefficients ({n} per side)")]
+    Points { points: usize, n: usize },
+    #[error("coefficient vector {what} has length {found}, expected {expected}")]
+    Length {
+        what: &'static str,
+        found: usize,
+        expected: usize,
+    },
+    #[error("coefficient {what} is not finite")]
+    NotFinite { what: &'static str },
+}
+
+impl ModelFile {
+    pub fn new(
+        name: &str,
+        coefficients: Coefficients,
+        training: TrainingSummary,
+        figures: Option<FitReport>,
+    ) -> ModelFile {
+        ModelFile {
+            format: MODEL_FORMAT.into(),
+            version: MODEL_VERSION,
+            name: name.into(),
+            points: 2 * coefficients.n() + 1,
+            coefficients,
+            training,
+            figures,
+        }
+    }
+
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).unwrap_or_default();
+        s.push('\n');
+        s
+    }
+
+    /// Reads and checks a model file.
+    pub fn from_json(text: &str) -> Result<ModelFile, ModelFileError> {
+        let f: ModelFile = serde_json::from_str(text)?;
+        if f.format != MODEL_FORMAT {
+            return Err(ModelFileError::Format { found: f.format });
+        }
+        if f.version > MODEL_VERSION {
+            return Err(ModelFileError::Version { found: f.version });
+        }
+        let n = f.coefficients.n();
+        if f.points != 2 * n + 1 || !(2..=5).contains(&n) {
+            return Err(ModelFileError::Points {
+                points: f.points,
+                n,
+            });
+        }
+        f.check_lengths()?;
+        Ok(f)
+    }
+
+    fn check_lengths(&self) -> Result<(), ModelFileError> {
+        let n = self.coefficients.n();
+        let len = |what, v: &[f64], expected| {
+            if v.len() != expected {
+                Err(ModelFileError::Length {
+                    what,
+                    found: v.len(),
+                    expected,
+                })
+            } else if v.iter().any(|x| !x.is_finite()) {
+                Err(ModelFileError::NotFinite { what })
+            } else {
+                Ok(())
+            }
+        };
+        let m = 2 * (2 * n - 1);
+        match &self.coefficients {
+            Coefficients::Thesis(t) => {
+                len("xn", &t.xn, 5 + m)?;
+                len("yn", &t.yn, 5 + m)?;
+                len("type", &[t.mu0, t.mu1], 2)?;
+                len("type", &t.type_coef, 6)
+            }
+            Coefficients::Quadratic(q) => {
+                let f = quadratic_len(m);
+                len("mean", &q.mean, m)?;
+                len("scale", &q.scale, m)?;
+                for v in &q.type_logit {
+                    len("type_logit", v, f)?;
+                }
+                for v in q.xn.iter().chain(&q.yn) {
+                    len("xn/yn", v, f)?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// The model to mesh with.
+    pub fn model(&self) -> FittedModel {
+        FittedModel {
+            name: self.name.clone(),
+            coefficients: self.coefficients.clone(),
+        }
+    }
+}
