@@ -5,9 +5,13 @@ use anyhow::{anyhow, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use quadex::extract::{MeshParams, Mesher, StepStats, Strategy};
+use quadex::factors;
+use quadex::fit::{self, FitParams};
 use quadex::io::{self, MeshFormat};
+use quadex::model::Form;
 use quadex::model::{self, Model};
 use quadex::quality::MeshQuality;
+use quadex::samples::{self, CollectParams, TrainingSet};
 use quadex::smooth::SmoothParams;
 use serde::Serialize;
 use std::io::IsTerminal;
@@ -69,6 +73,58 @@ enum Command {
         #[arg(long)]
         boundary: Option<PathBuf>,
     },
+    /// Collect training samples from quad meshes (.msh) into a training
+    /// set (.csv in the thesis's column order, or .json).
+    Samples {
+        #[arg(required = true)]
+        meshes: Vec<PathBuf>,
+        /// Input points: 5, 7, 9 or 11.
+        #[arg(long, default_value_t = 7, value_parser = parse_points)]
+        points: usize,
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Keep samples that repeat an earlier one.
+        #[arg(long)]
+        keep_duplicates: bool,
+        /// Window of the front's interior angle along a sample's path, in
+        /// degrees (method §3: 35,235).
+        #[arg(long, value_delimiter = ',', default_values_t = CollectParams::DEFAULT.turn)]
+        turn: Vec<f64>,
+    },
+    /// Fit a model to training sets (.csv or .json) and write the model
+    /// file; prints the fit figures (thesis Table 8 layout).
+    Fit {
+        #[arg(required = true)]
+        sets: Vec<PathBuf>,
+        /// `thesis` or `quadratic`; without it, both are fitted and the one
+        /// with the better held-out figures is kept.
+        #[arg(long)]
+        form: Option<String>,
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Write the fit figures as JSON.
+        #[arg(long)]
+        report: Option<PathBuf>,
+        /// Folds of the held-out figures.
+        #[arg(long, default_value_t = FitParams::DEFAULT.folds)]
+        folds: usize,
+        /// The model's name (default: the output file's stem).
+        #[arg(long)]
+        name: Option<String>,
+    },
+    /// Critical factors (thesis §4.2): the weight of each leading point.
+    /// Inputs are meshes (.msh, sampled at each count) or training sets
+    /// (.csv/.json, cut down to each count).
+    Factors {
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// Input-point counts, comma-separated.
+        #[arg(long, default_value = "5,7,9,11", value_delimiter = ',', value_parser = parse_points)]
+        points: Vec<usize>,
+        /// Write the tables as JSON.
+        #[arg(long)]
+        report: Option<PathBuf>,
+    },
 }
 
 fn parse_points(s: &str) -> Result<usize, String> {
@@ -118,11 +174,28 @@ impl From<InputError> for anyhow::Error {
     }
 }
 
-fn load_model(name: &str) -> Result<Arc<dyn Model>> {
-    match model::builtin(name) {
-        Some(m) => Ok(Arc::from(m)),
-        None => Err(InputError(anyhow!("{name}: unknown model (use rules or thesis)")).into()),
-    }
+fn load_model(spec: &str) -> Result<Arc<dyn Model>> {
+    model::load(spec)
+        .map(Arc::from)
+        .map_err(|e| InputError(anyhow!("{spec}: {e}")).into())
+}
+
+/// Reads a training set, the user's input.
+fn read_set(path: &Path) -> Result<TrainingSet> {
+    TrainingSet::read(path).map_err(|e| InputError(anyhow!("{}: {e}", path.display())).into())
+}
+
+/// Reads a quad mesh (.msh), the user's input.
+fn read_mesh(path: &Path) -> Result<quadex::QuadMesh> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| InputError(anyhow!("{}: {e}", path.display())))?;
+    Ok(io::msh::read_msh(&text).map_err(|e| InputError(anyhow!("{}: {e}", path.display())))?)
+}
+
+fn is_mesh(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("msh"))
 }
 
 #[derive(Serialize)]
@@ -195,6 +268,13 @@ fn run(c: Command) -> Result<()> {
                 q.irregular_interior,
                 seconds
             );
+            if pure_model {
+                let (ok, all) = mesher.stats().model_valid();
+                println!(
+                    "pure model: {ok} of {all} predictions valid ({:.1}%)",
+                    100.0 * ok as f64 / all.max(1) as f64
+                );
+            }
             if let Some(path) = report {
                 let r = Report {
                     input: input.display().to_string(),
@@ -220,6 +300,142 @@ fn run(c: Command) -> Result<()> {
             m.check_invariants(true)
                 .map_err(|e| anyhow!("{}: {e}", mesh.display()))?;
             println!("{}", serde_json::to_string_pretty(&MeshQuality::of(&m))?);
+            Ok(())
+        }
+        Command::Samples {
+            meshes,
+            points,
+            output,
+            keep_duplicates,
+            turn,
+        } => {
+            let [lo, hi] = turn[..] else {
+                return Err(InputError(anyhow!("--turn takes two angles, LO,HI")).into());
+            };
+            let params = CollectParams {
+                turn: [lo, hi],
+                ..CollectParams::DEFAULT
+            };
+            let mut set = TrainingSet::new(points);
+            for path in &meshes {
+                let m = read_mesh(path)?;
+                let name = path
+                    .file_name()
+                    .map(|f| f.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                let s = samples::collect(&m, (points - 1) / 2, &params, &name);
+                println!("{}: {} samples", path.display(), s.len());
+                set.samples.extend(s);
+            }
+            let dropped = if keep_duplicates { 0 } else { set.dedup() };
+            set.write(&output)
+                .map_err(|e| anyhow!("{}: {e}", output.display()))?;
+            let t = set.type_counts();
+            println!(
+                "{}: {} samples ({} types 0/1/2: {}/{}/{}), {} duplicates dropped",
+                output.display(),
+                set.len(),
+                points,
+                t[0],
+                t[1],
+                t[2],
+                dropped
+            );
+            Ok(())
+        }
+        Command::Fit {
+            sets,
+            form,
+            output,
+            report,
+            folds,
+            name,
+        } => {
+            let form = match form.as_deref() {
+                None => None,
+                Some(f) => Some(Form::parse(f).ok_or_else(|| {
+                    InputError(anyhow!("{f}: unknown form (use thesis or quadratic)"))
+                })?),
+            };
+            let mut set = read_set(&sets[0])?;
+            for path in &sets[1..] {
+                set.merge(read_set(path)?)
+                    .map_err(|e| InputError(anyhow!("{}: {e}", path.display())))?;
+            }
+            let name = name.unwrap_or_else(|| {
+                output
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "fitted".into())
+            });
+            let params = FitParams {
+                folds,
+                ..FitParams::DEFAULT
+            };
+            let t0 = Instant::now();
+            let (file, reports) = fit::fit_model(&set, form, &name, &params)
+                .map_err(|e| InputError(anyhow!("{}: {e}", sets[0].display())))?;
+            let seconds = t0.elapsed().as_secs_f64();
+            for r in &reports {
+                println!("{}", r.table());
+            }
+            io::write_atomic(&output, file.to_json().as_bytes())?;
+            println!(
+                "{}: form {}, {} samples, {} in {seconds:.2} s",
+                output.display(),
+                file.coefficients.form().name(),
+                set.len(),
+                if folds >= 2 {
+                    "fitted and cross-validated"
+                } else {
+                    "fitted"
+                }
+            );
+            if let Some(path) = report {
+                let chosen = file.figures.clone();
+                let json = serde_json::json!({ "chosen": chosen, "forms": reports });
+                io::write_atomic(&path, serde_json::to_string_pretty(&json)?.as_bytes())?;
+            }
+            Ok(())
+        }
+        Command::Factors {
+            inputs,
+            points,
+            report,
+        } => {
+            let mut tables = Vec::new();
+            for &pts in &points {
+                let mut set = TrainingSet::new(pts);
+                for path in &inputs {
+                    if is_mesh(path) {
+                        let m = read_mesh(path)?;
+                        let name = path.display().to_string();
+                        set.samples.extend(samples::collect(
+                            &m,
+                            (pts - 1) / 2,
+                            &CollectParams::DEFAULT,
+                            &name,
+                        ));
+                    } else {
+                        let full = read_set(path)?;
+                        let cut = factors::truncated(&full, pts).ok_or_else(|| {
+                            InputError(anyhow!(
+                                "{}: has {} input points, cannot give {pts}",
+                                path.display(),
+                                full.points
+                            ))
+                        })?;
+                        set.samples.extend(cut.samples);
+                    }
+                }
+                set.dedup();
+                let f = factors::factors(&set).map_err(|e| anyhow!("{pts} points: {e}"))?;
+                println!("{}", f.table());
+                tables.push(f);
+            }
+            if let Some(path) = report {
+                io::write_atomic(&path, serde_json::to_string_pretty(&tables)?.as_bytes())?;
+            }
             Ok(())
         }
     }

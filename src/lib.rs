@@ -27,10 +27,12 @@ pub mod fit;
 pub mod front;
 pub mod geom;
 pub mod io;
+pub mod mapped;
 pub mod mesh;
 pub mod model;
 pub mod normalize;
 pub mod quality;
+pub mod reference;
 pub mod samples;
 pub mod smooth;
 

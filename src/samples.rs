@@ -315,6 +315,10 @@ pub enum SamplesError {
     Json(#[from] serde_json::Error),
     #[error("{0}")]
     Csv(#[from] csv::Error),
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+    #[error("{0}")]
+    Write(#[from] crate::io::WriteError),
 }
 
 /// Samples of one input-point count (`2N + 1`).
@@ -530,6 +534,27 @@ impl TrainingSet {
         Ok(set)
     }
 
+    /// Reads a set from a `.json` file, or CSV otherwise.
+    pub fn read(path: &std::path::Path) -> Result<TrainingSet, SamplesError> {
+        let text = std::fs::read_to_string(path)?;
+        if is_json(path) {
+            TrainingSet::from_json(&text)
+        } else {
+            TrainingSet::from_csv(&text)
+        }
+    }
+
+    /// Writes the set as JSON for a `.json` path, CSV otherwise (atomically).
+    pub fn write(&self, path: &std::path::Path) -> Result<(), SamplesError> {
+        let text = if is_json(path) {
+            self.to_json()?
+        } else {
+            self.to_csv()?
+        };
+        crate::io::write_atomic(path, text.as_bytes())?;
+        Ok(())
+    }
+
     pub fn to_json(&self) -> Result<String, SamplesError> {
         Ok(serde_json::to_string_pretty(self)?)
     }
@@ -550,6 +575,11 @@ impl TrainingSet {
         }
         Ok(set)
     }
+}
+
+fn is_json(path: &std::path::Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
 }
 
 /// Shortest decimal that reads back to the same f64.

@@ -88,8 +88,12 @@ pub struct MeshParams {
     pub fill: bool,
     /// Laplacian smoothing after extraction.
     pub smooth: SmoothParams,
-    /// Turn the remedies off: a prediction the guard rejects ends the run
-    /// with [`MeshError::ModelRejected`] (default false).
+    /// Pure model: the guard takes the model's element as predicted or
+    /// rejects it (no snapping, no other type, no corrected Pn). A rejected
+    /// prediction is counted ([`StepReport::rejected`],
+    /// [`StepStats::rejected_predictions`]) and the next reference point is
+    /// tried; the rule-based element, closure and fill still finish the
+    /// mesh, and their steps are counted apart (default false).
     pub pure_model: bool,
 }
 
@@ -125,8 +129,6 @@ pub enum MeshError {
     Stuck { loop_index: u32, node: u32 },
     #[error("step limit of {limit} reached with {remaining} front nodes left")]
     StepLimit { limit: usize, remaining: usize },
-    #[error("pure-model mode: the model's element at node {node} was rejected by the guard")]
-    ModelRejected { node: u32 },
     #[error("the correction at node {node} is not a valid element")]
     InvalidCorrection { node: u32 },
     #[error("node {node} is not on the front")]
@@ -201,6 +203,9 @@ pub struct StepReport {
     pub new_nodes: Vec<u32>,
     /// Quads removed (rip-up steps, and a fill after rewinding).
     pub removed: usize,
+    /// Pure-model mode: the model's predictions the guard rejected before
+    /// this step.
+    pub rejected: usize,
 }
 
 /// Step counts by kind, type and remedy.
@@ -211,9 +216,18 @@ pub struct StepStats {
     pub by_type: [usize; 3],
     pub by_remedy: std::collections::BTreeMap<String, usize>,
     pub skipped_references: usize,
+    /// Pure-model mode: predictions the guard rejected.
+    pub rejected_predictions: usize,
 }
 
 impl StepStats {
+    /// Pure-model mode: the model's elements the guard accepted as
+    /// predicted, and all the model's predictions (accepted + rejected).
+    pub fn model_valid(&self) -> (usize, usize) {
+        let ok = self.by_remedy.get("None").copied().unwrap_or(0);
+        (ok, ok + self.rejected_predictions)
+    }
+
     fn record(&mut self, r: &StepReport) {
         self.steps += 1;
         *self.by_kind.entry(format!("{:?}", r.kind)).or_default() += 1;
@@ -224,6 +238,7 @@ impl StepStats {
             *self.by_remedy.entry(format!("{:?}", r.remedy)).or_default() += 1;
         }
         self.skipped_references += r.skipped;
+        self.rejected_predictions += r.rejected;
     }
 }
 
@@ -318,6 +333,11 @@ pub struct Mesher {
     replaying: bool,
     /// A rewind has been tried.
     rewound: bool,
+    /// Pure-model rejections since the last step.
+    rejected: usize,
+    /// Pure-model: the leading points (node ids) of every rejected
+    /// prediction, so a prediction met again is counted once.
+    rejected_inputs: std::collections::BTreeSet<Vec<u32>>,
 }
 
 /// The element chosen at a reference point.
@@ -361,6 +381,8 @@ impl Mesher {
             fill_retry_at: 0,
             replaying: false,
             rewound: false,
+            rejected: 0,
+            rejected_inputs: Default::default(),
             boundary,
             params,
             model,
@@ -732,7 +754,7 @@ impl Mesher {
                 remaining: self.front.len(),
             });
         }
-        let r = match self.auto_step() {
+        let mut r = match self.auto_step() {
             Ok(r) => r,
             Err(e) => {
                 if self.params.fill && !self.replaying {
@@ -743,6 +765,7 @@ impl Mesher {
                 return Err(e);
             }
         };
+        r.rejected = std::mem::take(&mut self.rejected);
         if r.kind != StepKind::Relax {
             self.relax_streak = 0;
         }
@@ -762,6 +785,7 @@ impl Mesher {
             element_type: None,
             remedy: Remedy::NotApplicable,
             skipped: 0,
+            rejected: 0,
             pattern: None,
             quads: Vec::new(),
             new_nodes: Vec::new(),
@@ -1046,9 +1070,10 @@ impl Mesher {
         for (c, remedy) in self.candidates(s, pred, &frame) {
             let Some(score) = self.check(c, limits) else {
                 if self.params.pure_model && !rules {
-                    return Err(MeshError::ModelRejected {
-                        node: self.front.node(s),
-                    });
+                    if self.rejected_inputs.insert(leading.clone()) {
+                        self.rejected += 1;
+                    }
+                    return Ok(None);
                 }
                 continue;
             };

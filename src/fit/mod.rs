@@ -37,7 +37,7 @@ pub struct FitParams {
     /// Ridge penalty of the quadratic Pn model (on standardised inputs,
     /// intercept free). Default 1e-3.
     pub ridge: f64,
-    /// L2 penalty of the logistic type classifier. Default 1e-2.
+    /// L2 penalty of the logistic type classifier. Default 1.
     pub logistic_l2: f64,
     /// Newton iterations of the classifier at most. Default 30.
     pub newton_iterations: usize,
@@ -50,7 +50,7 @@ impl FitParams {
         folds: 5,
         seed: 2011,
         ridge: 1e-3,
-        logistic_l2: 1e-2,
+        logistic_l2: 1.0,
         newton_iterations: 30,
         mu1_range: [0.01, 100.0],
     };

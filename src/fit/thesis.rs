@@ -59,13 +59,12 @@ pub fn fit(data: &Data, params: &FitParams) -> Result<ThesisForm, FitError> {
 
 /// The type model's design matrix `[1, σ(μ1 X_i), σ(μ1 Y_i) …]` for μ1.
 fn type_matrix(data: &Data, mu1: f64) -> DMatrix<f64> {
-    DMatrix::from_fn(data.len(), 7, |r, c| {
-        if c == 0 {
-            1.0
-        } else {
-            thesis_type_features(&data.inputs[r], mu1)[c - 1]
-        }
-    })
+    let mut rows = Vec::with_capacity(7 * data.len());
+    for lp in &data.inputs {
+        rows.push(1.0);
+        rows.extend(thesis_type_features(lp, mu1));
+    }
+    DMatrix::from_row_slice(data.len(), 7, &rows)
 }
 
 /// SSE of the type model's least-squares fit at μ1 (normal equations:

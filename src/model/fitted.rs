@@ -170,9 +170,13 @@ pub fn raw_inputs(lp: &LeadingPoints) -> Vec<f64> {
 pub struct QuadraticForm {
     /// `N`, leading points per side.
     pub n: usize,
-    /// Standardisation of the raw inputs: `z = (x − mean) / scale`.
+    /// Standardisation of the raw inputs: `z = (clamp(x) − mean) / scale`.
     pub mean: Vec<f64>,
     pub scale: Vec<f64>,
+    /// The range of each raw input in the training samples: inputs are
+    /// clamped to it, so the quadratic never extrapolates past the data.
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
     /// Logits of types 1 and 2 against type 0 (whose logit is 0).
     pub type_logit: [Vec<f64>; 2],
     /// Xn, one quadratic per type.
@@ -186,8 +190,8 @@ impl QuadraticForm {
     pub fn features(&self, lp: &LeadingPoints) -> Vec<f64> {
         let z: Vec<f64> = raw_inputs(lp)
             .iter()
-            .zip(self.mean.iter().zip(&self.scale))
-            .map(|(x, (m, s))| (x - m) / s)
+            .enumerate()
+            .map(|(k, x)| (x.clamp(self.lo[k], self.hi[k]) - self.mean[k]) / self.scale[k])
             .collect();
         let mut f = Vec::with_capacity(quadratic_len(z.len()));
         quadratic_features_into(&z, &mut f);
@@ -406,6 +410,13 @@ impl ModelFile {
                 let f = quadratic_len(m);
                 len("mean", &q.mean, m)?;
                 len("scale", &q.scale, m)?;
+                len("lo", &q.lo, m)?;
+                len("hi", &q.hi, m)?;
+                if q.scale.iter().any(|&s| s <= 0.0) || q.lo.iter().zip(&q.hi).any(|(a, b)| a > b) {
+                    return Err(ModelFileError::NotFinite {
+                        what: "scale/range",
+                    });
+                }
                 for v in &q.type_logit {
                     len("type_logit", v, f)?;
                 }

@@ -17,7 +17,7 @@ use crate::geom::Point;
 use crate::normalize::LeadingPoints;
 use serde::{Deserialize, Serialize};
 
-pub use fitted::{FittedModel, Form, ModelFile};
+pub use fitted::{FittedModel, Form, ModelFile, ModelFileError};
 pub use rules::RulesModel;
 pub use thesis::ThesisModel;
 
@@ -77,4 +77,22 @@ pub fn builtin(name: &str) -> Option<Box<dyn Model>> {
         "thesis" => Some(Box::new(ThesisModel::TABLE_8)),
         _ => None,
     }
+}
+
+/// A model that cannot be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+    #[error("{0}")]
+    File(#[from] ModelFileError),
+}
+
+/// A built-in model by name, or a model file by path.
+pub fn load(spec: &str) -> Result<Box<dyn Model>, LoadError> {
+    if let Some(m) = builtin(spec) {
+        return Ok(m);
+    }
+    let text = std::fs::read_to_string(spec)?;
+    Ok(Box::new(ModelFile::from_json(&text)?.model()))
 }

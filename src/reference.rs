@@ -1,0 +1,184 @@
+//! The reference meshes the shipped model learns from (thesis §3.1.2:
+//! samples come from good meshes of varied character). Each is built by the
+//! project itself, by mapped meshing ([`crate::mapped`]) or, for the peer
+//! domain, by quadex's own extraction with the rules model; each is checked
+//! by [`QuadMesh::check_invariants`]. `cargo run --example reference_meshes`
+//! writes them to `assets/reference/` and the tests check that the shipped
+//! files are what the generator makes.
+
+use crate::extract::{mesh_boundary, MeshError, MeshParams};
+use crate::geom::Point;
+use crate::io::poly::parse_poly;
+use crate::mapped::{graded, map_grid, merge, Block};
+use crate::mesh::{InvariantError, QuadMesh};
+use crate::model::RulesModel;
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::sync::Arc;
+use thiserror::Error;
+
+/// The FreeMesh domain `boundary6` (MIT licence; see `assets/README.md`).
+const PEER_BOUNDARY: &str = include_str!("../assets/examples/freemesh_boundary6.poly");
+
+/// A reference mesh that could not be built.
+#[derive(Debug, Error)]
+pub enum ReferenceError {
+    #[error("{name}: {source}")]
+    Invariant {
+        name: &'static str,
+        source: InvariantError,
+    },
+    #[error("{name}: {source}")]
+    Mesh {
+        name: &'static str,
+        source: MeshError,
+    },
+    #[error("{name}: {msg}")]
+    Boundary { name: &'static str, msg: String },
+}
+
+/// The names of the reference meshes, in order.
+pub const NAMES: [&str; 7] = [
+    "graded_rect",
+    "curved_quad",
+    "skewed_quad",
+    "ogrid_disk",
+    "annulus_sector",
+    "lshape",
+    "peer_boundary6",
+];
+
+fn p(x: f64, y: f64) -> Point {
+    Point::new(x, y)
+}
+
+fn rotate(q: Point, a: f64) -> Point {
+    let (s, c) = a.sin_cos();
+    p(c * q.x - s * q.y, s * q.x + c * q.y)
+}
+
+/// A 6 × 3 rectangle graded in both directions (30 × 15 cells).
+fn graded_rect() -> Vec<[Point; 4]> {
+    Block::straight(p(0.0, 0.0), p(6.0, 0.0), p(6.0, 3.0), p(0.0, 3.0))
+        .grid(&graded(30, 1.05), &graded(15, 1.04))
+}
+
+/// A four-sided patch with wavy sides (16 × 16 cells).
+fn curved_quad() -> Vec<[Point; 4]> {
+    let b = Block {
+        bottom: Box::new(|u| p(4.0 * u, -0.4 * (PI * u).sin())),
+        top: Box::new(|u| p(4.0 * u, 4.0 + 0.3 * (TAU * u).sin())),
+        left: Box::new(|v| p(0.3 * (PI * v).sin(), 4.0 * v)),
+        right: Box::new(|v| p(4.0 + 0.4 * (PI * v).sin(), 4.0 * v)),
+    };
+    b.grid(&graded(16, 1.0), &graded(16, 1.0))
+}
+
+/// A skewed quadrilateral with slanted sides (14 × 10 cells).
+fn skewed_quad() -> Vec<[Point; 4]> {
+    Block::straight(p(0.0, 0.0), p(5.0, 0.0), p(6.5, 3.0), p(1.0, 3.5))
+        .grid(&graded(14, 1.0), &graded(10, 1.0))
+}
+
+/// A unit disk as an O-grid: a central block with bulged sides and four
+/// blocks out to the circle (10 × 10 centre, 10 × 6 in each ring block).
+fn ogrid_disk() -> Vec<[Point; 4]> {
+    const A: f64 = 0.4;
+    const B: f64 = 0.06;
+    let centre = Block {
+        bottom: Box::new(|u| p(-A + 2.0 * A * u, -A - B * (PI * u).sin())),
+        top: Box::new(|u| p(-A + 2.0 * A * u, A + B * (PI * u).sin())),
+        left: Box::new(|v| p(-A - B * (PI * v).sin(), -A + 2.0 * A * v)),
+        right: Box::new(|v| p(A + B * (PI * v).sin(), -A + 2.0 * A * v)),
+    };
+    let mut quads = centre.grid(&graded(10, 1.0), &graded(10, 1.0));
+    let q = FRAC_PI_2 / 2.0;
+    for k in 0..4 {
+        let a = FRAC_PI_2 * k as f64;
+        // East block rotated by a: u from the centre block out to the arc.
+        let ring = Block {
+            bottom: Box::new(move |u| rotate(p(A, -A).lerp(p(q.cos(), -q.sin()), u), a)),
+            top: Box::new(move |u| rotate(p(A, A).lerp(p(q.cos(), q.sin()), u), a)),
+            left: Box::new(move |v| rotate(p(A + B * (PI * v).sin(), -A + 2.0 * A * v), a)),
+            right: Box::new(move |v| {
+                let t = -q + 2.0 * q * v;
+                rotate(p(t.cos(), t.sin()), a)
+            }),
+        };
+        quads.extend(ring.grid(&graded(6, 0.9), &graded(10, 1.0)));
+    }
+    quads
+}
+
+/// A 120° annulus sector meshed in polar coordinates with geometric radial
+/// steps, so every cell is nearly square (24 × 11 cells).
+fn annulus_sector() -> Vec<[Point; 4]> {
+    let cells = 24;
+    let dtheta = (TAU / 3.0) / cells as f64;
+    let q = dtheta.exp();
+    let layers = 11;
+    let outer = q.powi(layers);
+    map_grid(&graded(layers as usize, q), &graded(cells, 1.0), |u, v| {
+        let r = 1.0 + (outer - 1.0) * u;
+        let t = (TAU / 3.0) * v;
+        p(r * t.cos(), r * t.sin())
+    })
+}
+
+/// An L-shape of three blocks, the arms graded away from the corner block.
+fn lshape() -> Vec<[Point; 4]> {
+    let n = 8;
+    let mut quads = Block::straight(p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.0, 1.0))
+        .grid(&graded(n, 1.0), &graded(n, 1.0));
+    quads.extend(
+        Block::straight(p(1.0, 0.0), p(2.5, 0.0), p(2.5, 1.0), p(1.0, 1.0))
+            .grid(&graded(10, 1.06), &graded(n, 1.0)),
+    );
+    quads.extend(
+        Block::straight(p(0.0, 1.0), p(1.0, 1.0), p(1.0, 2.5), p(0.0, 2.5))
+            .grid(&graded(n, 1.0), &graded(10, 1.06)),
+    );
+    quads
+}
+
+/// Builds one reference mesh by name.
+pub fn build(name: &'static str) -> Result<QuadMesh, ReferenceError> {
+    let quads = match name {
+        "graded_rect" => graded_rect(),
+        "curved_quad" => curved_quad(),
+        "skewed_quad" => skewed_quad(),
+        "ogrid_disk" => ogrid_disk(),
+        "annulus_sector" => annulus_sector(),
+        "lshape" => lshape(),
+        "peer_boundary6" => {
+            let b = parse_poly(PEER_BOUNDARY).map_err(|e| ReferenceError::Boundary {
+                name,
+                msg: e.to_string(),
+            })?;
+            let (m, _) = mesh_boundary(
+                &b,
+                Arc::new(RulesModel::DEFAULT),
+                &MeshParams::DEFAULT,
+                |_| {},
+            )
+            .map_err(|source| ReferenceError::Mesh { name, source })?;
+            m.check_invariants(true)
+                .map_err(|source| ReferenceError::Invariant { name, source })?;
+            return Ok(m);
+        }
+        _ => {
+            return Err(ReferenceError::Boundary {
+                name,
+                msg: "no such reference mesh".into(),
+            })
+        }
+    };
+    let m = merge(&quads, 1e-9).map_err(|source| ReferenceError::Invariant { name, source })?;
+    m.check_invariants(true)
+        .map_err(|source| ReferenceError::Invariant { name, source })?;
+    Ok(m)
+}
+
+/// Every reference mesh with its name.
+pub fn all() -> Result<Vec<(&'static str, QuadMesh)>, ReferenceError> {
+    NAMES.iter().map(|&n| build(n).map(|m| (n, m))).collect()
+}
