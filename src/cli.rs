@@ -45,8 +45,9 @@ enum Command {
         input: PathBuf,
         #[arg(short, long)]
         output: PathBuf,
-        /// `rules`, `thesis`, or a model file.
-        #[arg(long, default_value = "rules")]
+        /// `default` (the shipped fitted model), `rules`, `thesis` (Table 8
+        /// as printed), or a model file (.json).
+        #[arg(long, default_value = "default")]
         model: String,
         #[arg(long, value_enum, default_value = "b")]
         strategy: StrategyArg,
@@ -475,7 +476,7 @@ fn example() -> Result<()> {
     run(Command::Mesh {
         input,
         output: out,
-        model: "rules".into(),
+        model: "default".into(),
         strategy: StrategyArg::B,
         points: 7,
         smooth: SmoothParams::DEFAULT.iterations,

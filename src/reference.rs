@@ -7,11 +7,14 @@
 //! files are what the generator makes.
 
 use crate::extract::{mesh_boundary, MeshError, MeshParams};
+use crate::fit::{fit_model, FitError, FitParams};
 use crate::geom::Point;
 use crate::io::poly::parse_poly;
 use crate::mapped::{graded, map_grid, merge, Block};
 use crate::mesh::{InvariantError, QuadMesh};
 use crate::model::RulesModel;
+use crate::model::{Form, ModelFile};
+use crate::samples::{collect, CollectParams, TrainingSet};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::Arc;
 use thiserror::Error;
@@ -176,6 +179,46 @@ pub fn build(name: &'static str) -> Result<QuadMesh, ReferenceError> {
     m.check_invariants(true)
         .map_err(|source| ReferenceError::Invariant { name, source })?;
     Ok(m)
+}
+
+/// The input points of the shipped default model.
+pub const DEFAULT_MODEL_POINTS: usize = 7;
+/// The form of the shipped default model.
+pub const DEFAULT_MODEL_FORM: Form = Form::Quadratic;
+/// The window of interior angles along the sample paths of the shipped
+/// default model, in degrees. Wider than the thesis's [35, 235] (method
+/// §3): the fronts the mesher meets have reflex turns next to the
+/// reference point, and a model that never saw one extrapolates badly
+/// there (see the README).
+pub const DEFAULT_MODEL_TURN: [f64; 2] = [35.0, 300.0];
+
+/// The training set of the shipped default model from the reference meshes
+/// (`(file name, mesh)` pairs, as read back from `assets/reference/`):
+/// their 7-point samples with [`DEFAULT_MODEL_TURN`], duplicates dropped.
+pub fn default_training_set(meshes: &[(String, QuadMesh)]) -> TrainingSet {
+    let n = (DEFAULT_MODEL_POINTS - 1) / 2;
+    let params = CollectParams {
+        turn: DEFAULT_MODEL_TURN,
+        ..CollectParams::DEFAULT
+    };
+    let mut set = TrainingSet::new(DEFAULT_MODEL_POINTS);
+    for (name, m) in meshes {
+        set.samples.extend(collect(m, n, &params, name));
+    }
+    set.dedup();
+    set
+}
+
+/// The shipped default model: [`default_training_set`] fitted in
+/// [`DEFAULT_MODEL_FORM`] with `params` (the shipped file uses
+/// [`FitParams::DEFAULT`]).
+pub fn default_model(
+    meshes: &[(String, QuadMesh)],
+    params: &FitParams,
+) -> Result<ModelFile, FitError> {
+    let set = default_training_set(meshes);
+    let (file, _) = fit_model(&set, Some(DEFAULT_MODEL_FORM), "default", params)?;
+    Ok(file)
 }
 
 /// Every reference mesh with its name.

@@ -351,10 +351,20 @@ struct Chosen {
     leading: Vec<u32>,
 }
 
+/// Scores closer than this are a tie, which the first candidate wins: a
+/// model whose outputs differ in the last digits (a refit, another
+/// machine's rounding) then makes the same choices.
+const SCORE_TIE: f64 = 1e-6;
+
+/// True when score `a` is better than `b` by more than a tie.
+fn beats(a: f64, b: f64) -> bool {
+    a > b + SCORE_TIE
+}
+
 impl Chosen {
     /// Keeps `self` in `best` if it scores higher (the first wins ties).
     fn keep_if_best(self, best: &mut Option<Chosen>) {
-        if best.as_ref().is_none_or(|b| self.score > b.score) {
+        if best.as_ref().is_none_or(|b| beats(self.score, b.score)) {
             *best = Some(self);
         }
     }
@@ -1077,7 +1087,7 @@ impl Mesher {
                 }
                 continue;
             };
-            let better = best.as_ref().is_none_or(|b| score > b.score);
+            let better = best.as_ref().is_none_or(|b| beats(score, b.score));
             if better {
                 best = Some(Chosen {
                     cand: c,

@@ -70,9 +70,24 @@ pub trait Model: Send + Sync {
     fn predict(&self, input: &LeadingPoints) -> Prediction;
 }
 
-/// The built-in models by name: `rules` or `thesis`.
+/// The shipped default model file: the quadratic form fitted to the
+/// samples of the reference meshes (see [`crate::reference`]) (`cargo run --example default_model` rebuilds
+/// it).
+pub const DEFAULT_MODEL_JSON: &str = include_str!("../../assets/models/default.json");
+
+/// The shipped default model.
+pub fn default_model() -> Result<FittedModel, ModelFileError> {
+    ModelFile::from_json(DEFAULT_MODEL_JSON).map(|f| f.model())
+}
+
+/// The names of the built-in models.
+pub const BUILTIN: [&str; 3] = ["default", "rules", "thesis"];
+
+/// The built-in models by name: `default` (the shipped fitted model),
+/// `rules` or `thesis` (Table 8 as printed).
 pub fn builtin(name: &str) -> Option<Box<dyn Model>> {
     match name {
+        "default" => default_model().ok().map(|m| Box::new(m) as Box<dyn Model>),
         "rules" => Some(Box::new(RulesModel::default())),
         "thesis" => Some(Box::new(ThesisModel::TABLE_8)),
         _ => None,
