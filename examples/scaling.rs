@@ -22,7 +22,7 @@ fn time(b: &Boundary) -> Result<(usize, f64, f64), String> {
         );
         m.run(|_| {}).map_err(|e| e.to_string())?;
         let t1 = Instant::now();
-        let mesh = m.finish();
+        let mesh = m.finish().expect("finish");
         let t2 = Instant::now();
         quads = mesh.quads.len();
         runs.push((t2 - t0).as_secs_f64());

@@ -252,7 +252,9 @@ fn run(c: Command) -> Result<()> {
                     }
                 })
                 .with_context(|| format!("{}", input.display()))?;
-            let mesh = mesher.finish();
+            let mesh = mesher
+                .finish()
+                .with_context(|| format!("{}", input.display()))?;
             if let Some(b) = bar {
                 b.finish_and_clear();
             }
@@ -298,7 +300,7 @@ fn run(c: Command) -> Result<()> {
                     .map_err(|e| InputError(anyhow!("{}: {e}", b.display())))?;
                 check_against(&m, &bd).map_err(|e| anyhow!("{}: {e}", mesh.display()))?;
             }
-            m.check_invariants(true)
+            m.check_finished()
                 .map_err(|e| anyhow!("{}: {e}", mesh.display()))?;
             println!("{}", serde_json::to_string_pretty(&MeshQuality::of(&m))?);
             Ok(())

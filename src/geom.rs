@@ -37,11 +37,34 @@ pub fn ccw_angle(p: Point, from: Point, to: Point) -> f64 {
     }
 }
 
+/// The smallest sine of a corner angle a quad may have. A corner flatter
+/// than this (within about 6e-8 degrees of 0° or 180°) is convex in exact
+/// arithmetic only by rounding, as when a node is the computed midpoint of
+/// its neighbours, and reads as flat to any floating-point checker.
+pub const MIN_CORNER_SINE: f64 = 1e-9;
+
+/// True when corner `b` of the turn `a → b → c` turns left by more than
+/// [`MIN_CORNER_SINE`]: exactly (robust sign) and measurably.
+#[inline]
+pub fn turns_left(a: Point, b: Point, c: Point) -> bool {
+    let o = orient(a, b, c);
+    o > 0.0 && o > MIN_CORNER_SINE * (b - a).length() * (c - b).length()
+}
+
 /// True when the quad `p` (corners in order) is strictly convex and
-/// counter-clockwise: every corner turns left, exactly.
+/// counter-clockwise: every corner turns left, exactly. A corner may be flat
+/// to rounding; extraction allows that (smoothing moves such nodes), a
+/// finished mesh does not ([`is_measurably_convex`]).
 #[inline]
 pub fn is_strictly_convex(p: [Point; 4]) -> bool {
     (0..4).all(|k| orient(p[(k + 3) % 4], p[k], p[(k + 1) % 4]) > 0.0)
+}
+
+/// True when every corner of the quad `p` turns left by more than
+/// [`MIN_CORNER_SINE`] (see [`turns_left`]).
+#[inline]
+pub fn is_measurably_convex(p: [Point; 4]) -> bool {
+    (0..4).all(|k| turns_left(p[(k + 3) % 4], p[k], p[(k + 1) % 4]))
 }
 
 /// Distance from `p` to the closed segment `a–b`.

@@ -139,7 +139,7 @@ mod tests {
         let mut quads = a.grid(&u, &graded(3, 1.0));
         quads.extend(b.grid(&graded(4, 1.0), &graded(3, 1.0)));
         let m = merge(&quads, 1e-9).unwrap();
-        m.check_invariants(true).unwrap();
+        m.check_finished().unwrap();
         assert_eq!(m.quads.len(), 24);
         assert_eq!(m.nodes.len(), 9 * 4);
         assert_eq!(m.loops.len(), 1);

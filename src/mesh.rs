@@ -4,7 +4,7 @@
 //! check, run by the tests after every extraction step.
 
 use crate::boundary::Boundary;
-use crate::geom::{orient, polygon_area, Point};
+use crate::geom::{is_measurably_convex, orient, polygon_area, Point};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use thiserror::Error;
@@ -32,6 +32,8 @@ pub enum InvariantError {
     OpenBoundary { node: u32 },
     #[error("no quads, so no boundary")]
     Empty,
+    #[error("quad {quad} has a corner flat to rounding at node {node}")]
+    FlatCorner { quad: usize, node: u32 },
 }
 
 /// An all-quadrilateral mesh.
@@ -189,8 +191,29 @@ impl QuadMesh {
         inc
     }
 
-    /// Checks that every quad is strictly convex and CCW, that no edge is
-    /// used twice in one direction, and, when `complete`, that the quads
+    /// The checks of a finished mesh: [`QuadMesh::check_invariants`] with
+    /// `complete`, and no corner flat to rounding
+    /// ([`crate::geom::is_measurably_convex`]), which any floating-point
+    /// reader would see as degenerate.
+    pub fn check_finished(&self) -> Result<(), InvariantError> {
+        self.check_invariants(true)?;
+        for (k, q) in self.quads.iter().enumerate() {
+            if !is_measurably_convex(self.corners(q)) {
+                let p = self.corners(q);
+                let i = (0..4)
+                    .find(|&i| !crate::geom::turns_left(p[(i + 3) % 4], p[i], p[(i + 1) % 4]))
+                    .unwrap_or(0);
+                return Err(InvariantError::FlatCorner {
+                    quad: k,
+                    node: q[i],
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks that every quad is strictly convex and CCW (exactly), that no
+    /// edge is used twice in one direction, and, when `complete`, that the quads
     /// tile the domain exactly: every boundary segment is the side of one
     /// quad, every other edge of two, and the areas add up.
     pub fn check_invariants(&self, complete: bool) -> Result<(), InvariantError> {

@@ -164,7 +164,7 @@ pub fn build(name: &'static str) -> Result<QuadMesh, ReferenceError> {
                 |_| {},
             )
             .map_err(|source| ReferenceError::Mesh { name, source })?;
-            m.check_invariants(true)
+            m.check_finished()
                 .map_err(|source| ReferenceError::Invariant { name, source })?;
             return Ok(m);
         }
@@ -176,7 +176,7 @@ pub fn build(name: &'static str) -> Result<QuadMesh, ReferenceError> {
         }
     };
     let m = merge(&quads, 1e-9).map_err(|source| ReferenceError::Invariant { name, source })?;
-    m.check_invariants(true)
+    m.check_finished()
         .map_err(|source| ReferenceError::Invariant { name, source })?;
     Ok(m)
 }

@@ -5,7 +5,7 @@
 //! Nodes are visited in id order (Gauss–Seidel), so the result is
 //! deterministic.
 
-use crate::geom::Point;
+use crate::geom::{is_measurably_convex, is_strictly_convex, Point};
 use crate::mesh::QuadMesh;
 use crate::quality::QuadQuality;
 use serde::{Deserialize, Serialize};
@@ -99,6 +99,67 @@ fn quad_sj(mesh: &QuadMesh, q: &[u32; 4]) -> f64 {
     QuadQuality::of(mesh.corners(q)).scaled_jacobian
 }
 
+/// Steps tried along the way to a better position when unflattening.
+const UNFLATTEN_STEPS: [f64; 6] = [1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125];
+
+/// Moves interior nodes off corners that are flat to rounding (a node left
+/// on the straight line between its neighbours, see
+/// [`crate::geom::turns_left`]): each interior corner node of such a quad
+/// is tried part of the way towards its neighbours' mean and towards the
+/// quad's centroid, and the first position that leaves all its quads
+/// measurably convex is kept. Runs whatever the smoothing parameters, so a
+/// finished mesh never has a flat corner that an interior move can fix.
+/// Returns the number of quads still flat.
+pub fn unflatten(mesh: &mut QuadMesh) -> usize {
+    let flat = |m: &QuadMesh| -> Vec<usize> {
+        (0..m.quads.len())
+            .filter(|&k| !is_measurably_convex(m.corners(&m.quads[k])))
+            .collect()
+    };
+    let mut bad = flat(mesh);
+    if bad.is_empty() {
+        return 0;
+    }
+    let adj = Adjacency::new(mesh);
+    let nb = mesh.n_boundary();
+    for _ in 0..4 {
+        for &k in &bad {
+            let q = mesh.quads[k];
+            if is_measurably_convex(mesh.corners(&q)) {
+                continue;
+            }
+            let centroid = mesh.corners(&q).iter().copied().sum::<Point>() / 4.0;
+            for v in q.map(|v| v as usize).into_iter().filter(|&v| v >= nb) {
+                let (q0, q1) = (adj.quad_start[v] as usize, adj.quad_start[v + 1] as usize);
+                let (n0, n1) = (adj.nb_start[v] as usize, adj.nb_start[v + 1] as usize);
+                let mean = adj.nbs[n0..n1]
+                    .iter()
+                    .map(|&u| mesh.nodes[u as usize])
+                    .sum::<Point>()
+                    / (n1 - n0).max(1) as f64;
+                let old = mesh.nodes[v];
+                let found = [mean, centroid].into_iter().any(|goal| {
+                    UNFLATTEN_STEPS.iter().any(|&t| {
+                        mesh.nodes[v] = old + (goal - old) * t;
+                        adj.quads[q0..q1]
+                            .iter()
+                            .all(|&j| is_measurably_convex(mesh.corners(&mesh.quads[j as usize])))
+                    })
+                });
+                if found {
+                    break;
+                }
+                mesh.nodes[v] = old;
+            }
+        }
+        bad = flat(mesh);
+        if bad.is_empty() {
+            break;
+        }
+    }
+    bad.len()
+}
+
 /// Smooths `mesh` in place; returns the number of accepted moves.
 pub fn smooth(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
     if params.iterations == 0 || mesh.quads.is_empty() {
@@ -128,13 +189,15 @@ pub fn smooth(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
             }
             before.clear();
             for &k in &adj.quads[q0..q1] {
-                before.push(quad_sj(mesh, &mesh.quads[k as usize]));
+                let p = mesh.corners(&mesh.quads[k as usize]);
+                before.push((QuadQuality::of(p).scaled_jacobian, is_measurably_convex(p)));
             }
             mesh.nodes[v] = target;
-            let ok = adj.quads[q0..q1].iter().zip(&before).all(|(&k, &b)| {
+            // A quad stays convex, and measurably so if it was.
+            let ok = adj.quads[q0..q1].iter().zip(&before).all(|(&k, &(b, m))| {
                 let q = &mesh.quads[k as usize];
                 let p = mesh.corners(q);
-                let convex = crate::geom::is_strictly_convex(p);
+                let convex = is_strictly_convex(p) && (!m || is_measurably_convex(p));
                 convex && quad_sj(mesh, q) >= b.min(params.threshold)
             });
             if ok {
@@ -149,4 +212,45 @@ pub fn smooth(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
         }
     }
     accepted
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::is_measurably_convex;
+
+    /// A 2 × 2 grid of unit squares whose centre node sits on the line
+    /// between its neighbours (1,0) and (0,1): a flat corner.
+    fn flat_grid() -> QuadMesh {
+        let mut pts = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                pts.push(Point::new(i as f64, j as f64));
+            }
+        }
+        pts[4] = Point::new(0.5, 0.5);
+        QuadMesh::from_quads(
+            pts,
+            vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn unflatten_moves_a_node_off_the_line() {
+        let mut m = flat_grid();
+        assert!(m.check_finished().is_err());
+        assert_eq!(unflatten(&mut m), 0);
+        assert!(m.quads.iter().all(|q| is_measurably_convex(m.corners(q))));
+        m.check_finished().unwrap();
+    }
+
+    #[test]
+    fn smoothing_restores_the_square_grid() {
+        let mut m = flat_grid();
+        let c = m.nodes.len() - 1; // the only interior node comes last
+        m.nodes[c] = Point::new(0.8, 1.1);
+        smooth(&mut m, &SmoothParams::DEFAULT);
+        assert!((m.nodes[c] - Point::new(1.0, 1.0)).length() < 1e-12);
+    }
 }

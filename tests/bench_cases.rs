@@ -25,8 +25,8 @@ fn benchmark_cases_mesh_validly() {
             let mut m = Mesher::new(b, Arc::new(RulesModel::DEFAULT), MeshParams::DEFAULT);
             match m.run(|_| {}) {
                 Ok(()) => {
-                    let mesh = m.finish();
-                    mesh.check_invariants(true)
+                    let mesh = m.finish().unwrap();
+                    mesh.check_finished()
                         .unwrap_or_else(|e| panic!("{name}: {e}"));
                     assert!(
                         (mesh.domain_area() - area).abs() <= 1e-9 * area,
@@ -67,7 +67,7 @@ fn invariants_hold_after_every_step() {
                 .unwrap_or_else(|e| panic!("{name} after step {steps} ({:?}): {e}", r.kind));
         }
         assert!(m.is_done());
-        m.finish().check_invariants(true).unwrap();
+        m.finish().unwrap().check_finished().unwrap();
     }
 }
 

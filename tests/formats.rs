@@ -30,7 +30,7 @@ fn msh_round_trips() {
         assert_eq!(back.nodes.len(), m.nodes.len());
         assert_eq!(back.loops.len(), 2);
         assert_eq!(back.n_boundary(), m.n_boundary());
-        back.check_invariants(true).unwrap();
+        back.check_finished().unwrap();
         let q0 = quadex::MeshQuality::of(&m);
         let q1 = quadex::MeshQuality::of(&back);
         assert!((q0.sj_mean - q1.sj_mean).abs() < 1e-12);

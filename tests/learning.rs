@@ -30,7 +30,7 @@ fn shipped_reference() -> Vec<(String, QuadMesh)> {
 #[test]
 fn shipped_reference_meshes_are_what_the_generator_makes() {
     for (name, mesh) in reference::all().unwrap() {
-        mesh.check_invariants(true).unwrap();
+        mesh.check_finished().unwrap();
         let shipped =
             std::fs::read_to_string(assets().join("reference").join(format!("{name}.msh")))
                 .unwrap();
@@ -234,8 +234,8 @@ fn default_model_meshes_benchmark_cases_with_invariants_after_every_step() {
         while let StepOutcome::Stepped(_) = m.step().unwrap() {
             m.check_invariants().unwrap();
         }
-        let mesh = m.finish();
-        mesh.check_invariants(true).unwrap();
+        let mesh = m.finish().unwrap();
+        mesh.check_finished().unwrap();
         // Same input, same mesh.
         let (again, _) = mesh_boundary(&b, model.clone(), &MeshParams::DEFAULT, |_| {}).unwrap();
         assert_eq!(again, mesh, "{case}");

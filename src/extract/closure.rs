@@ -10,7 +10,7 @@
 //! chosen over all rotations as the valid one of best minimum scaled
 //! Jacobian.
 
-use crate::geom::{is_strictly_convex, Point};
+use crate::geom::{is_measurably_convex, Point};
 use crate::quality::QuadQuality;
 
 /// A way to fill a 6-node loop: the quads (indices into the loop, with
@@ -24,7 +24,8 @@ pub struct Fill {
 }
 
 /// Evaluates quads over `pts` (index 6 = `interior`); `None` if any is not
-/// strictly convex.
+/// measurably convex (no corner flat to rounding: the closure has other
+/// patterns and rotations to choose from).
 fn score(pts: &[Point], interior: Option<Point>, quads: &[[usize; 4]]) -> Option<f64> {
     let at = |i: usize| {
         if i == 6 {
@@ -36,7 +37,7 @@ fn score(pts: &[Point], interior: Option<Point>, quads: &[[usize; 4]]) -> Option
     let mut min_sj = f64::INFINITY;
     for q in quads {
         let p = q.map(at);
-        if !is_strictly_convex(p) {
+        if !is_measurably_convex(p) {
             return None;
         }
         min_sj = min_sj.min(QuadQuality::of(p).scaled_jacobian);

@@ -21,7 +21,7 @@ use crate::geom::{ccw_angle, Point};
 use crate::mesh::QuadMesh;
 use crate::model::{rules, ElementType, Model, Prediction, RulesModel};
 use crate::normalize::{Frame, LeadingPoints};
-use crate::smooth::{smooth, SmoothParams};
+use crate::smooth::{smooth, unflatten, SmoothParams};
 use guard::{Corner, Limits, Scratch};
 use serde::{Deserialize, Serialize};
 use std::cmp::Ordering;
@@ -133,6 +133,8 @@ pub enum MeshError {
     InvalidCorrection { node: u32 },
     #[error("node {node} is not on the front")]
     NotOnFront { node: u32 },
+    #[error("the finished mesh is not valid: {source}")]
+    Final { source: crate::mesh::InvariantError },
 }
 
 /// What the guard had to do to the model's prediction.
@@ -650,6 +652,13 @@ impl Mesher {
             &mut self.scratch,
         )?;
         let p = passed.corners;
+        let ids = corners.map(|c| match c {
+            Corner::Full(s) | Corner::Partial(s) => Some(self.front.node(s)),
+            Corner::New(_) => None,
+        });
+        if !self.pinned_corners_turn(p, ids) {
+            return None;
+        }
         if let Cand::Snap { s, q } = c {
             // The quad's corner at X must sit inside X's front wedge with
             // room on both sides, and a split must leave two even loops.
@@ -1418,6 +1427,19 @@ impl Mesher {
         r
     }
 
+    /// True when every corner of quad `p` at a boundary node (`ids`, `None`
+    /// for a new node) turns left measurably ([`crate::geom::turns_left`]).
+    /// Boundary nodes never move, so a corner flat to rounding there would
+    /// stay in the finished mesh; elsewhere smoothing moves it off the line.
+    fn pinned_corners_turn(&self, p: [Point; 4], ids: [Option<u32>; 4]) -> bool {
+        (0..4).all(|k| match ids[k] {
+            Some(v) if self.mesh.is_boundary(v) => {
+                crate::geom::turns_left(p[(k + 3) % 4], p[k], p[(k + 1) % 4])
+            }
+            _ => true,
+        })
+    }
+
     /// Closes a loop of 4 or 6 slots, if a valid closure exists.
     fn close_small(&mut self, lid: u32) -> Option<StepReport> {
         let slots = self.front.loop_slots(lid);
@@ -1432,7 +1454,8 @@ impl Mesher {
         match slots.len() {
             4 => {
                 let q = [pts[0], pts[1], pts[2], pts[3]];
-                if !crate::geom::is_strictly_convex(q) {
+                let ids = [nodes[0], nodes[1], nodes[2], nodes[3]].map(Some);
+                if !crate::geom::is_strictly_convex(q) || !self.pinned_corners_turn(q, ids) {
                     return None;
                 }
                 if !self.loop_is_clear(&slots, &pts) {
@@ -1753,13 +1776,23 @@ impl Mesher {
         fresh
     }
 
-    /// The finished mesh, smoothed as the parameters say. Call after
-    /// [`Mesher::run`]; an unfinished mesh is returned as it stands.
-    pub fn finish(&self) -> QuadMesh {
+    /// The finished mesh, smoothed as the parameters say, with corners flat
+    /// to rounding moved off the line ([`unflatten`]), and checked
+    /// ([`QuadMesh::check_invariants`], complete when the front is empty).
+    /// Call after [`Mesher::run`]; an unfinished mesh is returned as it
+    /// stands, checked as a partial mesh.
+    pub fn finish(&self) -> Result<QuadMesh, MeshError> {
         let mut mesh = self.mesh.clone();
         mesh.compact();
         smooth(&mut mesh, &self.params.smooth);
-        mesh
+        unflatten(&mut mesh);
+        let checked = if self.front.is_empty() {
+            mesh.check_finished()
+        } else {
+            mesh.check_invariants(false)
+        };
+        checked.map_err(|source| MeshError::Final { source })?;
+        Ok(mesh)
     }
 }
 
@@ -1773,5 +1806,5 @@ pub fn mesh_boundary(
 ) -> Result<(QuadMesh, StepStats), MeshError> {
     let mut m = Mesher::new(boundary.clone(), model, params.clone());
     m.run(progress)?;
-    Ok((m.finish(), m.stats.clone()))
+    Ok((m.finish()?, m.stats.clone()))
 }
