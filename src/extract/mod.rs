@@ -133,8 +133,10 @@ pub enum MeshError {
     InvalidCorrection { node: u32 },
     #[error("node {node} is not on the front")]
     NotOnFront { node: u32 },
-    #[error("the finished mesh is not valid: {source}")]
-    Final { source: crate::mesh::InvariantError },
+    #[error("the finished mesh is not valid: {problem}")]
+    Final {
+        problem: crate::mesh::InvariantError,
+    },
 }
 
 /// What the guard had to do to the model's prediction.
@@ -1791,7 +1793,7 @@ impl Mesher {
         } else {
             mesh.check_invariants(false)
         };
-        checked.map_err(|source| MeshError::Final { source })?;
+        checked.map_err(|problem| MeshError::Final { problem })?;
         Ok(mesh)
     }
 }
