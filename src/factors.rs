@@ -157,24 +157,16 @@ mod tests {
     use super::*;
     use crate::geom::Point;
     use crate::model::ElementType;
-    use crate::normalize::LeadingPoints;
     use crate::samples::{Sample, Source};
 
     #[test]
     fn weights_follow_the_coefficients() {
-        // Xn = 3 X_l1 + Y_r2, others tiny: l1 gets 3/(3+1)·… of the weight.
+        // Xn = 3 X_l1 + Y_r2 exactly.
         let mut set = TrainingSet::new(5);
-        let mut s = 5u64;
-        let mut r = move || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1);
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
-        for _ in 0..200 {
-            let l = vec![Point::new(r(), r()), Point::new(r(), r())];
-            let rr = vec![Point::X, Point::new(r(), r())];
-            let pn = Point::new(3.0 * l[0].x + rr[1].y, 0.0);
+        for input in crate::fit::random_inputs(2, 200, 5) {
+            let pn = Point::new(3.0 * input.left[0].x + input.right[1].y, 0.0);
             set.samples.push(Sample {
-                input: LeadingPoints { left: l, right: rr },
+                input,
                 element_type: ElementType::New,
                 pn,
                 source: Source::Correction,

@@ -167,22 +167,51 @@ fn figures(
     )
 }
 
-/// A deterministic shuffle (splitmix64 + Fisher–Yates).
-fn shuffled(n: usize, seed: u64) -> Vec<usize> {
-    let mut state = seed;
-    let mut next = || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = state;
+/// splitmix64, a small deterministic generator (fold assignment, tests).
+pub(crate) struct SplitMix(pub u64);
+
+impl SplitMix {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
-    };
+    }
+
+    /// Uniform in `[0, 1)`.
+    #[cfg(test)]
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// A deterministic shuffle (splitmix64 + Fisher–Yates).
+fn shuffled(n: usize, seed: u64) -> Vec<usize> {
+    let mut g = SplitMix(seed);
     let mut idx: Vec<usize> = (0..n).collect();
     for i in (1..n).rev() {
-        let j = (next() % (i as u64 + 1)) as usize;
+        let j = (g.next_u64() % (i as u64 + 1)) as usize;
         idx.swap(i, j);
     }
     idx
+}
+
+/// `m` pseudo-random normalised inputs with `n` leading points per side:
+/// left points in `[−1, 1] × [0, 2]`, right points beyond P_r1 in
+/// `[1, 3] × [−1, 1]` (for the tests of the fitting code).
+#[cfg(test)]
+pub(crate) fn random_inputs(n: usize, m: usize, seed: u64) -> Vec<LeadingPoints> {
+    let mut g = SplitMix(seed);
+    let mut r = || g.unit() * 2.0 - 1.0;
+    (0..m)
+        .map(|_| {
+            let left = (0..n).map(|_| Point::new(r(), r() + 1.0)).collect();
+            let mut right = vec![Point::X];
+            right.extend((1..n).map(|_| Point::new(r() + 2.0, r())));
+            LeadingPoints { left, right }
+        })
+        .collect()
 }
 
 /// Fits `form` to `set` and measures it: figures on the training samples

@@ -220,29 +220,12 @@ mod tests {
     use super::*;
     use crate::geom::Point;
     use crate::model::fitted::QuadraticForm;
-    use crate::normalize::LeadingPoints;
-
-    fn inputs(m: usize) -> Vec<LeadingPoints> {
-        let mut s = 777u64;
-        let mut r = move || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        };
-        (0..m)
-            .map(|_| LeadingPoints {
-                left: (0..2).map(|_| Point::new(r(), r() + 1.0)).collect(),
-                right: vec![Point::X, Point::new(r() + 2.0, r())],
-            })
-            .collect()
-    }
 
     #[test]
     fn recovers_a_quadratic_pn_and_a_separable_type() {
         // Pn an exact quadratic of the inputs; the type set by which side
         // of two lines P_l1 falls: both are learnt almost exactly.
-        let inputs = inputs(1500);
+        let inputs = crate::fit::random_inputs(2, 1500, 777);
         let types: Vec<u8> = inputs
             .iter()
             .map(|lp| {
