@@ -395,8 +395,12 @@ fn run(c: Command) -> Result<()> {
                 }
             );
             if let Some(path) = report {
-                let chosen = file.figures.clone();
-                let json = serde_json::json!({ "chosen": chosen, "forms": reports });
+                // The chosen form's figures at the top (`type`, `xn`, `yn`,
+                // each with `train` and `holdout`), every form under `forms`.
+                let mut json = serde_json::to_value(&file.figures)?;
+                if let Some(obj) = json.as_object_mut() {
+                    obj.insert("forms".into(), serde_json::to_value(&reports)?);
+                }
                 io::write_atomic(&path, serde_json::to_string_pretty(&json)?.as_bytes())?;
             }
             Ok(())

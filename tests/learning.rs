@@ -259,3 +259,137 @@ fn pure_model_counts_rejected_predictions() {
     let (ok, all) = stats.model_valid();
     assert_eq!(ok, all, "the rules never fail on the L-shape");
 }
+
+#[test]
+fn a_step_and_the_same_element_as_a_correction_give_the_same_sample() {
+    use quadex::extract::Correction;
+    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let b = quadex::io::read_boundary(&bench.join("square.poly")).unwrap();
+    let rules: Arc<dyn Model> = Arc::from(model::builtin("rules").unwrap());
+    let mut m = Mesher::new(b, rules, MeshParams::DEFAULT);
+    let StepOutcome::Stepped(r) = m.step().unwrap() else {
+        panic!("the square has steps");
+    };
+    let auto = m.sample_of(&r).expect("an element step has a sample");
+    assert_eq!(auto.n(), 3);
+    assert_eq!(auto.source, Source::Correction);
+    // The first element at a square corner of a uniform boundary: a unit
+    // square in the normalised frame.
+    assert_eq!(auto.element_type, ElementType::New);
+    assert!(
+        (auto.pn - Point::new(1.0, 1.0)).length() < 1e-9,
+        "{:?}",
+        auto.pn
+    );
+    // The same element given as a correction.
+    let pn = m.mesh().nodes[r.new_nodes[0] as usize];
+    assert!(m.undo());
+    let c = Correction {
+        reference: r.reference.unwrap(),
+        element_type: ElementType::New,
+        pn: Some(pn),
+        snap_to: None,
+    };
+    let rc = m.correct(&c).unwrap();
+    let corrected = m.sample_of(&rc).expect("a correction has a sample");
+    assert_eq!(corrected, auto);
+    // Other steps have none.
+    let mut other = rc.clone();
+    other.kind = quadex::extract::StepKind::Fill;
+    assert!(m.sample_of(&other).is_none());
+}
+
+#[test]
+fn cli_samples_fit_mesh_and_factors() {
+    let bin = env!("CARGO_BIN_EXE_quadex");
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name);
+    let run = |args: &[&std::ffi::OsStr]| {
+        let o = std::process::Command::new(bin).args(args).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let refs = assets().join("reference");
+    let (a, b) = (refs.join("lshape.msh"), refs.join("skewed_quad.msh"));
+    let csv = out("s.csv");
+    let text = run(&[
+        "samples".as_ref(),
+        a.as_os_str(),
+        b.as_os_str(),
+        "--points".as_ref(),
+        "7".as_ref(),
+        "-o".as_ref(),
+        csv.as_os_str(),
+    ]);
+    assert!(text.contains("duplicates dropped"), "{text}");
+    let set = TrainingSet::read(&csv).unwrap();
+    assert_eq!(set.points, 7);
+    assert!(set.len() > 100);
+    let (model_file, report) = (out("m.json"), out("r.json"));
+    let text = run(&[
+        "fit".as_ref(),
+        csv.as_os_str(),
+        "-o".as_ref(),
+        model_file.as_os_str(),
+        "--report".as_ref(),
+        report.as_os_str(),
+        "--folds".as_ref(),
+        "3".as_ref(),
+    ]);
+    // Both forms' tables are printed; the report has the issue's fields.
+    assert!(
+        text.contains("form thesis") && text.contains("form quadratic"),
+        "{text}"
+    );
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    for output in ["type", "xn", "yn"] {
+        for set in ["train", "holdout"] {
+            for field in ["sse", "rmse", "r", "dc"] {
+                assert!(r[output][set][field].is_number(), "{output}.{set}.{field}");
+            }
+        }
+    }
+    assert!(r["type"]["holdout"]["accuracy"].is_number());
+    assert_eq!(r["forms"].as_array().unwrap().len(), 2);
+    // The fitted model meshes a benchmark boundary.
+    let square =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries/square.poly");
+    let msh = out("square.msh");
+    run(&[
+        "mesh".as_ref(),
+        square.as_os_str(),
+        "-o".as_ref(),
+        msh.as_os_str(),
+        "--model".as_ref(),
+        model_file.as_os_str(),
+    ]);
+    read_msh(&std::fs::read_to_string(&msh).unwrap())
+        .unwrap()
+        .check_finished()
+        .unwrap();
+    // Factors from the set, cut down to 5 points, and at 7.
+    let text = run(&[
+        "factors".as_ref(),
+        csv.as_os_str(),
+        "--points".as_ref(),
+        "5,7".as_ref(),
+    ]);
+    assert!(
+        text.contains("5 input points") && text.contains("7 input points"),
+        "{text}"
+    );
+    // A model file that is not one is refused as bad input.
+    let o = std::process::Command::new(bin)
+        .args([
+            "mesh".as_ref(),
+            square.as_os_str(),
+            "-o".as_ref(),
+            msh.as_os_str(),
+            "--model".as_ref(),
+            csv.as_os_str(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+}

@@ -1736,9 +1736,42 @@ impl Mesher {
         if self.check(cand, relaxed).is_none() {
             return Err(MeshError::InvalidCorrection { node: c.reference });
         }
+        let leading: Vec<u32> = self
+            .leading_slots(s, self.leading_n())
+            .iter()
+            .map(|&t| self.front.node(t))
+            .collect();
         let mut r = self.commit(cand, StepKind::Correction);
         r.reference = Some(c.reference);
+        r.leading = leading;
         Ok(r)
+    }
+
+    /// The training sample of an element step or a correction (method §3):
+    /// the real front around P0 as it was before the step (the report's
+    /// leading points, which never move while meshing) and the element
+    /// committed. `None` for other steps. The editor appends these to the
+    /// training set when the user accepts or corrects an element.
+    pub fn sample_of(&self, r: &StepReport) -> Option<crate::samples::Sample> {
+        if !matches!(r.kind, StepKind::Element | StepKind::Correction) {
+            return None;
+        }
+        let t = r.element_type?;
+        let n = r.leading.len() / 2;
+        let p0 = *r.leading.get(n)?;
+        let quad = r.quads.first()?;
+        let k = quad.iter().position(|&v| v == p0)?;
+        let pos = |v: u32| self.mesh.nodes.get(v as usize).copied();
+        let left: Option<Vec<Point>> = (1..=n).map(|i| pos(r.leading[n - i])).collect();
+        let right: Option<Vec<Point>> = (1..=n).map(|i| pos(r.leading[n + i])).collect();
+        crate::samples::Sample::from_front(
+            &left?,
+            pos(p0)?,
+            &right?,
+            t,
+            pos(quad[(k + 2) % 4])?,
+            crate::samples::Source::Correction,
+        )
     }
 
     /// Runs to the end; `progress` is called after every step with the
