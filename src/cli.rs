@@ -1,4 +1,4 @@
-//! The command line: `mesh`, `quality`. Errors are reported once, here, as
+//! The command line: `gui` (the default), `mesh`, `quality`, `samples`, `fit`, `factors`. Errors are reported once, here, as
 //! one line naming the file and the problem; bad input exits with code 2.
 
 use anyhow::{anyhow, Context, Result};
@@ -74,6 +74,25 @@ enum Command {
         #[arg(long)]
         boundary: Option<PathBuf>,
     },
+    /// The editor (the default with no subcommand). With --screenshot it
+    /// renders after loading (and stepping), saves a PNG of the window and
+    /// exits.
+    Gui {
+        /// Boundary to open (default: the shipped example).
+        #[arg(long)]
+        open: Option<PathBuf>,
+        /// Steps to take after opening.
+        #[arg(long, conflicts_with = "run")]
+        steps: Option<usize>,
+        /// Run to the end after opening.
+        #[arg(long)]
+        run: bool,
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+        /// Window size, WIDTHxHEIGHT in points.
+        #[arg(long, value_parser = parse_size)]
+        size: Option<[f32; 2]>,
+    },
     /// Collect training samples from quad meshes (.msh) into a training
     /// set (.csv in the thesis's column order, or .json).
     Samples {
@@ -128,6 +147,18 @@ enum Command {
     },
 }
 
+fn parse_size(s: &str) -> Result<[f32; 2], String> {
+    let (w, h) = s.split_once('x').ok_or("size is WIDTHxHEIGHT")?;
+    match (w.parse::<f32>(), h.parse::<f32>()) {
+        (Ok(w), Ok(h)) if w >= 200.0 && h >= 200.0 => Ok([w, h]),
+        _ => Err("size is WIDTHxHEIGHT, each at least 200".into()),
+    }
+}
+
+fn gui(o: quadex::app::GuiOptions) -> Result<()> {
+    quadex::app::run(o).map_err(|e| InputError(anyhow!("{e}")).into())
+}
+
 fn parse_points(s: &str) -> Result<usize, String> {
     match s.parse::<usize>() {
         Ok(n @ (5 | 7 | 9 | 11)) => Ok(n),
@@ -141,7 +172,7 @@ struct InputError(anyhow::Error);
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let res = match cli.command {
-        None => example(),
+        None => gui(quadex::app::GuiOptions::default()),
         Some(c) => run(c),
     };
     match res {
@@ -210,6 +241,19 @@ struct Report<'a> {
 
 fn run(c: Command) -> Result<()> {
     match c {
+        Command::Gui {
+            open,
+            steps,
+            run,
+            screenshot,
+            size,
+        } => gui(quadex::app::GuiOptions {
+            open,
+            steps,
+            run,
+            screenshot,
+            size,
+        }),
         Command::Mesh {
             input,
             output,
@@ -473,21 +517,4 @@ fn progress_bar(front: usize) -> Option<ProgressBar> {
     let b = ProgressBar::new_spinner();
     b.set_style(ProgressStyle::with_template("{spinner} meshing: {msg} [{elapsed}]").ok()?);
     Some(b)
-}
-
-/// No arguments: mesh the shipped example and write an SVG beside it.
-fn example() -> Result<()> {
-    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/annulus.poly");
-    let out = std::env::temp_dir().join("quadex_example.svg");
-    run(Command::Mesh {
-        input,
-        output: out,
-        model: "default".into(),
-        strategy: StrategyArg::B,
-        points: 7,
-        smooth: SmoothParams::DEFAULT.iterations,
-        pure_model: false,
-        no_fill: false,
-        report: None,
-    })
 }

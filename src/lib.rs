@@ -20,6 +20,7 @@
 //! §3.2), [`model`] (rules, the thesis preset), [`extract`] (the step loop,
 //! guard, closure), [`smooth`], [`quality`], [`io`] (file formats).
 
+pub mod app;
 pub mod boundary;
 pub mod extract;
 pub mod factors;

@@ -1,0 +1,356 @@
+//! The canvas: pan and zoom, a grid with coordinates, the domain filled
+//! (spade's constrained triangulation, so concave shapes and holes draw
+//! right), the mesh as one batched shape, the front, and the last step's
+//! reference point, leading points, predicted Pn and element.
+
+use crate::extract::{Remedy, StepReport};
+use crate::geom::{point_in_polygon, Point};
+use crate::mesh::QuadMesh;
+use crate::quality::QuadQuality;
+use crate::Boundary;
+use egui::epaint::{Mesh, Vertex, WHITE_UV};
+use egui::{Color32, Pos2, Rect, Sense, Shape, Stroke, Ui};
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+
+/// The world-to-screen map: `screen = origin + zoom · (x, −y)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// World point at the canvas centre.
+    pub center: Point,
+    /// Pixels per world unit.
+    pub zoom: f64,
+    /// Fit the boundary on the next frame.
+    pub fit_pending: bool,
+}
+
+impl Default for View {
+    fn default() -> Self {
+        View {
+            center: Point::ZERO,
+            zoom: 1.0,
+            fit_pending: true,
+        }
+    }
+}
+
+impl View {
+    pub fn to_screen(&self, rect: Rect, p: Point) -> Pos2 {
+        let c = rect.center();
+        Pos2::new(
+            c.x + ((p.x - self.center.x) * self.zoom) as f32,
+            c.y - ((p.y - self.center.y) * self.zoom) as f32,
+        )
+    }
+
+    pub fn to_world(&self, rect: Rect, s: Pos2) -> Point {
+        let c = rect.center();
+        Point::new(
+            self.center.x + (s.x - c.x) as f64 / self.zoom,
+            self.center.y - (s.y - c.y) as f64 / self.zoom,
+        )
+    }
+
+    /// Fits the box `lo..hi` into `rect` with a margin.
+    pub fn fit(&mut self, rect: Rect, lo: Point, hi: Point) {
+        let size = (hi - lo).max(Point::splat(1e-300));
+        self.center = (lo + hi) * 0.5;
+        self.zoom = 0.9 * (rect.width() as f64 / size.x).min(rect.height() as f64 / size.y);
+        self.fit_pending = false;
+    }
+}
+
+/// Triangles filling the domain, in world coordinates, from spade's
+/// constrained Delaunay triangulation of the boundary (kept: those whose
+/// centroid is inside the outer loop and outside every hole).
+pub fn domain_triangles(b: &Boundary) -> Vec<[Point; 3]> {
+    let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::new();
+    let mut handles = Vec::with_capacity(b.points.len());
+    for p in &b.points {
+        match cdt.insert(Point2::new(p.x, p.y)) {
+            Ok(h) => handles.push(Some(h)),
+            Err(_) => handles.push(None),
+        }
+    }
+    for l in &b.loops {
+        for k in 0..l.len() {
+            if let (Some(a), Some(c)) = (handles[l[k]], handles[l[(k + 1) % l.len()]]) {
+                if a != c && cdt.can_add_constraint(a, c) {
+                    cdt.add_constraint(a, c);
+                }
+            }
+        }
+    }
+    let polys: Vec<Vec<Point>> = b
+        .loops
+        .iter()
+        .map(|l| l.iter().map(|&i| b.points[i]).collect())
+        .collect();
+    let inside = |p: Point| {
+        polys
+            .first()
+            .is_some_and(|outer| point_in_polygon(p, outer))
+            && polys[1..].iter().all(|h| !point_in_polygon(p, h))
+    };
+    cdt.inner_faces()
+        .map(|f| {
+            f.vertices()
+                .map(|v| Point::new(v.position().x, v.position().y))
+        })
+        .filter(|t| inside((t[0] + t[1] + t[2]) / 3.0))
+        .collect()
+}
+
+/// Colour of a scaled Jacobian: red at 0, yellow at 0.5, green at 1.
+pub fn quality_color(sj: f64) -> Color32 {
+    let t = sj.clamp(0.0, 1.0) as f32;
+    let (r, g) = if t < 0.5 {
+        (1.0, 2.0 * t)
+    } else {
+        (2.0 - 2.0 * t, 1.0)
+    };
+    Color32::from_rgb((r * 200.0) as u8, (g * 180.0) as u8, 60)
+}
+
+/// Adds the segment `a–b` to `mesh` as a thin quad of `width` pixels.
+fn push_segment(mesh: &mut Mesh, a: Pos2, b: Pos2, width: f32, color: Color32) {
+    let d = b - a;
+    let len = d.length();
+    if len <= 0.0 {
+        return;
+    }
+    let n = egui::vec2(-d.y, d.x) * (0.5 * width / len);
+    let base = mesh.vertices.len() as u32;
+    for p in [a + n, b + n, b - n, a - n] {
+        mesh.vertices.push(Vertex {
+            pos: p,
+            uv: WHITE_UV,
+            color,
+        });
+    }
+    mesh.add_triangle(base, base + 1, base + 2);
+    mesh.add_triangle(base, base + 2, base + 3);
+}
+
+/// Adds a convex polygon as a triangle fan.
+fn push_fan(mesh: &mut Mesh, pts: &[Pos2], color: Color32) {
+    let base = mesh.vertices.len() as u32;
+    for &p in pts {
+        mesh.colored_vertex(p, color);
+    }
+    for k in 1..pts.len().saturating_sub(1) as u32 {
+        mesh.add_triangle(base, base + k, base + k + 1);
+    }
+}
+
+/// What the canvas shows besides the mesh.
+pub struct Overlay<'a> {
+    pub boundary: &'a Boundary,
+    pub domain: &'a [[Point; 3]],
+    pub mesh: &'a QuadMesh,
+    /// Front loops as node ids.
+    pub front: Vec<Vec<u32>>,
+    pub last: Option<&'a StepReport>,
+    /// Colour quads by scaled Jacobian.
+    pub color_by_quality: bool,
+}
+
+/// Draws the canvas and handles pan (drag) and zoom (wheel about the
+/// cursor). Returns the world position under the pointer, if any.
+pub fn ui(ui: &mut Ui, view: &mut View, o: &Overlay) -> Option<Point> {
+    let (resp, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
+    let rect = resp.rect;
+    if view.fit_pending {
+        if let Some(bb) = crate::geom::Aabb::of(o.boundary.points.iter().copied()) {
+            view.fit(rect, bb.min, bb.max);
+        }
+    }
+    if resp.dragged() {
+        let d = resp.drag_delta();
+        view.center -= Point::new(d.x as f64, -d.y as f64) / view.zoom;
+    }
+    let hover = resp.hover_pos();
+    if let Some(h) = hover {
+        let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+        if scroll != 0.0 {
+            let before = view.to_world(rect, h);
+            view.zoom *= (scroll as f64 / 200.0).exp();
+            let after = view.to_world(rect, h);
+            view.center += before - after;
+        }
+    }
+    painter.rect_filled(rect, 0.0, ui.visuals().extreme_bg_color);
+    draw_grid(&painter, rect, view, ui.visuals().weak_text_color());
+    let to = |p: Point| view.to_screen(rect, p);
+
+    // Domain.
+    let mut fill = Mesh::default();
+    let domain_color = Color32::from_rgba_unmultiplied(90, 120, 170, 60);
+    for t in o.domain {
+        push_fan(&mut fill, &t.map(to), domain_color);
+    }
+    painter.add(Shape::mesh(fill));
+
+    // Quads and their edges, one shape each.
+    let mut quads = Mesh::default();
+    let mut edges = Mesh::default();
+    let edge_color = ui.visuals().text_color().gamma_multiply(0.7);
+    for q in &o.mesh.quads {
+        let c = o.mesh.corners(q);
+        let s = c.map(to);
+        if !rect.intersects(Rect::from_points(&s)) {
+            continue;
+        }
+        let color = if o.color_by_quality {
+            quality_color(QuadQuality::of(c).scaled_jacobian)
+        } else {
+            Color32::from_rgb(70, 110, 90)
+        };
+        push_fan(&mut quads, &s, color.gamma_multiply(0.8));
+        for k in 0..4 {
+            // Each interior edge is drawn twice; cheap, and one shape.
+            push_segment(&mut edges, s[k], s[(k + 1) % 4], 1.0, edge_color);
+        }
+    }
+    painter.add(Shape::mesh(quads));
+    painter.add(Shape::mesh(edges));
+
+    // Boundary and front.
+    let mut lines = Mesh::default();
+    for l in &o.boundary.loops {
+        for k in 0..l.len() {
+            let (a, b) = (
+                o.boundary.points[l[k]],
+                o.boundary.points[l[(k + 1) % l.len()]],
+            );
+            push_segment(&mut lines, to(a), to(b), 1.5, Color32::from_gray(200));
+        }
+    }
+    let front_color = Color32::from_rgb(255, 150, 40);
+    for l in &o.front {
+        for k in 0..l.len() {
+            let (a, b) = (
+                o.mesh.nodes[l[k] as usize],
+                o.mesh.nodes[l[(k + 1) % l.len()] as usize],
+            );
+            push_segment(&mut lines, to(a), to(b), 3.0, front_color);
+        }
+    }
+    painter.add(Shape::mesh(lines));
+
+    if let Some(r) = o.last {
+        draw_step(&painter, r, o.mesh, &to);
+    }
+    hover.map(|h| view.to_world(rect, h))
+}
+
+/// Grid lines at a power of ten that keeps them 40+ pixels apart, with
+/// coordinates along the left and bottom edges.
+fn draw_grid(painter: &egui::Painter, rect: Rect, view: &View, color: Color32) {
+    let step = 10f64.powf((40.0 / view.zoom).log10().ceil());
+    let lo = view.to_world(rect, rect.left_bottom());
+    let hi = view.to_world(rect, rect.right_top());
+    let stroke = Stroke::new(0.5, color.gamma_multiply(0.4));
+    let font = egui::FontId::monospace(10.0);
+    let mut x = (lo.x / step).floor() * step;
+    while x <= hi.x {
+        let sx = view.to_screen(rect, Point::new(x, 0.0)).x;
+        painter.line_segment(
+            [Pos2::new(sx, rect.top()), Pos2::new(sx, rect.bottom())],
+            stroke,
+        );
+        painter.text(
+            Pos2::new(sx + 2.0, rect.bottom() - 2.0),
+            egui::Align2::LEFT_BOTTOM,
+            format!("{}", round_label(x, step)),
+            font.clone(),
+            color,
+        );
+        x += step;
+    }
+    let mut y = (lo.y / step).floor() * step;
+    while y <= hi.y {
+        let sy = view.to_screen(rect, Point::new(0.0, y)).y;
+        painter.line_segment(
+            [Pos2::new(rect.left(), sy), Pos2::new(rect.right(), sy)],
+            stroke,
+        );
+        painter.text(
+            Pos2::new(rect.left() + 2.0, sy - 2.0),
+            egui::Align2::LEFT_BOTTOM,
+            format!("{}", round_label(y, step)),
+            font.clone(),
+            color,
+        );
+        y += step;
+    }
+}
+
+/// `v` rounded to the grid step's decimals (no `0.30000000000000004`).
+fn round_label(v: f64, step: f64) -> f64 {
+    let decimals = (-step.log10()).ceil().max(0.0) as i32;
+    let f = 10f64.powi(decimals);
+    (v * f).round() / f
+}
+
+/// The last step: its element outlined, the reference point, the leading
+/// points labelled l1..lN and r1..rN, and the model's Pn.
+fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn Fn(Point) -> Pos2) {
+    let highlight = Color32::from_rgb(255, 230, 60);
+    for q in &r.quads {
+        let s = mesh.corners(q).map(to);
+        painter.add(Shape::closed_line(s.to_vec(), Stroke::new(2.5, highlight)));
+    }
+    let font = egui::FontId::proportional(13.0);
+    let n = r.leading.len() / 2;
+    for (i, &v) in r.leading.iter().enumerate() {
+        let p = to(mesh.nodes[v as usize]);
+        if i == n {
+            painter.circle_filled(p, 6.0, Color32::from_rgb(230, 50, 50));
+            painter.text(
+                p + egui::vec2(8.0, -8.0),
+                egui::Align2::LEFT_BOTTOM,
+                "P0",
+                font.clone(),
+                Color32::from_rgb(255, 120, 120),
+            );
+        } else {
+            let label = if i < n {
+                format!("l{}", n - i)
+            } else {
+                format!("r{}", i - n)
+            };
+            painter.circle_filled(p, 4.0, Color32::from_rgb(80, 170, 255));
+            painter.text(
+                p + egui::vec2(6.0, -6.0),
+                egui::Align2::LEFT_BOTTOM,
+                label,
+                font.clone(),
+                Color32::from_rgb(150, 210, 255),
+            );
+        }
+    }
+    if let Some(pn) = r.predicted_pn {
+        let p = to(pn);
+        let c = if r.remedy == Remedy::None {
+            Color32::from_rgb(120, 255, 120)
+        } else {
+            Color32::from_rgb(255, 120, 255)
+        };
+        let d = 6.0;
+        painter.line_segment(
+            [p - egui::vec2(d, d), p + egui::vec2(d, d)],
+            Stroke::new(2.0, c),
+        );
+        painter.line_segment(
+            [p - egui::vec2(d, -d), p + egui::vec2(d, -d)],
+            Stroke::new(2.0, c),
+        );
+        painter.text(
+            p + egui::vec2(8.0, 8.0),
+            egui::Align2::LEFT_TOP,
+            "Pn",
+            font,
+            c,
+        );
+    }
+}
