@@ -51,6 +51,9 @@ pub struct App {
     /// Cached domain triangles of the boundary.
     domain: Vec<[Point; 3]>,
     color_by_quality: bool,
+    /// The smoothed mesh once the run is complete, with the step count it
+    /// belongs to.
+    finished: Option<(usize, crate::mesh::QuadMesh)>,
     hover: Option<Point>,
     screenshot: Option<PathBuf>,
     screenshot_requested: bool,
@@ -72,6 +75,7 @@ impl App {
             status: String::new(),
             domain,
             color_by_quality: true,
+            finished: None,
             hover: None,
             screenshot: None,
             screenshot_requested: false,
@@ -221,6 +225,7 @@ impl App {
                     }
                 });
             });
+        self.refresh_finished();
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE)
             .show(ctx, |ui| {
@@ -231,9 +236,17 @@ impl App {
                 let overlay = Overlay {
                     boundary: &self.doc.boundary,
                     domain: &self.domain,
-                    mesh: self.doc.mesher.mesh(),
+                    mesh: match &self.finished {
+                        Some((_, m)) => m,
+                        None => self.doc.mesher.mesh(),
+                    },
                     front,
-                    last: self.doc.last.as_ref(),
+                    // The finished mesh is renumbered: the last step's node
+                    // ids belong to the mesher's own mesh.
+                    last: match &self.finished {
+                        Some(_) => None,
+                        None => self.doc.last.as_ref(),
+                    },
                     color_by_quality: self.color_by_quality,
                 };
                 self.hover = canvas::ui(ui, &mut self.view, &overlay);
@@ -242,6 +255,17 @@ impl App {
             self.apply(c);
         }
         self.screenshot_step(ctx);
+    }
+
+    /// Keeps the smoothed mesh for display while the run is complete.
+    fn refresh_finished(&mut self) {
+        let steps = self.doc.mesher.steps();
+        let stale = self.finished.as_ref().is_none_or(|(k, _)| *k != steps);
+        if !self.doc.is_done() {
+            self.finished = None;
+        } else if stale {
+            self.finished = self.doc.finished().ok().map(|m| (steps, m));
+        }
     }
 
     /// The `--screenshot` option: request a screenshot after the first
