@@ -119,3 +119,66 @@ fn changing_the_model_restarts_the_mesh() {
     assert!(h.state().status.starts_with("error:"));
     assert_eq!(h.state().doc.settings.model, "rules");
 }
+
+#[test]
+fn correct_append_refit_and_finish() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(5));
+    h.run();
+    let last = h.state().doc.last.clone().unwrap();
+    assert_eq!(last.kind, quadex::extract::StepKind::Element);
+    // Move the new node a little towards P0 and commit that instead.
+    let m = h.state().doc.mesher.mesh().clone();
+    let q = last.quads[0];
+    let p0 = last.reference.unwrap();
+    let k = q.iter().position(|&v| v == p0).unwrap();
+    let (pn, at_p0) = (m.nodes[q[(k + 2) % 4] as usize], m.nodes[p0 as usize]);
+    let moved = pn + (at_p0 - pn) * 0.05;
+    h.state_mut().apply(Command::CorrectLast {
+        element_type: quadex::ElementType::New,
+        pn: moved,
+    });
+    h.run();
+    let s = h.state();
+    assert!(s.status.starts_with("element corrected"), "{}", s.status);
+    assert_eq!(s.doc.mesher.steps(), 5);
+    assert_eq!(
+        s.doc.last.as_ref().unwrap().kind,
+        quadex::extract::StepKind::Correction
+    );
+    assert_eq!(s.doc.training.len(), 1);
+    let new_node = s.doc.last.as_ref().unwrap().new_nodes[0];
+    assert!((s.doc.mesher.mesh().nodes[new_node as usize] - moved).length() < 1e-12);
+    // Append the corrected element again from the panel (a counter shows it).
+    h.get_by_label("Append as sample").click();
+    h.run();
+    assert_eq!(h.state().doc.training.len(), 2);
+    h.get_by_label_contains("2 samples of yours");
+    // Refit in one click: figures before and after; the rest of the mesh
+    // uses the new model.
+    h.get_by_label("Refit").click();
+    h.run();
+    let f = h.state().refit.clone().expect("refit figures");
+    assert_eq!(f.corrections, 2);
+    assert!(f.after.0.accuracy > 0.95 && f.after.1.r > 0.95, "{f:?}");
+    assert!(h.state().doc.mesher.model().name().starts_with("fitted"));
+    h.get_by_label("before");
+    // Undo keeps the refit model for what comes next.
+    h.state_mut().apply(Command::Undo);
+    assert!(h.state().doc.mesher.model().name().starts_with("fitted"));
+    h.get_by_label_contains("Run to end").click();
+    h.run();
+    assert!(h.state().doc.is_done());
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("annulus.vtu");
+    h.state_mut().apply(Command::Export(out.clone()));
+    let judge = std::process::Command::new("python3")
+        .arg(bench().join("tools/judge.py"))
+        .arg(bench().join("boundaries/annulus.poly"))
+        .arg(&out)
+        .output()
+        .expect("python3 runs the judge");
+    let verdict = String::from_utf8_lossy(&judge.stdout);
+    assert!(verdict.contains("\"valid\": true"), "{verdict}");
+}

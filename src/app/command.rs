@@ -2,6 +2,8 @@
 //! a [`Command`] and the app applies it in one place ([`super::App::apply`]).
 
 use super::document::Settings;
+use crate::geom::Point;
+use crate::model::{ElementType, Form};
 use std::path::PathBuf;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -24,6 +26,17 @@ pub enum Command {
     Export(PathBuf),
     /// New model / strategy / points / pure-model settings (restarts).
     SetSettings(Settings),
+    /// Append the last step's element to the training set as it is.
+    AppendLast,
+    /// Replace the last element by this one and append its sample.
+    CorrectLast {
+        element_type: ElementType,
+        /// Pn in world coordinates (types 1 and 2 take P_r2 / P_l2).
+        pn: Point,
+    },
+    /// Refit the model on the reference samples and the user's, and mesh
+    /// the rest with it.
+    Refit(Form),
 }
 
 impl Command {

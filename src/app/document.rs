@@ -3,10 +3,13 @@
 //! set the user's corrections go to. Everything here goes through the
 //! core's public API (`Mesher`, `model::load`, `io`).
 
-use crate::extract::{MeshParams, Mesher, StepOutcome, StepReport, Strategy};
+use crate::extract::{Correction, MeshParams, Mesher, StepKind, StepOutcome, StepReport, Strategy};
+use crate::fit::{self, Figures, FitParams, TypeFigures};
 use crate::io;
 use crate::mesh::QuadMesh;
 use crate::model;
+use crate::model::Form;
+use crate::samples::CollectParams;
 use crate::samples::TrainingSet;
 use crate::Boundary;
 use std::path::{Path, PathBuf};
@@ -56,6 +59,18 @@ pub struct Document {
     pub last: Option<StepReport>,
     /// Samples from accepted and corrected elements.
     pub training: TrainingSet,
+    /// The reference meshes' samples a refit starts from (loaded at the
+    /// first refit).
+    base: Option<TrainingSet>,
+}
+
+/// Figures of the model before and after a refit, on the same samples.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RefitFigures {
+    pub samples: usize,
+    pub corrections: usize,
+    pub before: (TypeFigures, Figures, Figures),
+    pub after: (TypeFigures, Figures, Figures),
 }
 
 impl Document {
@@ -74,6 +89,7 @@ impl Document {
             settings,
             mesher,
             last: None,
+            base: None,
         })
     }
 
@@ -151,6 +167,118 @@ impl Document {
         self.mesher = mesher;
         self.last = None;
         Ok(())
+    }
+
+    /// Appends the sample of the last step (an element the user accepts).
+    pub fn append_last(&mut self) -> Result<usize, String> {
+        let r = self.last.as_ref().ok_or("no step to take a sample from")?;
+        let s = self
+            .mesher
+            .sample_of(r)
+            .ok_or("the last step is not an element")?;
+        self.push_sample(s)
+    }
+
+    fn push_sample(&mut self, s: crate::samples::Sample) -> Result<usize, String> {
+        if self.training.points != 2 * s.n() + 1 {
+            self.training = TrainingSet::new(2 * s.n() + 1);
+        }
+        self.training.push(s).map_err(|e| e.to_string())?;
+        Ok(self.training.len())
+    }
+
+    /// Replaces the last element by the user's: the step is undone, the
+    /// correction committed at the same reference point, and its sample
+    /// appended. If the correction is not a valid element, the step is
+    /// taken again as it was.
+    pub fn correct_last(
+        &mut self,
+        element_type: crate::model::ElementType,
+        pn: crate::geom::Point,
+    ) -> Result<usize, String> {
+        let r = self.last.clone().ok_or("no step to correct")?;
+        if !matches!(r.kind, StepKind::Element | StepKind::Correction) {
+            return Err("only an element step can be corrected".into());
+        }
+        let reference = r.reference.ok_or("the last step has no reference point")?;
+        let c = Correction {
+            reference,
+            element_type,
+            pn: Some(pn),
+            snap_to: None,
+        };
+        self.mesher.undo();
+        match self.mesher.correct(&c) {
+            Ok(report) => {
+                let sample = self.mesher.sample_of(&report);
+                self.last = Some(report);
+                match sample {
+                    Some(s) => self.push_sample(s),
+                    None => Ok(self.training.len()),
+                }
+            }
+            Err(e) => {
+                // Put the step back as it was.
+                match r.kind {
+                    StepKind::Correction => self.last = None,
+                    _ => {
+                        self.step()?;
+                    }
+                }
+                Err(e.to_string())
+            }
+        }
+    }
+
+    /// The reference meshes' samples at the current input points (the
+    /// method's defaults), loaded once.
+    fn base_set(&mut self) -> Result<&TrainingSet, String> {
+        let points = self.training.points;
+        if self.base.as_ref().is_none_or(|b| b.points != points) {
+            let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/reference");
+            let mut set = TrainingSet::new(points);
+            for name in crate::reference::NAMES {
+                let file = format!("{name}.msh");
+                let text = std::fs::read_to_string(dir.join(&file))
+                    .map_err(|e| format!("{}: {e}", dir.join(&file).display()))?;
+                let m = io::msh::read_msh(&text).map_err(|e| format!("{file}: {e}"))?;
+                set.samples.extend(crate::samples::collect(
+                    &m,
+                    (points - 1) / 2,
+                    &CollectParams::DEFAULT,
+                    &file,
+                ));
+            }
+            set.dedup();
+            self.base = Some(set);
+        }
+        self.base
+            .as_ref()
+            .ok_or_else(|| "no reference samples".into())
+    }
+
+    /// Refits a model of `form` on the reference samples plus the user's,
+    /// meshes the rest of the mesh with it, and returns the figures of the
+    /// old and the new model on those samples.
+    pub fn refit(&mut self, form: Form) -> Result<RefitFigures, String> {
+        let corrections = self.training.clone();
+        let mut set = self.base_set()?.clone();
+        set.merge(corrections.clone()).map_err(|e| e.to_string())?;
+        let params = FitParams {
+            folds: 0,
+            ..FitParams::DEFAULT
+        };
+        let before =
+            fit::evaluate(self.mesher.model().as_ref(), &set).map_err(|e| e.to_string())?;
+        let model = fit::refit(&set, form, &params).map_err(|e| e.to_string())?;
+        let after = fit::evaluate(&model, &set).map_err(|e| e.to_string())?;
+        self.mesher.set_model(Arc::new(model));
+        Ok(RefitFigures {
+            samples: set.len(),
+            corrections: corrections.len(),
+            before,
+            after,
+        })
     }
 
     pub fn is_done(&self) -> bool {

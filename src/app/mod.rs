@@ -9,6 +9,7 @@ pub mod canvas;
 pub mod command;
 pub mod document;
 pub mod step_panel;
+pub mod train_panel;
 
 use crate::geom::Point;
 use canvas::{Overlay, View};
@@ -16,6 +17,7 @@ pub use command::Command;
 pub use document::{Document, Settings};
 use std::path::{Path, PathBuf};
 use step_panel::StepPanel;
+use train_panel::TrainPanel;
 
 /// How the editor starts (`quadex gui`).
 #[derive(Clone, Debug, Default)]
@@ -44,6 +46,9 @@ pub struct App {
     pub doc: Document,
     pub view: View,
     step_panel: StepPanel,
+    train_panel: TrainPanel,
+    /// Figures of the last refit.
+    pub refit: Option<document::RefitFigures>,
     /// Export path typed in the export box.
     pub export_path: String,
     /// The last message for the user (errors from files and steps).
@@ -72,6 +77,8 @@ impl App {
             doc,
             view: View::default(),
             step_panel: StepPanel::default(),
+            train_panel: TrainPanel::default(),
+            refit: None,
             status: String::new(),
             domain,
             color_by_quality: true,
@@ -138,6 +145,25 @@ impl App {
                 .doc
                 .set_settings(s)
                 .map(|_| "settings changed; mesh restarted".into()),
+            Command::AppendLast => self
+                .doc
+                .append_last()
+                .map(|n| format!("sample appended ({n} in the training set)")),
+            Command::CorrectLast { element_type, pn } => self
+                .doc
+                .correct_last(element_type, pn)
+                .map(|n| format!("element corrected, sample appended ({n} in the training set)")),
+            Command::Refit(form) => self.doc.refit(form).map(|f| {
+                let msg = format!(
+                    "refitted ({}) on {} samples: Xn R {:.3} → {:.3}",
+                    form.name(),
+                    f.samples,
+                    f.before.1.r,
+                    f.after.1.r
+                );
+                self.refit = Some(f);
+                msg
+            }),
         };
         self.status = match res {
             Ok(s) => s,
@@ -216,6 +242,9 @@ impl App {
             .show(ctx, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     self.step_panel.ui(ui, &self.doc, &mut cmds);
+                    ui.separator();
+                    self.train_panel
+                        .ui(ui, &self.doc, self.refit.as_ref(), &mut cmds);
                     ui.separator();
                     ui.label(egui::RichText::new("Export").strong());
                     ui.text_edit_singleline(&mut self.export_path);

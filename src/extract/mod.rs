@@ -308,6 +308,11 @@ enum Cand {
 
 /// The element extraction loop over one boundary.
 pub struct Mesher {
+    /// The model the run started with (replays start from it).
+    initial_model: Arc<dyn Model>,
+    /// Models set with [`Mesher::set_model`], each with the number of
+    /// actions taken before it.
+    model_changes: Vec<(usize, Arc<dyn Model>)>,
     boundary: Boundary,
     params: MeshParams,
     model: Arc<dyn Model>,
@@ -399,6 +404,8 @@ impl Mesher {
             rejected_inputs: Default::default(),
             boundary,
             params,
+            initial_model: model.clone(),
+            model_changes: Vec::new(),
             model,
             mesh,
             front,
@@ -1795,20 +1802,37 @@ impl Mesher {
         true
     }
 
-    /// A new mesher over the same input with `actions` replayed.
+    /// A new mesher over the same input with `actions` replayed, switching
+    /// models where [`Mesher::set_model`] did; a model set after the last
+    /// replayed action stays in force.
     fn replayed(&self, actions: &[Action]) -> Mesher {
         let mut fresh = Mesher::new(
             self.boundary.clone(),
-            self.model.clone(),
+            self.initial_model.clone(),
             self.params.clone(),
         );
         fresh.replaying = true;
-        for a in actions {
+        let mut changes = self.model_changes.iter().peekable();
+        for (i, a) in actions.iter().enumerate() {
+            while let Some((_, m)) = changes.next_if(|(at, _)| *at <= i) {
+                fresh.set_model(m.clone());
+            }
             let ok = fresh.replay(a);
             debug_assert!(ok, "replay diverged");
         }
+        if let Some((_, m)) = changes.last() {
+            fresh.set_model(m.clone());
+        }
         fresh.replaying = false;
         fresh
+    }
+
+    /// Meshes the rest with `model` (the editor's refit). Steps already
+    /// taken stay as they are; undo and replay switch models at the same
+    /// point.
+    pub fn set_model(&mut self, model: Arc<dyn Model>) {
+        self.model_changes.push((self.history.len(), model.clone()));
+        self.model = model;
     }
 
     /// The finished mesh, smoothed as the parameters say, with corners flat

@@ -269,6 +269,25 @@ pub fn fit_with_report(
     Ok((coef, report))
 }
 
+/// How well any model (fitted, rules, the thesis preset) predicts a
+/// training set: type (its value is the predicted type number), Xn, Yn.
+pub fn evaluate(
+    model: &dyn crate::model::Model,
+    set: &TrainingSet,
+) -> Result<(TypeFigures, Figures, Figures), FitError> {
+    let data = Data::of(set)?;
+    let mut value = Vec::with_capacity(data.len());
+    let mut types = Vec::with_capacity(data.len());
+    let mut pn = Vec::with_capacity(data.len());
+    for lp in &data.inputs {
+        let p = model.predict(lp);
+        value.push(p.element_type.number() as f64);
+        types.push(p.element_type.number());
+        pn.push(p.pn);
+    }
+    Ok(figures(&data, &value, &types, &pn))
+}
+
 /// What a training set holds, for a model file.
 pub fn summary(set: &TrainingSet) -> TrainingSummary {
     let sources: BTreeSet<String> = set
