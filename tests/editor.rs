@@ -10,6 +10,18 @@ fn bench() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench")
 }
 
+/// `tools/judge.py` accepts `mesh` as a mesh of the annulus example.
+fn assert_judged_valid(mesh: &std::path::Path) {
+    let judge = std::process::Command::new("python3")
+        .arg(bench().join("tools/judge.py"))
+        .arg(bench().join("boundaries/annulus.poly"))
+        .arg(mesh)
+        .output()
+        .expect("python3 runs the judge");
+    let verdict = String::from_utf8_lossy(&judge.stdout);
+    assert!(verdict.contains("\"valid\": true"), "{verdict}");
+}
+
 fn harness(app: App) -> Harness<'static, App> {
     Harness::builder()
         .with_size([1280.0, 800.0])
@@ -50,14 +62,7 @@ fn step_undo_run_and_export_a_mesh_the_judge_accepts() {
         "{}",
         h.state().status
     );
-    let judge = std::process::Command::new("python3")
-        .arg(bench().join("tools/judge.py"))
-        .arg(bench().join("boundaries/annulus.poly"))
-        .arg(&out)
-        .output()
-        .expect("python3 runs the judge");
-    let verdict = String::from_utf8_lossy(&judge.stdout);
-    assert!(verdict.contains("\"valid\": true"), "{verdict}");
+    assert_judged_valid(&out);
 }
 
 #[test]
@@ -173,12 +178,5 @@ fn correct_append_refit_and_finish() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("annulus.vtu");
     h.state_mut().apply(Command::Export(out.clone()));
-    let judge = std::process::Command::new("python3")
-        .arg(bench().join("tools/judge.py"))
-        .arg(bench().join("boundaries/annulus.poly"))
-        .arg(&out)
-        .output()
-        .expect("python3 runs the judge");
-    let verdict = String::from_utf8_lossy(&judge.stdout);
-    assert!(verdict.contains("\"valid\": true"), "{verdict}");
+    assert_judged_valid(&out);
 }
