@@ -17,8 +17,13 @@
 //!
 //! Modules, one algorithm each: [`geom`] (predicates), [`boundary`]
 //! (validation), [`front`] (the advancing front), [`normalize`] (thesis
-//! §3.2), [`model`] (rules, the thesis preset), [`extract`] (the step loop,
-//! guard, closure), [`smooth`], [`quality`], [`io`] (file formats).
+//! §3.2), [`model`] (rules, the thesis preset, fitted models and their
+//! files), [`extract`] (the step loop, guard, closure, fill), [`smooth`],
+//! [`quality`], [`io`] (file formats), [`samples`] (training samples,
+//! thesis Chapter 3), [`fit`] (model fitting and fit figures, Chapter 4),
+//! [`factors`] (critical factors, §4.2), [`mapped`] (transfinite mapped
+//! meshing) and [`reference`] (the meshes the shipped model learns from).
+//! [`app`] is the desktop editor, the only module that uses egui.
 
 pub mod app;
 pub mod boundary;
