@@ -22,7 +22,7 @@
 //! [`quality`], [`io`] (file formats), [`samples`] (training samples,
 //! thesis Chapter 3), [`fit`] (model fitting and fit figures, Chapter 4),
 //! [`factors`] (critical factors, §4.2), [`mapped`] (transfinite mapped
-//! meshing) and [`reference`] (the meshes the shipped model learns from).
+//! meshing) and [`reference`](mod@reference) (the meshes the shipped model learns from).
 //! [`app`] is the desktop editor, the only module that uses egui.
 
 pub mod app;
