@@ -180,3 +180,23 @@ fn correct_append_refit_and_finish() {
     h.state_mut().apply(Command::Export(out.clone()));
     assert_judged_valid(&out);
 }
+
+#[test]
+fn an_invalid_correction_changes_nothing() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(3));
+    let before = h.state().doc.mesher.mesh().clone();
+    let last = h.state().doc.last.clone();
+    // Pn far outside the domain: not a valid element.
+    h.state_mut().apply(Command::CorrectLast {
+        element_type: quadex::ElementType::New,
+        pn: quadex::Point::new(100.0, 100.0),
+    });
+    let s = h.state();
+    assert!(s.status.starts_with("error:"), "{}", s.status);
+    assert_eq!(s.doc.mesher.mesh(), &before);
+    assert_eq!(s.doc.mesher.steps(), 3);
+    assert_eq!(s.doc.last, last);
+    assert_eq!(s.doc.training.len(), 0);
+}

@@ -189,8 +189,7 @@ impl Document {
 
     /// Replaces the last element by the user's: the step is undone, the
     /// correction committed at the same reference point, and its sample
-    /// appended. If the correction is not a valid element, the step is
-    /// taken again as it was.
+    /// appended. If the correction is not a valid element, nothing changes.
     pub fn correct_last(
         &mut self,
         element_type: crate::model::ElementType,
@@ -207,6 +206,7 @@ impl Document {
             pn: Some(pn),
             snap_to: None,
         };
+        let saved = self.mesher.clone();
         self.mesher.undo();
         match self.mesher.correct(&c) {
             Ok(report) => {
@@ -218,13 +218,8 @@ impl Document {
                 }
             }
             Err(e) => {
-                // Put the step back as it was.
-                match r.kind {
-                    StepKind::Correction => self.last = None,
-                    _ => {
-                        self.step()?;
-                    }
-                }
+                // Leave the mesh as it was.
+                self.mesher = saved;
                 Err(e.to_string())
             }
         }

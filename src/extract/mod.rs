@@ -307,6 +307,7 @@ enum Cand {
 }
 
 /// The element extraction loop over one boundary.
+#[derive(Clone)]
 pub struct Mesher {
     /// The model the run started with (replays start from it).
     initial_model: Arc<dyn Model>,
