@@ -142,8 +142,66 @@ fn push_fan(mesh: &mut Mesh, pts: &[Pos2], color: Color32) {
     }
 }
 
+/// What the canvas keeps between frames for one mesh: each quad's colour
+/// and each edge once, rebuilt when the mesh or the colouring changes.
+#[derive(Default)]
+pub struct MeshCache {
+    key: Option<(u64, usize, bool)>,
+    colors: Vec<Color32>,
+    edges: Vec<[u32; 2]>,
+    /// Mean edge length in world units.
+    mean_edge: f64,
+}
+
+impl MeshCache {
+    fn refresh(&mut self, o: &Overlay) {
+        let key = (o.version, o.mesh.quads.len(), o.color_by_quality);
+        if self.key == Some(key) {
+            return;
+        }
+        self.key = Some(key);
+        let m = o.mesh;
+        self.colors = m
+            .quads
+            .iter()
+            .map(|q| {
+                let c = if o.color_by_quality {
+                    quality_color(QuadQuality::of(m.corners(q)).scaled_jacobian)
+                } else {
+                    Color32::from_rgb(70, 110, 90)
+                };
+                c.gamma_multiply(0.8)
+            })
+            .collect();
+        let mut edges: Vec<[u32; 2]> = m
+            .quads
+            .iter()
+            .flat_map(|q| {
+                (0..4).map(move |k| {
+                    let (a, b) = (q[k], q[(k + 1) % 4]);
+                    [a.min(b), a.max(b)]
+                })
+            })
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        let total: f64 = edges
+            .iter()
+            .map(|e| (m.nodes[e[0] as usize] - m.nodes[e[1] as usize]).length())
+            .sum();
+        self.mean_edge = if edges.is_empty() {
+            f64::INFINITY
+        } else {
+            total / edges.len() as f64
+        };
+        self.edges = edges;
+    }
+}
+
 /// What the canvas shows besides the mesh.
 pub struct Overlay<'a> {
+    /// Changes whenever the mesh does (the canvas caches per version).
+    pub version: u64,
     pub boundary: &'a Boundary,
     pub domain: &'a [[Point; 3]],
     pub mesh: &'a QuadMesh,
@@ -156,7 +214,7 @@ pub struct Overlay<'a> {
 
 /// Draws the canvas and handles pan (drag) and zoom (wheel about the
 /// cursor). Returns the world position under the pointer, if any.
-pub fn ui(ui: &mut Ui, view: &mut View, o: &Overlay) -> Option<Point> {
+pub fn ui(ui: &mut Ui, view: &mut View, cache: &mut MeshCache, o: &Overlay) -> Option<Point> {
     let (resp, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
     let rect = resp.rect;
     if view.fit_pending {
@@ -190,29 +248,30 @@ pub fn ui(ui: &mut Ui, view: &mut View, o: &Overlay) -> Option<Point> {
     }
     painter.add(Shape::mesh(fill));
 
-    // Quads and their edges, one shape each.
+    // Quads and their edges, one shape each. Nodes are mapped once; quads
+    // off the canvas are skipped; edges are left out when they would be
+    // under 3 pixels long on average (the fill alone shows the mesh).
+    cache.refresh(o);
+    let screen: Vec<Pos2> = o.mesh.nodes.iter().map(|&p| to(p)).collect();
     let mut quads = Mesh::default();
-    let mut edges = Mesh::default();
-    let edge_color = ui.visuals().text_color().gamma_multiply(0.7);
-    for q in &o.mesh.quads {
-        let c = o.mesh.corners(q);
-        let s = c.map(to);
-        if !rect.intersects(Rect::from_points(&s)) {
-            continue;
-        }
-        let color = if o.color_by_quality {
-            quality_color(QuadQuality::of(c).scaled_jacobian)
-        } else {
-            Color32::from_rgb(70, 110, 90)
-        };
-        push_fan(&mut quads, &s, color.gamma_multiply(0.8));
-        for k in 0..4 {
-            // Each interior edge is drawn twice; cheap, and one shape.
-            push_segment(&mut edges, s[k], s[(k + 1) % 4], 1.0, edge_color);
+    for (q, &color) in o.mesh.quads.iter().zip(&cache.colors) {
+        let s = q.map(|v| screen[v as usize]);
+        if rect.intersects(Rect::from_points(&s)) {
+            push_fan(&mut quads, &s, color);
         }
     }
     painter.add(Shape::mesh(quads));
-    painter.add(Shape::mesh(edges));
+    if cache.mean_edge * view.zoom >= 3.0 {
+        let mut edges = Mesh::default();
+        let edge_color = ui.visuals().text_color().gamma_multiply(0.7);
+        for e in &cache.edges {
+            let (a, b) = (screen[e[0] as usize], screen[e[1] as usize]);
+            if rect.intersects(Rect::from_two_pos(a, b)) {
+                push_segment(&mut edges, a, b, 1.0, edge_color);
+            }
+        }
+        painter.add(Shape::mesh(edges));
+    }
 
     // Boundary and front.
     let mut lines = Mesh::default();

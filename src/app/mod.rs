@@ -12,7 +12,7 @@ pub mod step_panel;
 pub mod train_panel;
 
 use crate::geom::Point;
-use canvas::{Overlay, View};
+use canvas::{MeshCache, Overlay, View};
 pub use command::Command;
 pub use document::{Document, Settings};
 use std::path::{Path, PathBuf};
@@ -56,6 +56,9 @@ pub struct App {
     /// Cached domain triangles of the boundary.
     domain: Vec<[Point; 3]>,
     color_by_quality: bool,
+    mesh_cache: MeshCache,
+    /// Bumped whenever a command may have changed the mesh.
+    version: u64,
     /// The smoothed mesh once the run is complete, with the step count it
     /// belongs to.
     finished: Option<(usize, crate::mesh::QuadMesh)>,
@@ -82,6 +85,8 @@ impl App {
             status: String::new(),
             domain,
             color_by_quality: true,
+            mesh_cache: MeshCache::default(),
+            version: 0,
             finished: None,
             hover: None,
             screenshot: None,
@@ -108,6 +113,7 @@ impl App {
     /// Applies one command; failures go to the status line and leave the
     /// document as it was.
     pub fn apply(&mut self, cmd: Command) {
+        self.version += 1;
         let res: Result<String, String> = match cmd {
             Command::Step => self.doc.step().map(|more| {
                 if more {
@@ -263,6 +269,8 @@ impl App {
                     f.live_loops().map(|l| f.loop_nodes(l)).collect()
                 };
                 let overlay = Overlay {
+                    // The finished mesh is renumbered: a version of its own.
+                    version: 2 * self.version + u64::from(self.finished.is_some()),
                     boundary: &self.doc.boundary,
                     domain: &self.domain,
                     mesh: match &self.finished {
@@ -278,7 +286,7 @@ impl App {
                     },
                     color_by_quality: self.color_by_quality,
                 };
-                self.hover = canvas::ui(ui, &mut self.view, &overlay);
+                self.hover = canvas::ui(ui, &mut self.view, &mut self.mesh_cache, &overlay);
             });
         for c in cmds {
             self.apply(c);
