@@ -4,24 +4,16 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use quadex::fit::{fit_coefficients, Data, FitParams};
-use quadex::io::msh::read_msh;
 use quadex::model::Form;
-use quadex::reference::NAMES;
-use quadex::samples::{collect, CollectParams, TrainingSet};
+use quadex::reference::read_shipped;
+use quadex::samples::{CollectParams, TrainingSet};
 
 /// The thesis's largest training set size.
 const SAMPLES: usize = 12_293;
 
 fn bench(c: &mut Criterion) {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/reference");
-    let mut set = TrainingSet::new(7);
-    for name in NAMES {
-        let text = std::fs::read_to_string(dir.join(format!("{name}.msh"))).unwrap();
-        let m = read_msh(&text).unwrap();
-        set.samples
-            .extend(collect(&m, 3, &CollectParams::DEFAULT, name));
-    }
-    set.dedup();
+    let meshes = read_shipped().unwrap();
+    let mut set = TrainingSet::collect(&meshes, 7, &CollectParams::DEFAULT);
     set.samples.truncate(SAMPLES);
     assert_eq!(set.len(), SAMPLES);
     let data = Data::of(&set).unwrap();

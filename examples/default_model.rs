@@ -5,21 +5,16 @@
 //! `cargo run --release --example default_model`
 
 use quadex::fit::FitParams;
-use quadex::reference::{default_model, NAMES};
+use quadex::reference::{default_model, read_shipped};
 use std::path::Path;
 
 fn main() -> anyhow::Result<()> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut meshes = Vec::new();
-    for name in NAMES {
-        let file = format!("{name}.msh");
-        let text = std::fs::read_to_string(root.join("assets/reference").join(&file))?;
-        meshes.push((file, quadex::io::msh::read_msh(&text)?));
-    }
+    let meshes = read_shipped()?;
     let model = default_model(&meshes, &FitParams::DEFAULT)?;
     if let Some(r) = &model.figures {
         println!("{}", r.table());
     }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let out = root.join("assets/models/default.json");
     std::fs::create_dir_all(out.parent().unwrap_or(root))?;
     quadex::io::write_atomic(&out, model.to_json().as_bytes())?;

@@ -13,7 +13,7 @@ fn main() -> anyhow::Result<()> {
     let dir = std::env::args()
         .nth(1)
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/reference"));
+        .unwrap_or_else(quadex::reference::shipped_dir);
     std::fs::create_dir_all(&dir)?;
     println!(
         "{:<16} {:>6} {:>7} {:>7} {:>8} {:>6}",

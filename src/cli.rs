@@ -219,9 +219,7 @@ fn read_set(path: &Path) -> Result<TrainingSet> {
 
 /// Reads a quad mesh (.msh), the user's input.
 fn read_mesh(path: &Path) -> Result<quadex::QuadMesh> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InputError(anyhow!("{}: {e}", path.display())))?;
-    Ok(io::msh::read_msh(&text).map_err(|e| InputError(anyhow!("{}: {e}", path.display())))?)
+    Ok(io::read_mesh(path).map_err(|e| InputError(anyhow!("{}: {e}", path.display())))?)
 }
 
 fn is_mesh(path: &Path) -> bool {
@@ -335,10 +333,7 @@ fn run(c: Command) -> Result<()> {
             Ok(())
         }
         Command::Quality { mesh, boundary } => {
-            let text = std::fs::read_to_string(&mesh)
-                .map_err(|e| InputError(anyhow!("{}: {e}", mesh.display())))?;
-            let m = io::msh::read_msh(&text)
-                .map_err(|e| InputError(anyhow!("{}: {e}", mesh.display())))?;
+            let m = read_mesh(&mesh)?;
             if let Some(b) = boundary {
                 let bd = io::read_boundary(&b)
                     .map_err(|e| InputError(anyhow!("{}: {e}", b.display())))?;

@@ -10,11 +10,12 @@ use crate::extract::{mesh_boundary, MeshError, MeshParams};
 use crate::fit::{fit_model, FitError, FitParams};
 use crate::geom::Point;
 use crate::io::poly::parse_poly;
+use crate::io::read_mesh;
 use crate::mapped::{graded, map_grid, merge, Block};
 use crate::mesh::{InvariantError, QuadMesh};
 use crate::model::RulesModel;
 use crate::model::{Form, ModelFile};
-use crate::samples::{collect, CollectParams, TrainingSet};
+use crate::samples::{CollectParams, TrainingSet};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::Arc;
 use thiserror::Error;
@@ -35,6 +36,7 @@ pub enum ReferenceError {
         name: &'static str,
         source: MeshError,
     },
+    /// A boundary or mesh file that cannot be read.
     #[error("{name}: {msg}")]
     Boundary { name: &'static str, msg: String },
 }
@@ -192,21 +194,37 @@ pub const DEFAULT_MODEL_FORM: Form = Form::Quadratic;
 /// there (see the README).
 pub const DEFAULT_MODEL_TURN: [f64; 2] = [35.0, 300.0];
 
+/// The folder the reference meshes ship in.
+pub fn shipped_dir() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/reference")
+}
+
+/// The shipped reference meshes as `(file name, mesh)` pairs, read back
+/// from [`shipped_dir`] in the order of [`NAMES`].
+pub fn read_shipped() -> Result<Vec<(String, QuadMesh)>, ReferenceError> {
+    NAMES
+        .iter()
+        .map(|&name| {
+            let file = format!("{name}.msh");
+            read_mesh(&shipped_dir().join(&file))
+                .map(|m| (file, m))
+                .map_err(|e| ReferenceError::Boundary {
+                    name,
+                    msg: e.to_string(),
+                })
+        })
+        .collect()
+}
+
 /// The training set of the shipped default model from the reference meshes
-/// (`(file name, mesh)` pairs, as read back from `assets/reference/`):
-/// their 7-point samples with [`DEFAULT_MODEL_TURN`], duplicates dropped.
+/// (as [`read_shipped`] gives them): their 7-point samples with
+/// [`DEFAULT_MODEL_TURN`], duplicates dropped.
 pub fn default_training_set(meshes: &[(String, QuadMesh)]) -> TrainingSet {
-    let n = (DEFAULT_MODEL_POINTS - 1) / 2;
     let params = CollectParams {
         turn: DEFAULT_MODEL_TURN,
         ..CollectParams::DEFAULT
     };
-    let mut set = TrainingSet::new(DEFAULT_MODEL_POINTS);
-    for (name, m) in meshes {
-        set.samples.extend(collect(m, n, &params, name));
-    }
-    set.dedup();
-    set
+    TrainingSet::collect(meshes, DEFAULT_MODEL_POINTS, &params)
 }
 
 /// The shipped default model: [`default_training_set`] fitted in

@@ -354,6 +354,22 @@ impl TrainingSet {
         self.samples.is_empty()
     }
 
+    /// The samples of `meshes` (`(name, mesh)` pairs, the name going into
+    /// each sample's source) at `points` input points, duplicates dropped.
+    pub fn collect(
+        meshes: &[(String, QuadMesh)],
+        points: usize,
+        params: &CollectParams,
+    ) -> TrainingSet {
+        let mut set = TrainingSet::new(points);
+        for (name, m) in meshes {
+            set.samples
+                .extend(collect(m, (points - 1) / 2, params, name));
+        }
+        set.dedup();
+        set
+    }
+
     /// Appends one sample of the same input-point count.
     pub fn push(&mut self, s: Sample) -> Result<(), SamplesError> {
         if 2 * s.n() + 1 != self.points {

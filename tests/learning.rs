@@ -3,28 +3,17 @@
 
 use quadex::extract::{mesh_boundary, MeshParams, Mesher, StepOutcome};
 use quadex::fit::{fit_model, FitParams};
-use quadex::io::msh::{read_msh, write_msh41};
+use quadex::io::msh::write_msh41;
 use quadex::model::fitted::Coefficients;
 use quadex::model::{self, ElementType, Form, Model, ModelFile};
-use quadex::reference::{self, NAMES};
+use quadex::reference;
 use quadex::samples::{collect, CollectParams, Source, TrainingSet};
 use quadex::{Point, QuadMesh};
 use std::path::PathBuf;
 use std::sync::Arc;
 
-fn assets() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets")
-}
-
 fn shipped_reference() -> Vec<(String, QuadMesh)> {
-    NAMES
-        .iter()
-        .map(|n| {
-            let file = format!("{n}.msh");
-            let text = std::fs::read_to_string(assets().join("reference").join(&file)).unwrap();
-            (file, read_msh(&text).unwrap())
-        })
-        .collect()
+    reference::read_shipped().unwrap()
 }
 
 #[test]
@@ -32,8 +21,7 @@ fn shipped_reference_meshes_are_what_the_generator_makes() {
     for (name, mesh) in reference::all().unwrap() {
         mesh.check_finished().unwrap();
         let shipped =
-            std::fs::read_to_string(assets().join("reference").join(format!("{name}.msh")))
-                .unwrap();
+            std::fs::read_to_string(reference::shipped_dir().join(format!("{name}.msh"))).unwrap();
         assert_eq!(
             write_msh41(&mesh),
             shipped,
@@ -140,12 +128,7 @@ fn samples_of_a_hand_checked_mesh() {
 #[test]
 fn model_file_round_trip_and_checks() {
     let meshes = shipped_reference();
-    let mut set = TrainingSet::new(5);
-    for (name, m) in &meshes[..2] {
-        set.samples
-            .extend(collect(m, 2, &CollectParams::DEFAULT, name));
-    }
-    set.dedup();
+    let set = TrainingSet::collect(&meshes[..2], 5, &CollectParams::DEFAULT);
     let params = FitParams {
         folds: 3,
         ..FitParams::DEFAULT
@@ -210,12 +193,7 @@ fn the_shipped_default_model_is_the_refit_of_the_reference_meshes() {
 #[test]
 fn the_richer_form_reaches_the_fit_targets_on_reference_samples() {
     // Issue target: held-out R ≥ 0.95 for Xn and Yn, type accuracy ≥ 95 %.
-    let mut set = TrainingSet::new(7);
-    for (name, m) in &shipped_reference() {
-        set.samples
-            .extend(collect(m, 3, &CollectParams::DEFAULT, name));
-    }
-    set.dedup();
+    let set = TrainingSet::collect(&shipped_reference(), 7, &CollectParams::DEFAULT);
     let (_, reports) = fit_model(&set, Some(Form::Quadratic), "q", &FitParams::DEFAULT).unwrap();
     let r = &reports[0];
     assert!(r.xn.holdout.r >= 0.95, "{}", r.table());
@@ -309,7 +287,7 @@ fn cli_samples_fit_mesh_and_factors() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         String::from_utf8_lossy(&o.stdout).into_owned()
     };
-    let refs = assets().join("reference");
+    let refs = reference::shipped_dir();
     let (a, b) = (refs.join("lshape.msh"), refs.join("skewed_quad.msh"));
     let csv = out("s.csv");
     let text = run(&[
@@ -364,7 +342,7 @@ fn cli_samples_fit_mesh_and_factors() {
         "--model".as_ref(),
         model_file.as_os_str(),
     ]);
-    read_msh(&std::fs::read_to_string(&msh).unwrap())
+    quadex::io::read_mesh(&msh)
         .unwrap()
         .check_finished()
         .unwrap();

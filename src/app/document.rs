@@ -230,22 +230,12 @@ impl Document {
     fn base_set(&mut self) -> Result<&TrainingSet, String> {
         let points = self.training.points;
         if self.base.as_ref().is_none_or(|b| b.points != points) {
-            let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/reference");
-            let mut set = TrainingSet::new(points);
-            for name in crate::reference::NAMES {
-                let file = format!("{name}.msh");
-                let text = std::fs::read_to_string(dir.join(&file))
-                    .map_err(|e| format!("{}: {e}", dir.join(&file).display()))?;
-                let m = io::msh::read_msh(&text).map_err(|e| format!("{file}: {e}"))?;
-                set.samples.extend(crate::samples::collect(
-                    &m,
-                    (points - 1) / 2,
-                    &CollectParams::DEFAULT,
-                    &file,
-                ));
-            }
-            set.dedup();
-            self.base = Some(set);
+            let meshes = crate::reference::read_shipped().map_err(|e| e.to_string())?;
+            self.base = Some(TrainingSet::collect(
+                &meshes,
+                points,
+                &CollectParams::DEFAULT,
+            ));
         }
         self.base
             .as_ref()

@@ -170,6 +170,12 @@ pub fn read_boundary(path: &Path) -> Result<Boundary, ReadError> {
     }
 }
 
+/// Reads a quad mesh file (Gmsh MSH 2.2 or 4.1 ASCII).
+pub fn read_mesh(path: &Path) -> Result<QuadMesh, ReadError> {
+    let bytes = std::fs::read(path)?;
+    msh::read_msh(&String::from_utf8_lossy(&bytes))
+}
+
 /// Formats a float so that it reads back to the same value (shortest
 /// round-trip representation), the same on every platform.
 pub(crate) fn fmt_f64(out: &mut String, v: f64) {
