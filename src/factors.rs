@@ -93,17 +93,12 @@ pub fn factors(set: &TrainingSet) -> Result<Factors, FitError> {
             needed: 2 * k + 1,
         });
     }
-    let x = DMatrix::from_fn(m, 2 * k + 1, |r, c| {
-        if c == 0 {
-            return 1.0;
-        }
-        let p = variable_points(&set.samples[r].input)[(c - 1) / 2];
-        if c % 2 == 1 {
-            p.x
-        } else {
-            p.y
-        }
-    });
+    let mut rows = Vec::with_capacity(m * (2 * k + 1));
+    for s in &set.samples {
+        rows.push(1.0);
+        rows.extend(variable_points(&s.input).iter().flat_map(|p| [p.x, p.y]));
+    }
+    let x = DMatrix::from_row_slice(m, 2 * k + 1, &rows);
     let weights = |y: DVector<f64>, what| -> Result<Vec<f64>, FitError> {
         let w = lstsq(&x, &y, what)?;
         let raw: Vec<f64> = (0..k)

@@ -4,7 +4,7 @@
 //! check, run by the tests after every extraction step.
 
 use crate::boundary::Boundary;
-use crate::geom::{is_measurably_convex, orient, polygon_area, Point};
+use crate::geom::{orient, polygon_area, turns_left, Point};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use thiserror::Error;
@@ -193,16 +193,13 @@ impl QuadMesh {
 
     /// The checks of a finished mesh: [`QuadMesh::check_invariants`] with
     /// `complete`, and no corner flat to rounding
-    /// ([`crate::geom::is_measurably_convex`]), which any floating-point
+    /// ([`crate::geom::turns_left`]), which any floating-point
     /// reader would see as degenerate.
     pub fn check_finished(&self) -> Result<(), InvariantError> {
         self.check_invariants(true)?;
         for (k, q) in self.quads.iter().enumerate() {
-            if !is_measurably_convex(self.corners(q)) {
-                let p = self.corners(q);
-                let i = (0..4)
-                    .find(|&i| !crate::geom::turns_left(p[(i + 3) % 4], p[i], p[(i + 1) % 4]))
-                    .unwrap_or(0);
+            let p = self.corners(q);
+            if let Some(i) = (0..4).find(|&i| !turns_left(p[(i + 3) % 4], p[i], p[(i + 1) % 4])) {
                 return Err(InvariantError::FlatCorner {
                     quad: k,
                     node: q[i],

@@ -598,11 +598,11 @@ fn is_json(path: &std::path::Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("json"))
 }
 
-/// Shortest decimal that reads back to the same f64.
+/// Shortest decimal that reads back to the same f64 (the mesh writers').
 fn fmt(v: f64) -> String {
-    // `{}` on f64 prints the shortest round-trip representation.
-    let v = if v == 0.0 { 0.0 } else { v };
-    format!("{v}")
+    let mut s = String::new();
+    crate::io::fmt_f64(&mut s, v);
+    s
 }
 
 #[cfg(test)]

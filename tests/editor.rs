@@ -135,10 +135,11 @@ fn correct_append_refit_and_finish() {
     assert_eq!(last.kind, quadex::extract::StepKind::Element);
     // Move the new node a little towards P0 and commit that instead.
     let m = h.state().doc.mesher.mesh().clone();
-    let q = last.quads[0];
     let p0 = last.reference.unwrap();
-    let k = q.iter().position(|&v| v == p0).unwrap();
-    let (pn, at_p0) = (m.nodes[q[(k + 2) % 4] as usize], m.nodes[p0 as usize]);
+    let (pn, at_p0) = (
+        m.nodes[last.pn_node().unwrap() as usize],
+        m.nodes[p0 as usize],
+    );
     let moved = pn + (at_p0 - pn) * 0.05;
     h.state_mut().apply(Command::CorrectLast {
         element_type: quadex::ElementType::New,

@@ -100,15 +100,11 @@ pub fn domain_triangles(b: &Boundary) -> Vec<[Point; 3]> {
         .collect()
 }
 
-/// Colour of a scaled Jacobian: red at 0, yellow at 0.5, green at 1.
+/// Colour of a scaled Jacobian, on the scale of the SVG export (red at 0,
+/// yellow at 0.5, green at 1).
 pub fn quality_color(sj: f64) -> Color32 {
-    let t = sj.clamp(0.0, 1.0) as f32;
-    let (r, g) = if t < 0.5 {
-        (1.0, 2.0 * t)
-    } else {
-        (2.0 - 2.0 * t, 1.0)
-    };
-    Color32::from_rgb((r * 200.0) as u8, (g * 180.0) as u8, 60)
+    let [r, g, b] = crate::io::svg::quality_colour(sj);
+    Color32::from_rgb(r, g, b)
 }
 
 /// Adds the segment `a–b` to `mesh` as a thin quad of `width` pixels.

@@ -52,11 +52,8 @@ impl TrainPanel {
                 if self.filled_from != Some(r.index) {
                     self.filled_from = Some(r.index);
                     self.element_type = r.element_type.unwrap_or(ElementType::New);
-                    if let Some(q) = r.quads.first() {
-                        if let Some(k) = r.reference.and_then(|p0| q.iter().position(|&v| v == p0))
-                        {
-                            self.pn = doc.mesher.mesh().nodes[q[(k + 2) % 4] as usize];
-                        }
+                    if let Some(v) = r.pn_node() {
+                        self.pn = doc.mesher.mesh().nodes[v as usize];
                     }
                 }
                 ui.horizontal(|ui| {

@@ -212,6 +212,17 @@ pub struct StepReport {
     pub rejected: usize,
 }
 
+impl StepReport {
+    /// The element's Pn as a node: the corner of its (first) quad opposite
+    /// the reference point; for types 1 and 2 that is P_r2 or P_l2.
+    pub fn pn_node(&self) -> Option<u32> {
+        let p0 = self.reference?;
+        let q = self.quads.first()?;
+        let k = q.iter().position(|&v| v == p0)?;
+        Some(q[(k + 2) % 4])
+    }
+}
+
 /// Step counts by kind, type and remedy.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct StepStats {
@@ -992,7 +1003,6 @@ impl Mesher {
         })
     }
 
-    /// True when some slot of the loop is a reference point or sharp corner.
     /// When extraction has led the front into a state no fill can take, the
     /// run goes back to an earlier step (3/4, 1/2, 1/4 of the way, then the
     /// start) and fills the region left there. The history then holds the
@@ -1062,6 +1072,7 @@ impl Mesher {
         Some(r)
     }
 
+    /// True when some slot of the loop is a reference point or sharp corner.
     fn loop_has_reference(&self, lid: u32) -> bool {
         let hi = self.params.reference_angle[1].to_radians();
         self.front
@@ -1767,8 +1778,7 @@ impl Mesher {
         let t = r.element_type?;
         let n = r.leading.len() / 2;
         let p0 = *r.leading.get(n)?;
-        let quad = r.quads.first()?;
-        let k = quad.iter().position(|&v| v == p0)?;
+        let pn = r.pn_node()?;
         let pos = |v: u32| self.mesh.nodes.get(v as usize).copied();
         let left: Option<Vec<Point>> = (1..=n).map(|i| pos(r.leading[n - i])).collect();
         let right: Option<Vec<Point>> = (1..=n).map(|i| pos(r.leading[n + i])).collect();
@@ -1777,7 +1787,7 @@ impl Mesher {
             pos(p0)?,
             &right?,
             t,
-            pos(quad[(k + 2) % 4])?,
+            pos(pn)?,
             crate::samples::Source::Correction,
         )
     }

@@ -136,18 +136,27 @@ pub fn fit_coefficients(
     }
 }
 
-/// Predictions of `coef` on `data`: type value, type, Pn.
-fn predict_all(coef: &Coefficients, data: &Data) -> (Vec<f64>, Vec<u8>, Vec<Point>) {
+/// Predictions on `data` by `f` (type value and prediction): type value,
+/// type, Pn.
+fn predictions(
+    data: &Data,
+    f: impl Fn(&LeadingPoints) -> (f64, crate::model::Prediction),
+) -> (Vec<f64>, Vec<u8>, Vec<Point>) {
     let mut value = Vec::with_capacity(data.len());
     let mut types = Vec::with_capacity(data.len());
     let mut pn = Vec::with_capacity(data.len());
     for lp in &data.inputs {
-        let p = coef.predict(lp);
-        value.push(coef.type_value(lp));
+        let (v, p) = f(lp);
+        value.push(v);
         types.push(p.element_type.number());
         pn.push(p.pn);
     }
     (value, types, pn)
+}
+
+/// Predictions of `coef` on `data`: type value, type, Pn.
+fn predict_all(coef: &Coefficients, data: &Data) -> (Vec<f64>, Vec<u8>, Vec<Point>) {
+    predictions(data, |lp| coef.predict_with_value(lp))
 }
 
 /// The figures of predictions against the samples.
@@ -276,15 +285,10 @@ pub fn evaluate(
     set: &TrainingSet,
 ) -> Result<(TypeFigures, Figures, Figures), FitError> {
     let data = Data::of(set)?;
-    let mut value = Vec::with_capacity(data.len());
-    let mut types = Vec::with_capacity(data.len());
-    let mut pn = Vec::with_capacity(data.len());
-    for lp in &data.inputs {
+    let (value, types, pn) = predictions(&data, |lp| {
         let p = model.predict(lp);
-        value.push(p.element_type.number() as f64);
-        types.push(p.element_type.number());
-        pn.push(p.pn);
-    }
+        (p.element_type.number() as f64, p)
+    });
     Ok(figures(&data, &value, &types, &pn))
 }
 

@@ -130,11 +130,18 @@ impl ThesisForm {
         Point::new(dot(&self.xn, &f), dot(&self.yn, &f))
     }
 
-    pub fn predict(&self, lp: &LeadingPoints) -> Prediction {
-        Prediction {
-            element_type: type_of_score(self.type_score(lp)),
+    /// The prediction and the type score P it came from.
+    pub fn predict_with_score(&self, lp: &LeadingPoints) -> (f64, Prediction) {
+        let p = self.type_score(lp);
+        let pred = Prediction {
+            element_type: type_of_score(p),
             pn: self.position(lp),
-        }
+        };
+        (p, pred)
+    }
+
+    pub fn predict(&self, lp: &LeadingPoints) -> Prediction {
+        self.predict_with_score(lp).1
     }
 }
 
@@ -256,14 +263,15 @@ impl Coefficients {
         }
     }
 
-    /// The raw type output used for the fit figures: the thesis's score P,
-    /// or the expected type number under the classifier's probabilities.
-    pub fn type_value(&self, lp: &LeadingPoints) -> f64 {
+    /// The prediction with the raw type output the fit figures use: the
+    /// thesis's score P, or the expected type number under the classifier's
+    /// probabilities (each computed once).
+    pub fn predict_with_value(&self, lp: &LeadingPoints) -> (f64, Prediction) {
         match self {
-            Coefficients::Thesis(t) => t.type_score(lp),
+            Coefficients::Thesis(t) => t.predict_with_score(lp),
             Coefficients::Quadratic(q) => {
-                let p = q.probabilities(&q.features(lp));
-                p[1] + 2.0 * p[2]
+                let (element_type, p, pn) = q.predict_features(&q.features(lp));
+                (p[1] + 2.0 * p[2], Prediction { element_type, pn })
             }
         }
     }
