@@ -5,27 +5,36 @@
 //! thesis Figure 20) and leaves a front that can no longer be reduced to a
 //! failure. quadex instead fills the remaining region with a construction
 //! that keeps every front node and edge and needs only an even node count per
-//! loop, which element extraction preserves:
+//! loop, which element extraction preserves. Loops that are all
+//! counter-clockwise bound regions of their own and are filled one by one.
 //!
-//! 1. **Ring.** Every front node `p_i` gets an inner node `q_i` on the
-//!    bisector of its front angle. The radial edge `p_i q_i` is split by a
-//!    node `r_i` at every second node, so each cell `p_i p_{i+1} q_{i+1} q_i`
-//!    has six sides (its inner side gets a node `m_i` in step 3) and is cut
-//!    into two quads. The parity works because every loop has an even
-//!    number of nodes.
-//! 2. **Triangulation.** The inner loops `q` are the constraints of a
-//!    constrained Delaunay triangulation (spade), refined inside with a
-//!    25° angle limit and a size taken from the front edges.
-//! 3. **Split.** Every triangle becomes three quads through its centroid and
-//!    edge midpoints. On an inner-loop edge the midpoint is `m_i`, moved a
-//!    little towards the triangle's centroid so that the ring quad beside it
-//!    stays strictly convex.
+//! **Quadrangulation** (shared by both constructions below). A constrained
+//! Delaunay triangulation (spade) of the region, refined inside with a 25°
+//! angle limit and a size taken from the front edges. Neighbouring triangles
+//! are paired into quads, best pair first, where the pair's scaled Jacobian
+//! is at least [`MIN_PAIR_SJ`]; every cell (pair or lone triangle) is then
+//! cut into quads through its centre and edge midpoints (a quad into four,
+//! a triangle into three), so the result is all-quad whatever the pairing.
 //!
-//! The ring height is tried at decreasing scales until every new quad is
-//! strictly convex and no edge crosses another; the result is then a valid
-//! tiling of the region by construction (the new quads are all positively
-//! oriented and their boundary is the front). Smoothing afterwards evens the
-//! element sizes out.
+//! 1. **Direct.** Every second front node (both parities are tried, the one
+//!    with the better worst quad wins) makes a coarse loop whose edges skip
+//!    one front node each. The coarse region is quadrangulated, and each
+//!    coarse edge takes its skipped front node as the midpoint, so the quads
+//!    meet the front edge for edge.
+//! 2. **Ring** (when no direct fill is valid). Every front node `p_i` gets
+//!    an inner node `q_i` on the bisector of its front angle. The radial edge
+//!    `p_i q_i` is split by a node `r_i` at every second node, so each cell
+//!    `p_i p_{i+1} q_{i+1} q_i` has six sides (its inner side gets a node
+//!    `m_i`) and is cut into two quads. The inner loops `q` are
+//!    quadrangulated; on an inner-loop edge the midpoint is `m_i`, moved a
+//!    little towards the cell's centre so that the ring quad beside it stays
+//!    strictly convex. The ring height is tried at decreasing scales.
+//!
+//! A fill is accepted only when every new quad is measurably convex and
+//! every front edge is the side of one quad and every other side of two; the
+//! result is then a valid tiling of the region (the new quads are all
+//! positively oriented and their boundary is the front). Smoothing
+//! afterwards evens the element sizes out.
 
 use std::collections::BTreeMap;
 
@@ -43,6 +52,23 @@ pub struct RegionFill {
     pub first_new: u32,
     pub points: Vec<Point>,
     pub quads: Vec<[u32; 4]>,
+}
+
+impl RegionFill {
+    /// The smallest scaled Jacobian of the fill's quads.
+    pub fn min_scaled_jacobian(&self, nodes: &[Point]) -> f64 {
+        let at = |v: u32| {
+            if v < self.first_new {
+                nodes[v as usize]
+            } else {
+                self.points[(v - self.first_new) as usize]
+            }
+        };
+        self.quads
+            .iter()
+            .map(|q| crate::quality::QuadQuality::of(q.map(at)).scaled_jacobian)
+            .fold(f64::INFINITY, f64::min)
+    }
 }
 
 /// Why a region could not be filled.
@@ -67,6 +93,10 @@ pub enum FillError {
 /// sum over absolute coordinates still sees it positive).
 const MIN_AREA: f64 = 1e-7;
 
+/// Two triangles of the region's triangulation become one cell (split into
+/// four quads) when the quad they form has at least this scaled Jacobian.
+const MIN_PAIR_SJ: f64 = 0.5;
+
 /// Ring heights tried, as fractions of the room at a node: its shorter
 /// front edge (longer where the front angle is sharp) or its distance to the
 /// nearest other front edge, whichever is less.
@@ -87,6 +117,29 @@ pub fn fill_region(loops: &[Vec<u32>], nodes: &[Point]) -> Result<RegionFill, Fi
             len: l.len(),
         });
     }
+    let area = |l: &Vec<u32>| crate::geom::polygon_area(l.iter().map(|&v| nodes[v as usize]));
+    if loops.len() > 1 && loops.iter().all(|l| area(l) > 0.0) {
+        // No loop is a hole, so each bounds a region of its own.
+        let mut all = nodes.to_vec();
+        let mut quads = Vec::new();
+        for l in loops {
+            let f = fill_one(std::slice::from_ref(l), &all)?;
+            all.extend_from_slice(&f.points);
+            quads.extend(f.quads);
+        }
+        return Ok(RegionFill {
+            first_new: nodes.len() as u32,
+            points: all.split_off(nodes.len()),
+            quads,
+        });
+    }
+    fill_one(loops, nodes)
+}
+
+/// [`fill_region`] on one region: the direct quadrangulation when one of
+/// its two parities gives valid quads (the one with the better worst quad),
+/// else the ring.
+fn fill_one(loops: &[Vec<u32>], nodes: &[Point]) -> Result<RegionFill, FillError> {
     let mut edge_sum = 0.0;
     let mut edge_count = 0usize;
     for l in loops {
@@ -105,8 +158,25 @@ pub fn fill_region(loops: &[Vec<u32>], nodes: &[Point]) -> Result<RegionFill, Fi
         .map(|&v| nodes[v as usize].abs().max_element())
         .fold(0.0, f64::max);
     let min_area = (MIN_AREA * size * size).max(1e-12 * reach * reach);
-    let clear = clearances(loops, nodes);
     let mut last = FillError::NoSize;
+    {
+        let mut best: Option<(f64, RegionFill)> = None;
+        for parity in [0, 1] {
+            match try_direct(loops, nodes, parity, size, min_area) {
+                Ok(f) => {
+                    let worst = f.min_scaled_jacobian(nodes);
+                    if best.as_ref().is_none_or(|(w, _)| worst > *w) {
+                        best = Some((worst, f));
+                    }
+                }
+                Err(e) => last = e,
+            }
+        }
+        if let Some((_, f)) = best {
+            return Ok(f);
+        }
+    }
+    let clear = clearances(loops, nodes);
     for refine in [true, false] {
         for scale in RING_SCALES {
             match try_fill(loops, nodes, &clear, scale, size, min_area, refine) {
@@ -182,11 +252,151 @@ fn try_fill(
         inner.push(q);
         radial.push(r);
     }
-    // 2. Constrained triangulation of the inner loops.
+    // 2.–4. The inner loops quadrangulated; the midpoint of an inner-loop
+    // edge is a new node moved a little towards its cell's centre, so that
+    // the ring quad beside it stays strictly convex.
+    let mut mids: Vec<Vec<Option<u32>>> = inner.iter().map(|q| vec![None; q.len()]).collect();
+    let mut index: BTreeMap<(u32, u32), (usize, usize)> = BTreeMap::new();
+    for (li, q) in inner.iter().enumerate() {
+        for k in 0..q.len() {
+            index.insert((q[k], q[(k + 1) % q.len()]), (li, k));
+        }
+    }
+    quadrangulate(&inner, nodes, &mut b, size, refine, |b, u, w, m, g| {
+        let &(li, ki) = index.get(&(u, w))?;
+        let id = b.add(m + 0.15 * (g - m));
+        mids[li][ki] = Some(id);
+        Some(id)
+    })?;
+    // Ring quads, two per front edge.
+    for (li, l) in loops.iter().enumerate() {
+        let n = l.len();
+        for i in 0..n {
+            let j = (i + 1) % n;
+            let m = mids[li][i].ok_or(FillError::Unbordered { node: l[i] })?;
+            let (q, r) = (&inner[li], &radial[li]);
+            if let Some(rj) = r[j] {
+                b.quads.push([l[i], l[j], rj, q[i]]);
+                b.quads.push([q[i], rj, q[j], m]);
+            } else {
+                let ri = r[i].ok_or(FillError::Unbordered { node: l[i] })?;
+                b.quads.push([l[i], l[j], q[j], ri]);
+                b.quads.push([ri, q[j], m, q[i]]);
+            }
+        }
+    }
+    check_quads(&b, nodes, min_area)?;
+    if !ring_is_clear(loops, &inner, nodes, &b) {
+        return Err(FillError::RingCrossing);
+    }
+    Ok(RegionFill {
+        first_new: b.first_new,
+        points: b.points,
+        quads: b.quads,
+    })
+}
+
+/// Fills the region bounded by `loops` with a direct quadrangulation: the
+/// loops' even-indexed nodes (or odd, by `parity`) make coarse loops whose
+/// edges skip one node each; the coarse region is quadrangulated and each
+/// coarse edge takes the skipped front node as its midpoint, so the quads
+/// meet the front edge for edge with no ring between.
+fn try_direct(
+    loops: &[Vec<u32>],
+    nodes: &[Point],
+    parity: usize,
+    size: f64,
+    min_area: f64,
+) -> Result<RegionFill, FillError> {
+    let mut b = Builder {
+        first_new: nodes.len() as u32,
+        points: Vec::new(),
+        quads: Vec::new(),
+    };
+    let mut coarse: Vec<Vec<u32>> = Vec::with_capacity(loops.len());
+    let mut skipped: BTreeMap<(u32, u32), u32> = BTreeMap::new();
+    for l in loops {
+        let n = l.len();
+        if n == 4 {
+            // A loop of four nodes is one quad (a hole of four is refused
+            // by the check below, being clockwise).
+            b.quads.push([l[0], l[1], l[2], l[3]]);
+            continue;
+        }
+        let c: Vec<u32> = (0..n / 2).map(|k| l[(2 * k + parity) % n]).collect();
+        for k in 0..n / 2 {
+            let i = 2 * k + parity;
+            skipped.insert((l[i % n], l[(i + 2) % n]), l[(i + 1) % n]);
+        }
+        coarse.push(c);
+    }
+    quadrangulate(&coarse, nodes, &mut b, size, true, |_, u, w, _, _| {
+        skipped.get(&(u, w)).copied()
+    })?;
+    check_quads(&b, nodes, min_area)?;
+    check_edges(loops, &b.quads)?;
+    Ok(RegionFill {
+        first_new: b.first_new,
+        points: b.points,
+        quads: b.quads,
+    })
+}
+
+/// The quads' sides: each loop edge once in its direction, every other
+/// side once in each direction.
+fn check_edges(loops: &[Vec<u32>], quads: &[[u32; 4]]) -> Result<(), FillError> {
+    let mut count: BTreeMap<(u32, u32), i32> = BTreeMap::new();
+    for q in quads {
+        for k in 0..4 {
+            *count.entry((q[k], q[(k + 1) % 4])).or_default() += 1;
+        }
+    }
+    for l in loops {
+        for k in 0..l.len() {
+            *count.entry((l[k], l[(k + 1) % l.len()])).or_default() -= 1;
+        }
+    }
+    for (&(u, w), &c) in &count {
+        let back = count.get(&(w, u)).copied().unwrap_or(0);
+        if c != 0 && (c != 1 || back != 1) {
+            return Err(FillError::Unbordered { node: u });
+        }
+    }
+    Ok(())
+}
+
+/// Measurably convex, and not so thin that its area is lost to rounding when
+/// computed from absolute coordinates (as other tools do).
+fn check_quads(b: &Builder, nodes: &[Point], min_area: f64) -> Result<(), FillError> {
+    for quad in &b.quads {
+        let p = quad.map(|v| b.at(v, nodes));
+        if !crate::geom::is_measurably_convex(p) || crate::geom::polygon_area(p) < min_area {
+            return Err(FillError::NotConvex { node: quad[0] });
+        }
+    }
+    Ok(())
+}
+
+/// Quadrangulates the region bounded by `loops` (ids in `nodes` or new in
+/// `b`): a constrained Delaunay triangulation (spade), refined inside with a
+/// 25° angle limit and triangles of about `size` squared (`refine`), whose
+/// triangles are paired into quads where the pair makes a good one; then
+/// every cell (pair or lone triangle) is cut into quads through its centre
+/// and edge midpoints. The midpoint of a loop edge `(u, w)` comes from
+/// `loop_mid(b, u, w, midpoint, centre)`, which must give one for every loop
+/// edge.
+fn quadrangulate(
+    loops: &[Vec<u32>],
+    nodes: &[Point],
+    b: &mut Builder,
+    size: f64,
+    refine: bool,
+    mut loop_mid: impl FnMut(&mut Builder, u32, u32, Point, Point) -> Option<u32>,
+) -> Result<(), FillError> {
     let mut vertices: Vec<Point2<f64>> = Vec::new();
     let mut edges: Vec<[usize; 2]> = Vec::new();
     let mut vertex_node: Vec<u32> = Vec::new();
-    for q in &inner {
+    for q in loops {
         let base = vertices.len();
         for (k, &v) in q.iter().enumerate() {
             let p = b.at(v, nodes);
@@ -220,32 +430,83 @@ fn try_fill(
         let p = v.position();
         vertex_node.push(b.add(Point::new(p.x, p.y)));
     }
-    // Which inner-loop edge (a, b) is which m_i: keyed by the directed pair.
-    let mut inner_edge: BTreeMap<(u32, u32), (usize, usize)> = BTreeMap::new();
-    for (li, q) in inner.iter().enumerate() {
+    let mut is_loop_edge: std::collections::BTreeSet<(u32, u32)> = Default::default();
+    for q in loops {
         for k in 0..q.len() {
-            inner_edge.insert((q[k], q[(k + 1) % q.len()]), (li, k));
+            is_loop_edge.insert((q[k], q[(k + 1) % q.len()]));
         }
     }
-    let mut mids: Vec<Vec<Option<u32>>> = inner.iter().map(|q| vec![None; q.len()]).collect();
-    let mut shared: BTreeMap<(u32, u32), u32> = BTreeMap::new();
-    // 3. Triangles into quads.
-    for face in cdt.inner_faces() {
-        if outer.contains(&face.fix().index()) {
+    // Triangles paired into quads where the pair makes a good one.
+    let inside =
+        |f: spade::handles::FaceHandle<'_, spade::handles::PossiblyOuterTag, _, _, _, _>| {
+            f.as_inner()
+                .map(|f| f.fix().index())
+                .filter(|i| !outer.contains(i))
+        };
+    // (scaled Jacobian, diagonal as a sort key, the two faces, the quad)
+    type Pair = (f64, [u32; 2], [usize; 2], [u32; 4]);
+    let mut pairs: Vec<Pair> = Vec::new();
+    for e in cdt.undirected_edges() {
+        if cdt.is_constraint_edge(e.fix()) {
             continue;
         }
-        let t = face.vertices().map(|v| vertex_node[v.fix().index()]);
-        let tp = t.map(|v| b.at(v, nodes));
-        let g = (tp[0] + tp[1] + tp[2]) / 3.0;
+        let d = e.as_directed();
+        let (Some(left), Some(right)) = (inside(d.face()), inside(d.rev().face())) else {
+            continue;
+        };
+        let (Some(c), Some(o)) = (d.opposite_vertex(), d.rev().opposite_vertex()) else {
+            continue;
+        };
+        let node = |v: spade::handles::FixedVertexHandle| vertex_node[v.index()];
+        let quad = [
+            node(d.from().fix()),
+            node(o.fix()),
+            node(d.to().fix()),
+            node(c.fix()),
+        ];
+        let p = quad.map(|v| b.at(v, nodes));
+        if !is_strictly_convex(p) {
+            continue;
+        }
+        let sj = crate::quality::QuadQuality::of(p).scaled_jacobian;
+        if sj >= MIN_PAIR_SJ {
+            let key = [quad[0].min(quad[2]), quad[0].max(quad[2])];
+            pairs.push((sj, key, [left, right], quad));
+        }
+    }
+    pairs.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    let mut paired: std::collections::BTreeSet<usize> = std::collections::BTreeSet::new();
+    let mut cells: Vec<Vec<u32>> = Vec::new();
+    for (_, _, [f, g], quad) in pairs {
+        if !paired.contains(&f) && !paired.contains(&g) {
+            paired.insert(f);
+            paired.insert(g);
+            cells.push(quad.to_vec());
+        }
+    }
+    for face in cdt.inner_faces() {
+        let i = face.fix().index();
+        if !outer.contains(&i) && !paired.contains(&i) {
+            cells.push(
+                face.vertices()
+                    .map(|v| vertex_node[v.fix().index()])
+                    .to_vec(),
+            );
+        }
+    }
+    // Every cell into quads through its centre and edge midpoints.
+    let mut shared: BTreeMap<(u32, u32), u32> = BTreeMap::new();
+    for t in &cells {
+        let n = t.len();
+        let tp: Vec<Point> = t.iter().map(|&v| b.at(v, nodes)).collect();
+        let g = tp.iter().copied().sum::<Point>() / n as f64;
         let gi = b.add(g);
-        let mut mid = [0u32; 3];
-        for k in 0..3 {
-            let (u, w) = (t[k], t[(k + 1) % 3]);
-            let m = 0.5 * (tp[k] + tp[(k + 1) % 3]);
-            mid[k] = if let Some(&(li, ki)) = inner_edge.get(&(u, w)) {
-                let id = b.add(m + 0.15 * (g - m));
-                mids[li][ki] = Some(id);
-                id
+        let mut mid = Vec::with_capacity(n);
+        for k in 0..n {
+            let (u, w) = (t[k], t[(k + 1) % n]);
+            let m = 0.5 * (tp[k] + tp[(k + 1) % n]);
+            let id = if is_loop_edge.contains(&(u, w)) {
+                loop_mid(b, u, w, m, g).ok_or(FillError::Unbordered { node: u })?
             } else {
                 let key = (u.min(w), u.max(w));
                 match shared.get(&key) {
@@ -257,44 +518,13 @@ fn try_fill(
                     }
                 }
             };
+            mid.push(id);
         }
-        for k in 0..3 {
-            b.quads.push([t[k], mid[k], gi, mid[(k + 2) % 3]]);
-        }
-    }
-    // Ring quads, two per front edge.
-    for (li, l) in loops.iter().enumerate() {
-        let n = l.len();
-        for i in 0..n {
-            let j = (i + 1) % n;
-            let m = mids[li][i].ok_or(FillError::Unbordered { node: l[i] })?;
-            let (q, r) = (&inner[li], &radial[li]);
-            if let Some(rj) = r[j] {
-                b.quads.push([l[i], l[j], rj, q[i]]);
-                b.quads.push([q[i], rj, q[j], m]);
-            } else {
-                let ri = r[i].ok_or(FillError::Unbordered { node: l[i] })?;
-                b.quads.push([l[i], l[j], q[j], ri]);
-                b.quads.push([ri, q[j], m, q[i]]);
-            }
+        for k in 0..n {
+            b.quads.push([t[k], mid[k], gi, mid[(k + n - 1) % n]]);
         }
     }
-    // Strictly convex, and not so thin that its area is lost to rounding
-    // when computed from absolute coordinates (as other tools do).
-    for quad in &b.quads {
-        let p = quad.map(|v| b.at(v, nodes));
-        if !is_strictly_convex(p) || crate::geom::polygon_area(p) < min_area {
-            return Err(FillError::NotConvex { node: quad[0] });
-        }
-    }
-    if !ring_is_clear(loops, &inner, nodes, &b) {
-        return Err(FillError::RingCrossing);
-    }
-    Ok(RegionFill {
-        first_new: b.first_new,
-        points: b.points,
-        quads: b.quads,
-    })
+    Ok(())
 }
 
 /// The segments between the node pairs `ends` (positions from `at`), and
@@ -452,6 +682,55 @@ mod tests {
             Point::new(3.5, 1.0),
         ];
         check(&[(0..8).collect(), vec![8, 9, 10, 11]], &nodes);
+    }
+
+    #[test]
+    fn fills_a_circle_directly_with_good_quads() {
+        // A circle of 40 front nodes: the direct fill keeps every quad well
+        // shaped and pairs most triangles.
+        let nodes: Vec<Point> = (0..40)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / 40.0;
+                Point::new(t.cos(), t.sin())
+            })
+            .collect();
+        let f = check(&[(0..40).collect()], &nodes);
+        let all: Vec<Point> = nodes.iter().chain(&f.points).copied().collect();
+        let sj: Vec<f64> = f
+            .quads
+            .iter()
+            .map(|q| crate::quality::QuadQuality::of(q.map(|v| all[v as usize])).scaled_jacobian)
+            .collect();
+        let worst = sj.iter().copied().fold(f64::INFINITY, f64::min);
+        let mean = sj.iter().sum::<f64>() / sj.len() as f64;
+        assert!(worst > 0.3, "worst scaled Jacobian {worst}");
+        assert!(mean > 0.75, "mean scaled Jacobian {mean}");
+        assert_eq!(f.min_scaled_jacobian(&nodes), worst);
+    }
+
+    #[test]
+    fn fills_separate_loops_one_by_one() {
+        // Two counter-clockwise squares of 8 nodes each, side by side.
+        let square = |x0: f64| -> Vec<Point> {
+            (0..8)
+                .map(|k| {
+                    let t = k as f64 / 2.0;
+                    match k / 2 {
+                        0 => Point::new(x0 + t, 0.0),
+                        1 => Point::new(x0 + 1.0, t - 1.0),
+                        2 => Point::new(x0 + 3.0 - t, 1.0),
+                        _ => Point::new(x0, 4.0 - t),
+                    }
+                })
+                .collect()
+        };
+        let nodes: Vec<Point> = square(0.0).into_iter().chain(square(2.0)).collect();
+        let f = check(&[(0..8).collect(), (8..16).collect()], &nodes);
+        // No quad joins the two squares.
+        assert!(f
+            .quads
+            .iter()
+            .all(|q| !(q.iter().any(|&v| v < 8) && q.iter().any(|&v| (8..16).contains(&v)))));
     }
 
     #[test]
