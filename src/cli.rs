@@ -4,6 +4,7 @@
 use anyhow::{anyhow, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
+use quadex::cleanup::CleanupParams;
 use quadex::extract::{MeshParams, Mesher, StepStats, Strategy};
 use quadex::factors;
 use quadex::fit::{self, FitParams};
@@ -54,15 +55,24 @@ enum Command {
         /// Input points: 5, 7, 9 or 11.
         #[arg(long, default_value_t = 7, value_parser = parse_points)]
         points: usize,
-        /// Smoothing sweeps (0: off).
+        /// Laplacian smoothing sweeps (0: no smoothing at all, neither
+        /// Laplacian nor optimisation).
         #[arg(long, default_value_t = SmoothParams::DEFAULT.iterations)]
         smooth: usize,
+        /// No topological cleanup (edge swaps, diagonal collapses) of the
+        /// finished mesh.
+        #[arg(long)]
+        no_cleanup: bool,
         /// Pure model: no remedies; a rejected prediction stops the run.
         #[arg(long)]
         pure_model: bool,
         /// No region fill: a run extraction cannot finish stops with an error.
         #[arg(long)]
         no_fill: bool,
+        /// Layers extracted from the boundary before the region left is
+        /// filled directly; `all`: extraction to the end.
+        #[arg(long, default_value = "2", value_parser = parse_layers)]
+        layers: Layers,
         /// Write the quality figures and step counts as JSON.
         #[arg(long)]
         report: Option<PathBuf>,
@@ -157,6 +167,20 @@ fn parse_size(s: &str) -> Result<[f32; 2], String> {
 
 fn gui(o: quadex::app::GuiOptions) -> Result<()> {
     quadex::app::run(o).map_err(|e| InputError(anyhow!("{e}")).into())
+}
+
+/// `--layers`: a count, or `all` for extraction to the end.
+#[derive(Clone, Copy, Debug)]
+struct Layers(Option<u32>);
+
+fn parse_layers(s: &str) -> Result<Layers, String> {
+    if s == "all" {
+        return Ok(Layers(None));
+    }
+    match s.parse::<u32>() {
+        Ok(k) if k >= 1 => Ok(Layers(Some(k))),
+        _ => Err(format!("`{s}` is not a layer count (1 or more) or `all`")),
+    }
 }
 
 fn parse_points(s: &str) -> Result<usize, String> {
@@ -259,8 +283,10 @@ fn run(c: Command) -> Result<()> {
             strategy,
             points,
             smooth,
+            no_cleanup,
             pure_model,
             no_fill,
+            layers,
             report,
         } => {
             let fmt = MeshFormat::from_path(&output)
@@ -274,12 +300,22 @@ fn run(c: Command) -> Result<()> {
                     StrategyArg::B => Strategy::B,
                 },
                 leading_points: (points - 1) / 2,
-                smooth: SmoothParams {
-                    iterations: smooth,
-                    ..SmoothParams::DEFAULT
+                smooth: if smooth == 0 {
+                    SmoothParams::OFF
+                } else {
+                    SmoothParams {
+                        iterations: smooth,
+                        ..SmoothParams::DEFAULT
+                    }
+                },
+                cleanup: if no_cleanup {
+                    CleanupParams::OFF
+                } else {
+                    CleanupParams::DEFAULT
                 },
                 pure_model,
                 fill: !no_fill,
+                fill_after_layers: layers.0,
                 ..MeshParams::DEFAULT
             };
             let t0 = Instant::now();

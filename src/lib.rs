@@ -27,6 +27,7 @@
 
 pub mod app;
 pub mod boundary;
+pub mod cleanup;
 pub mod extract;
 pub mod factors;
 pub mod fit;

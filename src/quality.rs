@@ -14,6 +14,51 @@ use serde::{Deserialize, Serialize};
 /// The thesis's angle window for a good quad corner, in degrees.
 pub const GOOD_ANGLE: (f64, f64) = (45.0, 135.0);
 
+/// The figures of one quad that mesh improvement evaluates many times
+/// over, without trigonometry: [`QuadQuality`]'s scaled Jacobian, Rs and
+/// area, and the edge lengths.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shape {
+    pub scaled_jacobian: f64,
+    pub rs: f64,
+    pub area: f64,
+    /// Edge lengths, edge `k` from corner `k` to corner `k + 1`.
+    pub edges: [f64; 4],
+}
+
+impl Shape {
+    /// The shape figures of the quad with corners `p` (CCW).
+    #[inline]
+    pub fn of(p: [Point; 4]) -> Shape {
+        let mut edges = [0.0; 4];
+        for k in 0..4 {
+            edges[k] = (p[(k + 1) % 4] - p[k]).length();
+        }
+        let mut sj = f64::INFINITY;
+        for k in 0..4 {
+            let e_next = p[(k + 1) % 4] - p[k];
+            let e_prev = p[(k + 3) % 4] - p[k];
+            sj = sj.min(e_next.perp_dot(e_prev) / (edges[k] * edges[(k + 3) % 4]).max(1e-300));
+        }
+        let area = 0.5 * (0..4).map(|k| p[k].perp_dot(p[(k + 1) % 4])).sum::<f64>();
+        let mean = edges.iter().sum::<f64>() / 4.0;
+        Shape {
+            scaled_jacobian: sj,
+            rs: area / (mean * mean),
+            area,
+            edges,
+        }
+    }
+
+    /// The aspect ratio: the larger ratio of opposite edges.
+    pub fn aspect(&self) -> f64 {
+        let len = self.edges;
+        (len[0] / len[2])
+            .max(len[2] / len[0])
+            .max((len[1] / len[3]).max(len[3] / len[1]))
+    }
+}
+
 /// Quality figures of one quad.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct QuadQuality {
@@ -27,27 +72,27 @@ pub struct QuadQuality {
 }
 
 impl QuadQuality {
+    /// Below this [`QuadQuality::rs`] a quad is thin (a rectangle of aspect
+    /// about 1 : 38): mesh improvement never makes a quad that thin, since
+    /// the scaled Jacobian alone would let it flatten a quad into a sliver
+    /// of right angles.
+    pub const THIN_RS: f64 = 0.1;
+
     /// The figures of the quad with corners `p` (CCW).
     pub fn of(p: [Point; 4]) -> QuadQuality {
+        let shape = Shape::of(p);
+        let len = shape.edges;
         let mut angles = [0.0; 4];
-        let mut len = [0.0; 4];
-        let mut sj = f64::INFINITY;
-        for k in 0..4 {
-            len[k] = (p[(k + 1) % 4] - p[k]).length();
-        }
         for k in 0..4 {
             let e_next = p[(k + 1) % 4] - p[k];
             let e_prev = p[(k + 3) % 4] - p[k];
-            let cross = e_next.perp_dot(e_prev);
-            let dot = e_next.dot(e_prev);
-            angles[k] = cross.atan2(dot).to_degrees().rem_euclid(360.0);
-            sj = sj.min(cross / (len[k] * len[(k + 3) % 4]).max(1e-300));
+            angles[k] = e_next
+                .perp_dot(e_prev)
+                .atan2(e_next.dot(e_prev))
+                .to_degrees()
+                .rem_euclid(360.0);
         }
-        let area = 0.5 * (0..4).map(|k| p[k].perp_dot(p[(k + 1) % 4])).sum::<f64>();
-        let mean = len.iter().sum::<f64>() / 4.0;
-        let aspect = (len[0] / len[2])
-            .max(len[2] / len[0])
-            .max((len[1] / len[3]).max(len[3] / len[1]));
+        let aspect = shape.aspect();
         let taper = (0..4)
             .map(|k| {
                 let (a, b) = (len[k], len[(k + 1) % 4]);
@@ -56,11 +101,11 @@ impl QuadQuality {
             .fold(0.0, f64::max);
         QuadQuality {
             angles,
-            scaled_jacobian: sj,
-            rs: area / (mean * mean),
+            scaled_jacobian: shape.scaled_jacobian,
+            rs: shape.rs,
             aspect,
             taper,
-            area,
+            area: shape.area,
         }
     }
 

@@ -162,7 +162,11 @@ pub fn build(name: &'static str) -> Result<QuadMesh, ReferenceError> {
             let (m, _) = mesh_boundary(
                 &b,
                 Arc::new(RulesModel::DEFAULT),
-                &MeshParams::DEFAULT,
+                // Extraction throughout: its quads are extraction's patterns.
+                &MeshParams {
+                    fill_after_layers: None,
+                    ..MeshParams::DEFAULT
+                },
                 |_| {},
             )
             .map_err(|source| ReferenceError::Mesh { name, source })?;

@@ -7,7 +7,7 @@
 
 use crate::geom::{is_measurably_convex, is_strictly_convex, Point};
 use crate::mesh::QuadMesh;
-use crate::quality::QuadQuality;
+use crate::quality::{QuadQuality, Shape};
 use serde::{Deserialize, Serialize};
 
 /// Smoothing parameters.
@@ -21,6 +21,12 @@ pub struct SmoothParams {
     pub threshold: f64,
     /// Fraction of the way to the neighbour mean moved per sweep (default 1).
     pub relaxation: f64,
+    /// Sweeps of optimisation after the Laplacian ones (default 4; 0 turns
+    /// it off): see [`optimize`].
+    pub optimize_sweeps: usize,
+    /// Nodes of quads whose scaled Jacobian is below this are optimised
+    /// (default 0.8).
+    pub optimize_below: f64,
 }
 
 impl SmoothParams {
@@ -28,12 +34,16 @@ impl SmoothParams {
         iterations: 8,
         threshold: 0.6,
         relaxation: 1.0,
+        optimize_sweeps: 4,
+        optimize_below: 0.8,
     };
     /// No smoothing.
     pub const OFF: SmoothParams = SmoothParams {
         iterations: 0,
         threshold: 0.6,
         relaxation: 1.0,
+        optimize_sweeps: 0,
+        optimize_below: 0.8,
     };
 }
 
@@ -96,7 +106,7 @@ impl Adjacency {
 }
 
 fn quad_sj(mesh: &QuadMesh, q: &[u32; 4]) -> f64 {
-    QuadQuality::of(mesh.corners(q)).scaled_jacobian
+    Shape::of(mesh.corners(q)).scaled_jacobian
 }
 
 /// Steps tried along the way to a better position when unflattening.
@@ -190,7 +200,7 @@ pub fn smooth(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
             before.clear();
             for &k in &adj.quads[q0..q1] {
                 let p = mesh.corners(&mesh.quads[k as usize]);
-                before.push((QuadQuality::of(p).scaled_jacobian, is_measurably_convex(p)));
+                before.push((Shape::of(p).scaled_jacobian, is_measurably_convex(p)));
             }
             mesh.nodes[v] = target;
             // A quad stays convex, and measurably so if it was.
@@ -212,6 +222,162 @@ pub fn smooth(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
         }
     }
     accepted
+}
+
+/// A quad may shrink to this fraction of its area before optimisation: the
+/// scaled Jacobian does not see size, and would let a quad be flattened
+/// into a thin rectangle to favour its neighbours.
+const MIN_AREA_RATIO: f64 = 0.3;
+
+/// The quality of a node's `quads`: their smallest scaled Jacobian and
+/// their sum, or `None` when one is not measurably convex, has shrunk below
+/// its `floor` area or become thinner than its `floor` Rs.
+fn node_quality(mesh: &QuadMesh, quads: &[u32], floor: &[(f64, f64, bool)]) -> Option<(f64, f64)> {
+    let mut min = f64::INFINITY;
+    let mut sum = 0.0;
+    for &k in quads {
+        let p = mesh.corners(&mesh.quads[k as usize]);
+        let q = Shape::of(p);
+        let (area, rs, convex) = floor[k as usize];
+        if (convex && !is_measurably_convex(p)) || q.area < area || q.rs < rs {
+            return None;
+        }
+        let sj = q.scaled_jacobian;
+        min = min.min(sj);
+        sum += sj;
+    }
+    Some((min, sum))
+}
+
+/// Directions of the pattern search, unit length.
+const DIRECTIONS: [(f64, f64); 8] = [
+    (1.0, 0.0),
+    (0.0, 1.0),
+    (-1.0, 0.0),
+    (0.0, -1.0),
+    (
+        std::f64::consts::FRAC_1_SQRT_2,
+        std::f64::consts::FRAC_1_SQRT_2,
+    ),
+    (
+        -std::f64::consts::FRAC_1_SQRT_2,
+        std::f64::consts::FRAC_1_SQRT_2,
+    ),
+    (
+        -std::f64::consts::FRAC_1_SQRT_2,
+        -std::f64::consts::FRAC_1_SQRT_2,
+    ),
+    (
+        std::f64::consts::FRAC_1_SQRT_2,
+        -std::f64::consts::FRAC_1_SQRT_2,
+    ),
+];
+
+/// Moves node `v` to where `quality` (lexicographic; `None`: the position
+/// is refused) is best, starting from `best` = its quality where it is, by
+/// a pattern search in eight directions whose step starts at a quarter of
+/// the shortest edge to `nbs`, doubles after a success (up to a quarter of
+/// the longest) and halves after a failure. Returns the final position
+/// (the node is left there).
+pub(crate) fn pattern_search(
+    mesh: &mut QuadMesh,
+    v: usize,
+    nbs: &[u32],
+    mut best: (f64, f64),
+    quality: impl Fn(&QuadMesh) -> Option<(f64, f64)>,
+) -> Point {
+    let start = mesh.nodes[v];
+    let (shortest, longest) = nbs.iter().fold((f64::INFINITY, 0.0_f64), |(s, l), &u| {
+        let d = mesh.nodes[u as usize].distance(start);
+        (s.min(d), l.max(d))
+    });
+    let mut h = 0.25 * shortest;
+    let stop = 1e-3 * shortest;
+    let cap = 0.25 * longest;
+    let mut at = start;
+    let mut iterations = 0;
+    while h > stop && iterations < 60 {
+        iterations += 1;
+        let mut step = None;
+        for (dx, dy) in DIRECTIONS {
+            mesh.nodes[v] = at + Point::new(dx, dy) * h;
+            if let Some(q) = quality(mesh) {
+                if q.0 > best.0 + 1e-12 || (q.0 >= best.0 && q.1 > best.1 + 1e-12) {
+                    best = q;
+                    step = Some(mesh.nodes[v]);
+                }
+            }
+        }
+        match step {
+            Some(p) => {
+                at = p;
+                h = (2.0 * h).min(cap);
+            }
+            None => h *= 0.5,
+        }
+    }
+    mesh.nodes[v] = at;
+    at
+}
+
+/// Optimisation-based smoothing: every interior node of a quad whose
+/// scaled Jacobian is under `params.optimize_below` moves to where the
+/// worst of its quads is best (ties: their sum), found by
+/// [`pattern_search`]. Aimed
+/// at the elements Laplacian smoothing leaves poor where fronts meet (a
+/// quad has all angles in [45°, 135°] exactly when its scaled Jacobian is
+/// at least sin 45°). A move never lowers the node's worst quad, never
+/// leaves a quad not measurably convex, never shrinks one below
+/// [`MIN_AREA_RATIO`] of its area and never makes one thinner than
+/// [`QuadQuality::THIN_RS`] (or than it was). Returns the number of nodes moved.
+pub fn optimize(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
+    if params.optimize_sweeps == 0 || mesh.quads.is_empty() {
+        return 0;
+    }
+    let adj = Adjacency::new(mesh);
+    let nb = mesh.n_boundary();
+    let floor: Vec<(f64, f64, bool)> = mesh
+        .quads
+        .iter()
+        .map(|q| {
+            let p = mesh.corners(q);
+            let s = Shape::of(p);
+            (
+                MIN_AREA_RATIO * s.area,
+                s.rs.min(QuadQuality::THIN_RS),
+                is_measurably_convex(p),
+            )
+        })
+        .collect();
+    let mut moved = 0;
+    for _ in 0..params.optimize_sweeps {
+        let poor: Vec<bool> = mesh
+            .quads
+            .iter()
+            .map(|q| quad_sj(mesh, q) < params.optimize_below)
+            .collect();
+        let mut moved_now = 0;
+        for v in nb..mesh.nodes.len() {
+            let quads = &adj.quads[adj.quad_start[v] as usize..adj.quad_start[v + 1] as usize];
+            if !quads.iter().any(|&k| poor[k as usize]) {
+                continue;
+            }
+            let Some(best) = node_quality(mesh, quads, &floor) else {
+                continue;
+            };
+            let start = mesh.nodes[v];
+            let nbs = &adj.nbs[adj.nb_start[v] as usize..adj.nb_start[v + 1] as usize];
+            let at = pattern_search(mesh, v, nbs, best, |m| node_quality(m, quads, &floor));
+            if at != start {
+                moved_now += 1;
+            }
+        }
+        moved += moved_now;
+        if moved_now == 0 {
+            break;
+        }
+    }
+    moved
 }
 
 #[cfg(test)]

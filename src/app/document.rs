@@ -17,6 +17,7 @@ use std::sync::Arc;
 
 /// What the user chose to mesh with.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct Settings {
     /// `default`, `rules`, `thesis` or a model file.
     pub model: String,
@@ -24,6 +25,8 @@ pub struct Settings {
     /// Input points: 5, 7, 9 or 11.
     pub points: usize,
     pub pure_model: bool,
+    /// See [`MeshParams::fill_after_layers`].
+    pub fill_after_layers: Option<u32>,
 }
 
 impl Default for Settings {
@@ -33,6 +36,7 @@ impl Default for Settings {
             strategy: Strategy::B,
             points: 7,
             pure_model: false,
+            fill_after_layers: MeshParams::DEFAULT.fill_after_layers,
         }
     }
 }
@@ -43,6 +47,7 @@ impl Settings {
             strategy: self.strategy,
             leading_points: (self.points - 1) / 2,
             pure_model: self.pure_model,
+            fill_after_layers: self.fill_after_layers,
             ..MeshParams::DEFAULT
         }
     }

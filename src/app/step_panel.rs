@@ -54,6 +54,15 @@ impl StepPanel {
             }
         });
         ui.checkbox(&mut s.pure_model, "pure model (no remedies)");
+        ui.horizontal(|ui| {
+            let mut on = s.fill_after_layers.is_some();
+            ui.checkbox(&mut on, "fill inside layer").on_hover_text(
+                "Extract this many layers from the boundary, then fill the region left directly",
+            );
+            let mut k = s.fill_after_layers.unwrap_or(2);
+            ui.add_enabled(on, egui::DragValue::new(&mut k).range(1..=1000));
+            s.fill_after_layers = on.then_some(k);
+        });
         if s != doc.settings {
             out.push(Command::SetSettings(s));
         }

@@ -11,7 +11,7 @@
 //! Jacobian.
 
 use crate::geom::{is_measurably_convex, Point};
-use crate::quality::QuadQuality;
+use crate::quality::Shape;
 
 /// A way to fill a 6-node loop: the quads (indices into the loop, with
 /// 6 standing for the interior node) and the interior node, if any.
@@ -40,7 +40,7 @@ fn score(pts: &[Point], interior: Option<Point>, quads: &[[usize; 4]]) -> Option
         if !is_measurably_convex(p) {
             return None;
         }
-        min_sj = min_sj.min(QuadQuality::of(p).scaled_jacobian);
+        min_sj = min_sj.min(Shape::of(p).scaled_jacobian);
     }
     Some(min_sj)
 }

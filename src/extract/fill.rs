@@ -66,7 +66,7 @@ impl RegionFill {
         };
         self.quads
             .iter()
-            .map(|q| crate::quality::QuadQuality::of(q.map(at)).scaled_jacobian)
+            .map(|q| crate::quality::Shape::of(q.map(at)).scaled_jacobian)
             .fold(f64::INFINITY, f64::min)
     }
 }
@@ -468,7 +468,7 @@ fn quadrangulate(
         if !is_strictly_convex(p) {
             continue;
         }
-        let sj = crate::quality::QuadQuality::of(p).scaled_jacobian;
+        let sj = crate::quality::Shape::of(p).scaled_jacobian;
         if sj >= MIN_PAIR_SJ {
             let key = [quad[0].min(quad[2]), quad[0].max(quad[2])];
             pairs.push((sj, key, [left, right], quad));
@@ -699,7 +699,7 @@ mod tests {
         let sj: Vec<f64> = f
             .quads
             .iter()
-            .map(|q| crate::quality::QuadQuality::of(q.map(|v| all[v as usize])).scaled_jacobian)
+            .map(|q| crate::quality::Shape::of(q.map(|v| all[v as usize])).scaled_jacobian)
             .collect();
         let worst = sj.iter().copied().fold(f64::INFINITY, f64::min);
         let mean = sj.iter().sum::<f64>() / sj.len() as f64;

@@ -139,8 +139,8 @@ pub fn check(
             }
         }
     }
-    let q = crate::quality::QuadQuality::of(p);
-    let size = (1.0 / q.aspect).sqrt();
+    let q = crate::quality::Shape::of(p);
+    let size = (1.0 / q.aspect()).sqrt();
     Some(Passed {
         corners: p,
         score: q.scaled_jacobian.min(size).min(front_factor),

@@ -16,12 +16,13 @@ pub mod fill;
 pub mod guard;
 
 use crate::boundary::Boundary;
+use crate::cleanup::{improve, CleanupParams};
 use crate::front::{Front, SlotId};
 use crate::geom::{ccw_angle, Point};
 use crate::mesh::QuadMesh;
 use crate::model::{rules, ElementType, Model, Prediction, RulesModel};
 use crate::normalize::{Frame, LeadingPoints};
-use crate::smooth::{smooth, unflatten, SmoothParams};
+use crate::smooth::{unflatten, SmoothParams};
 use guard::{Corner, Limits, Scratch};
 use serde::{Deserialize, Serialize};
 use std::cmp::Ordering;
@@ -86,8 +87,17 @@ pub struct MeshParams {
     /// cannot go on or has used its step budget (default true). Off, such a
     /// run ends with [`MeshError::Stuck`] or [`MeshError::StepLimit`].
     pub fill: bool,
+    /// With `Some(k)`, once every reference point left lies on layer `k`
+    /// or deeper (strategy B's layers: the boundary is layer 0), the region
+    /// left is filled with [`fill::fill_region`] instead of being extracted
+    /// further; a fill that fails is retried later while extraction goes on
+    /// (default `Some(2)`). `None`: extraction to the end.
+    pub fill_after_layers: Option<u32>,
     /// Laplacian smoothing after extraction.
     pub smooth: SmoothParams,
+    /// Topological cleanup of a complete mesh before smoothing
+    /// ([`cleanup`](crate::cleanup)).
+    pub cleanup: CleanupParams,
     /// Pure model: the guard takes the model's element as predicted or
     /// rejects it (no snapping, no other type, no corrected Pn). A rejected
     /// prediction is counted ([`StepReport::rejected`],
@@ -111,7 +121,9 @@ impl MeshParams {
         seam_angle: 30.0,
         max_steps: None,
         fill: true,
+        fill_after_layers: Some(2),
         smooth: SmoothParams::DEFAULT,
+        cleanup: CleanupParams::DEFAULT,
         pure_model: false,
     };
 }
@@ -868,7 +880,15 @@ impl Mesher {
                 return Ok(r);
             }
         }
-        // 2. Reference points in queue order; poor elements wait while a
+        // 2. The region inside the first layers is filled directly.
+        if let Some(k) = self.params.fill_after_layers {
+            if self.params.fill && self.queue_layer().is_some_and(|l| l >= k) {
+                if let Some(r) = self.fill_rest() {
+                    return Ok(r);
+                }
+            }
+        }
+        // 3. Reference points in queue order; poor elements wait while a
         //    better reference point exists (the "next reference point" remedy).
         let mut skipped = 0;
         let mut deferred: Vec<SlotId> = Vec::new();
@@ -909,7 +929,7 @@ impl Mesher {
             }
             return Ok(r);
         }
-        // 3. A seam at any sharp corner.
+        // 4. A seam at any sharp corner.
         let sharp: Vec<SlotId> = self
             .front
             .live_loops()
@@ -923,7 +943,7 @@ impl Mesher {
                 return Ok(r);
             }
         }
-        // 4. A small loop without a usable reference point is split along
+        // 5. A small loop without a usable reference point is split along
         //    its best chord (a ring becomes two halves with square corners).
         let mut loops: Vec<u32> = self.front.live_loops().collect();
         loops.sort_by_key(|&l| self.front.loops[l as usize].len);
@@ -934,12 +954,12 @@ impl Mesher {
                 }
             }
         }
-        // 5. No reference point: a square on the shortest front edge.
+        // 6. No reference point: a square on the shortest front edge.
         if let Some(mut r) = self.square_cut(None, limits) {
             r.skipped = skipped;
             return Ok(r);
         }
-        // 6. The best rule-based element with relaxed limits, anywhere.
+        // 7. The best rule-based element with relaxed limits, anywhere.
         let relaxed = Limits {
             min_corner: 10f64.to_radians(),
             max_corner: 170f64.to_radians(),
@@ -965,13 +985,13 @@ impl Mesher {
             r.skipped = skipped;
             return Ok(r);
         }
-        // 7. Split a loop along a chord.
+        // 8. Split a loop along a chord.
         for &lid in &loops {
             if let Some(r) = self.chord_split(lid) {
                 return Ok(r);
             }
         }
-        // 8. Straighten the smallest stuck loop, moving its interior nodes.
+        // 9. Straighten the smallest stuck loop, moving its interior nodes.
         if let Some(&lid) = loops.first() {
             if self.relaxes < 400 && self.relax_streak < 3 {
                 if let Some(r) = self.relax_loop(lid) {
@@ -981,7 +1001,7 @@ impl Mesher {
                 }
             }
         }
-        // 9. Give the smallest stuck loop room: remove the elements around it.
+        // 10. Give the smallest stuck loop room: remove the elements around it.
         if let Some(&lid) = loops.first() {
             if self.rip_ups < 64 {
                 let r = self.rip_up(lid, 1 + self.rip_ups % 4);
@@ -989,7 +1009,7 @@ impl Mesher {
                 return Ok(r);
             }
         }
-        // 10. Fill the region left.
+        // 11. Fill the region left.
         if self.params.fill {
             if let Some(r) = self.fill_rest() {
                 return Ok(r);
@@ -1001,6 +1021,17 @@ impl Mesher {
             loop_index: lid,
             node: self.front.node(head),
         })
+    }
+
+    /// Layer of the first live entry of the queue (stale entries dropped).
+    fn queue_layer(&mut self) -> Option<u32> {
+        while let Some(e) = self.queue.peek() {
+            if self.front.slot(e.slot).alive && self.version[e.slot as usize] == e.version {
+                return Some(e.layer);
+            }
+            self.queue.pop();
+        }
+        None
     }
 
     /// When extraction has led the front into a state no fill can take, the
@@ -1272,7 +1303,7 @@ impl Mesher {
             if !crate::geom::is_strictly_convex(p) {
                 return None;
             }
-            if crate::quality::QuadQuality::of(p).scaled_jacobian < 0.2 {
+            if crate::quality::Shape::of(p).scaled_jacobian < 0.2 {
                 return None;
             }
         }
@@ -1346,7 +1377,7 @@ impl Mesher {
             let before: Vec<f64> = quads
                 .iter()
                 .map(|&k| {
-                    crate::quality::QuadQuality::of(self.mesh.corners(&self.mesh.quads[k as usize]))
+                    crate::quality::Shape::of(self.mesh.corners(&self.mesh.quads[k as usize]))
                         .scaled_jacobian
                 })
                 .collect();
@@ -1355,7 +1386,7 @@ impl Mesher {
             let mut ok = quads.iter().zip(&before).all(|(&k, &b)| {
                 let p = self.mesh.corners(&self.mesh.quads[k as usize]);
                 crate::geom::is_strictly_convex(p)
-                    && crate::quality::QuadQuality::of(p).scaled_jacobian >= b.min(0.3)
+                    && crate::quality::Shape::of(p).scaled_jacobian >= b.min(0.3)
             });
             if ok {
                 let prev_node = self.front.node(self.front.prev(s));
@@ -1846,7 +1877,8 @@ impl Mesher {
         self.model = model;
     }
 
-    /// The finished mesh, smoothed as the parameters say, with corners flat
+    /// The finished mesh, cleaned up and smoothed as the parameters say
+    /// ([`improve`]; a mesh with front left is only smoothed), with corners flat
     /// to rounding moved off the line ([`unflatten`]), and checked
     /// ([`QuadMesh::check_invariants`], complete when the front is empty).
     /// Call after [`Mesher::run`]; an unfinished mesh is returned as it
@@ -1854,7 +1886,12 @@ impl Mesher {
     pub fn finish(&self) -> Result<QuadMesh, MeshError> {
         let mut mesh = self.mesh.clone();
         mesh.compact();
-        smooth(&mut mesh, &self.params.smooth);
+        improve(
+            &mut mesh,
+            self.front.is_empty(),
+            &self.params.cleanup,
+            &self.params.smooth,
+        );
         unflatten(&mut mesh);
         let checked = if self.front.is_empty() {
             mesh.check_finished()

@@ -1,0 +1,569 @@
+//! Topological cleanup of a finished mesh: local changes of connectivity
+//! that bring node valences towards their ideal, so that smoothing can
+//! reach the thesis's element criteria (every angle in [45°, 135°], thesis
+//! §1.2 and §5.1; method §5). The thesis leaves the mesh's topology as
+//! extraction made it; where fronts meet, extraction and the region fill
+//! leave interior nodes of valence 2, 3 and 5 or more, whose quads no node
+//! placement makes square.
+//!
+//! The valence of a node is its number of quads. Its ideal is 4 inside and,
+//! on the boundary, its interior angle in right angles (at least 1). The
+//! operations (an interior node of valence 2 cannot occur: its two quads'
+//! angles there add up to 360°, so one is not convex), each taken only when it lowers the sum of squared deviations
+//! from the ideal over the nodes it touches, and only when every quad it
+//! makes is measurably convex ([`crate::geom::is_measurably_convex`]) and
+//! not thin ([`QuadQuality::THIN_RS`]):
+//!
+//! - **Sliver collapse**: a quad with a scaled Jacobian below
+//!   [`CleanupParams::sliver_sj`] (a needle or a flattened quad, where
+//!   fronts met at a shallow angle) is removed by merging two opposite
+//!   corners, the shorter diagonal first, when that raises the worst quad
+//!   around it; an interior corner may merge into a boundary node.
+//! - **Diagonal collapse**: a quad whose opposite corners are interior
+//!   nodes of valence 3 is removed and the two nodes merge at their
+//!   midpoint.
+//! - **Edge swap**: the hexagon of two quads sharing an interior edge is
+//!   re-split along one of its two other diagonals.
+//!
+//! Boundary nodes never move and are never removed. Passes run in node,
+//! quad and edge order, so the result is deterministic. Removed nodes are
+//! dropped with [`QuadMesh::compact`]; the caller smooths afterwards.
+
+use std::collections::BTreeSet;
+
+use serde::{Deserialize, Serialize};
+
+use crate::geom::{ccw_angle, is_measurably_convex, Point};
+use crate::mesh::QuadMesh;
+use crate::quality::{QuadQuality, Shape};
+use crate::smooth::{optimize, pattern_search, smooth, SmoothParams};
+
+/// Cleanup parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct CleanupParams {
+    /// Passes over the mesh (default 4; 0 turns cleanup off). A pass that
+    /// changes nothing ends the cleanup early.
+    pub passes: usize,
+    /// An edge swap must leave both new quads with at least this scaled
+    /// Jacobian, or with no less than the worse of the two old ones
+    /// (default 0.2).
+    pub min_swap_quality: f64,
+    /// Rounds of cleanup and smoothing in [`improve`] (default 8): a swap
+    /// refused in one round for want of convexity is often taken after the
+    /// smoothing that follows. Rounds stop early when a cleanup changes
+    /// nothing.
+    pub rounds: usize,
+    /// A quad whose scaled Jacobian is below this is collapsed across a
+    /// diagonal when that raises the worst quad around it (default 0.2;
+    /// 0 turns it off).
+    pub sliver_sj: f64,
+}
+
+impl CleanupParams {
+    pub const DEFAULT: CleanupParams = CleanupParams {
+        passes: 4,
+        min_swap_quality: 0.2,
+        rounds: 8,
+        sliver_sj: 0.2,
+    };
+    /// No cleanup.
+    pub const OFF: CleanupParams = CleanupParams {
+        passes: 0,
+        min_swap_quality: 0.2,
+        rounds: 0,
+        sliver_sj: 0.0,
+    };
+}
+
+impl Default for CleanupParams {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// What a cleanup changed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CleanupReport {
+    /// Quads below [`CleanupParams::sliver_sj`] collapsed.
+    pub slivers: usize,
+    /// Quads between two valence-3 nodes collapsed.
+    pub collapses: usize,
+    pub swaps: usize,
+}
+
+impl CleanupReport {
+    /// All changes made.
+    pub fn total(&self) -> usize {
+        self.slivers + self.collapses + self.swaps
+    }
+}
+
+/// The mesh being changed: quads with a live flag and each node's quads.
+struct Work<'a> {
+    mesh: &'a mut QuadMesh,
+    nb: usize,
+    alive: Vec<bool>,
+    inc: Vec<Vec<u32>>,
+    ideal: Vec<i32>,
+}
+
+impl Work<'_> {
+    fn valence(&self, v: u32) -> i32 {
+        self.inc[v as usize].len() as i32
+    }
+
+    fn dev(&self, v: u32, valence: i32) -> i32 {
+        let d = valence - self.ideal[v as usize];
+        d * d
+    }
+
+    fn interior(&self, v: u32) -> bool {
+        v as usize >= self.nb
+    }
+
+    /// Measurably convex and not thin ([`QuadQuality::THIN_RS`]).
+    fn convex(&self, q: &[u32; 4]) -> bool {
+        let p = self.mesh.corners(q);
+        is_measurably_convex(p) && Shape::of(p).rs >= QuadQuality::THIN_RS
+    }
+
+    fn sj(&self, q: &[u32; 4]) -> f64 {
+        Shape::of(self.mesh.corners(q)).scaled_jacobian
+    }
+
+    fn remove_quad(&mut self, k: u32) {
+        self.alive[k as usize] = false;
+        for v in self.mesh.quads[k as usize] {
+            self.inc[v as usize].retain(|&j| j != k);
+        }
+    }
+
+    fn set_quad(&mut self, k: u32, q: [u32; 4]) {
+        self.remove_quad(k);
+        self.mesh.quads[k as usize] = q;
+        self.alive[k as usize] = true;
+        for v in q {
+            self.inc[v as usize].push(k);
+            self.inc[v as usize].sort_unstable();
+        }
+    }
+
+    /// Collapses quad `k` across the diagonal of two interior valence-3
+    /// corners.
+    fn collapse(&mut self, k: u32) -> bool {
+        let q = self.mesh.quads[k as usize];
+        for i in 0..2 {
+            let (v, w) = (q[i], q[i + 2]);
+            let (s, t) = (q[i + 1], q[(i + 3) % 4]);
+            if !(self.interior(v) && self.interior(w))
+                || self.valence(v) != 3
+                || self.valence(w) != 3
+                || s == t
+            {
+                continue;
+            }
+            let before = self.dev(v, 3)
+                + self.dev(w, 3)
+                + self.dev(s, self.valence(s))
+                + self.dev(t, self.valence(t));
+            let after = self.dev(v, 4)
+                + self.dev(s, self.valence(s) - 1)
+                + self.dev(t, self.valence(t) - 1);
+            if after < before && self.merge(k, i, None) {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Collapses quad `k`, when its scaled Jacobian is below `below`,
+    /// across its shorter diagonal first (see [`Work::merge`]).
+    fn collapse_sliver(&mut self, k: u32, below: f64) -> bool {
+        let q = self.mesh.quads[k as usize];
+        let old = self.sj(&q);
+        if old >= below {
+            return false;
+        }
+        let p = |v: u32| self.mesh.nodes[v as usize];
+        let order = if p(q[0]).distance(p(q[2])) <= p(q[1]).distance(p(q[3])) {
+            [0, 1]
+        } else {
+            [1, 0]
+        };
+        order.into_iter().any(|i| self.merge(k, i, Some(below)))
+    }
+
+    /// Removes quad `k` by merging its corners `i` and `i + 2` into one
+    /// node, at the boundary node if one of them is on the boundary. With
+    /// `sliver: None` the node goes to their midpoint or either end, the
+    /// first where every quad changed is measurably convex and not thin.
+    /// With `Some(bound)` it goes where the worst quad around is best
+    /// ([`pattern_search`] from the midpoint), and the quads there must be
+    /// measurably convex, fewer of them below `bound` scaled Jacobian and
+    /// the worst no worse than before.
+    fn merge(&mut self, k: u32, i: usize, sliver: Option<f64>) -> bool {
+        let q = self.mesh.quads[k as usize];
+        let (mut v, mut w) = (q[i], q[i + 2]);
+        let (s, t) = (q[i + 1], q[(i + 3) % 4]);
+        if !self.interior(w) {
+            std::mem::swap(&mut v, &mut w);
+        }
+        if !self.interior(w) || s == t || self.valence(s) < 3 || self.valence(t) < 3 {
+            return false;
+        }
+        // Quads of w other than k, with w renamed v.
+        let others: Vec<u32> = self.inc[w as usize]
+            .iter()
+            .copied()
+            .filter(|&j| j != k)
+            .collect();
+        if others
+            .iter()
+            .any(|&j| self.mesh.quads[j as usize].contains(&v))
+        {
+            return false;
+        }
+        let (pv, pw) = (self.mesh.nodes[v as usize], self.mesh.nodes[w as usize]);
+        let renamed: Vec<[u32; 4]> = others
+            .iter()
+            .map(|&j| self.mesh.quads[j as usize].map(|u| if u == w { v } else { u }))
+            .collect();
+        let v_quads: Vec<[u32; 4]> = self.inc[v as usize]
+            .iter()
+            .filter(|&&j| j != k)
+            .map(|&j| self.mesh.quads[j as usize])
+            .collect();
+        let after = || renamed.iter().chain(&v_quads);
+        // With `worst`: the worst scaled Jacobian around and the number of
+        // quads below the sliver bound there.
+        let score = |w: &Self, quads: &mut dyn Iterator<Item = &[u32; 4]>, bound: f64| {
+            quads.fold((f64::INFINITY, 0), |(m, n), r| {
+                let sj = w.sj(r);
+                (m.min(sj), n + usize::from(sj < bound))
+            })
+        };
+        let floor = sliver.map(|bound| {
+            let others_now: Vec<[u32; 4]> = others
+                .iter()
+                .map(|&j| self.mesh.quads[j as usize])
+                .collect();
+            let mut all = std::iter::once(&q).chain(&others_now).chain(&v_quads);
+            (score(self, &mut all, bound), bound)
+        });
+        let spots: &[Point] = if self.interior(v) {
+            &[0.5 * (pv + pw), pv, pw]
+        } else {
+            &[pv]
+        };
+        let mut placed = false;
+        match floor {
+            None => {
+                for &p in spots {
+                    self.mesh.nodes[v as usize] = p;
+                    if after().all(|r| self.convex(r)) {
+                        placed = true;
+                        break;
+                    }
+                }
+            }
+            Some(((min, count), bound)) => {
+                self.mesh.nodes[v as usize] = spots[0];
+                if self.interior(v) {
+                    let quads: Vec<[u32; 4]> = after().copied().collect();
+                    let nbs: Vec<u32> = quads
+                        .iter()
+                        .flatten()
+                        .copied()
+                        .filter(|&u| u != v)
+                        .collect();
+                    let quality = |m: &QuadMesh| {
+                        Some(quads.iter().fold((f64::INFINITY, 0.0), |(lo, sum), r| {
+                            let sj = Shape::of(m.corners(r)).scaled_jacobian;
+                            (lo.min(sj), sum + sj)
+                        }))
+                    };
+                    let start = quality(self.mesh).unwrap_or_default();
+                    pattern_search(self.mesh, v as usize, &nbs, start, quality);
+                }
+                let (new_min, new_count) = score(self, &mut after(), bound);
+                placed = after().all(|r| is_measurably_convex(self.mesh.corners(r)))
+                    && new_count < count
+                    && new_min >= min;
+            }
+        }
+        if !placed {
+            self.mesh.nodes[v as usize] = pv;
+            return false;
+        }
+        self.remove_quad(k);
+        for (&j, &r) in others.iter().zip(&renamed) {
+            self.set_quad(j, r);
+        }
+        true
+    }
+
+    /// Swaps the edge from `u` to `w` (interior: two quads share it) when
+    /// another split of their hexagon is better.
+    fn swap(&mut self, u: u32, w: u32, min_quality: f64) -> bool {
+        let mut a = None;
+        let mut b = None;
+        for &k in &self.inc[u as usize] {
+            let q = self.mesh.quads[k as usize];
+            for i in 0..4 {
+                if q[i] == u && q[(i + 1) % 4] == w {
+                    a = Some((k, [q[i], q[(i + 1) % 4], q[(i + 2) % 4], q[(i + 3) % 4]]));
+                }
+                if q[i] == w && q[(i + 1) % 4] == u {
+                    b = Some((k, [q[i], q[(i + 1) % 4], q[(i + 2) % 4], q[(i + 3) % 4]]));
+                }
+            }
+        }
+        let (Some((ka, qa)), Some((kb, qb))) = (a, b) else {
+            return false;
+        };
+        // The hexagon around both quads, counter-clockwise from w.
+        let h = [qa[1], qa[2], qa[3], qa[0], qb[2], qb[3]];
+        if h.iter().collect::<BTreeSet<_>>().len() != 6 {
+            return false;
+        }
+        // A hexagon node's valence with `quads` in place of the two.
+        let count = |v: u32, quads: &[[u32; 4]]| -> i32 {
+            let with = |qs: &[[u32; 4]]| qs.iter().filter(|q| q.contains(&v)).count() as i32;
+            self.valence(v) - with(&[qa, qb]) + with(quads)
+        };
+        let cost =
+            |quads: &[[u32; 4]]| -> i32 { h.iter().map(|&v| self.dev(v, count(v, quads))).sum() };
+        let old_cost = cost(&[qa, qb]);
+        let old_min = self.sj(&qa).min(self.sj(&qb));
+        let mut best: Option<(i32, f64, [[u32; 4]; 2])> = None;
+        for s in [1, 2] {
+            let pair = [
+                [h[s], h[s + 1], h[s + 2], h[(s + 3) % 6]],
+                [h[(s + 3) % 6], h[(s + 4) % 6], h[(s + 5) % 6], h[s]],
+            ];
+            if pair.iter().any(|q| count(q[0], &pair) < 1) {
+                continue;
+            }
+            let c = cost(&pair);
+            if c >= old_cost || !pair.iter().all(|q| self.convex(q)) {
+                continue;
+            }
+            let m = self.sj(&pair[0]).min(self.sj(&pair[1]));
+            if m < min_quality.min(old_min) {
+                continue;
+            }
+            if best
+                .as_ref()
+                .is_none_or(|(bc, bm, _)| c < *bc || (c == *bc && m > *bm))
+            {
+                best = Some((c, m, pair));
+            }
+        }
+        let Some((_, _, [p, q])) = best else {
+            return false;
+        };
+        self.set_quad(ka, p);
+        self.set_quad(kb, q);
+        true
+    }
+}
+
+/// The ideal valence of every node: 4 inside; on the boundary the interior
+/// angle in right angles, at least 1.
+fn ideal_valences(mesh: &QuadMesh) -> Vec<i32> {
+    let mut ideal = vec![4; mesh.nodes.len()];
+    for l in &mesh.loops {
+        let n = l.len();
+        for k in 0..n {
+            let (prev, v, next) = (l[(k + n - 1) % n], l[k], l[(k + 1) % n]);
+            let p = |i: u32| -> Point { mesh.nodes[i as usize] };
+            let angle = ccw_angle(p(v), p(next), p(prev));
+            ideal[v as usize] = ((angle / std::f64::consts::FRAC_PI_2).round() as i32).max(1);
+        }
+    }
+    ideal
+}
+
+/// Cleans up a complete mesh in place (see the module documentation) and
+/// drops the nodes it removed.
+pub fn cleanup(mesh: &mut QuadMesh, params: &CleanupParams) -> CleanupReport {
+    let mut report = CleanupReport::default();
+    if params.passes == 0 || mesh.quads.is_empty() {
+        return report;
+    }
+    let nb = mesh.n_boundary();
+    let alive = vec![true; mesh.quads.len()];
+    let inc = mesh.node_quads();
+    let ideal = ideal_valences(mesh);
+    let mut w = Work {
+        mesh,
+        nb,
+        alive,
+        inc,
+        ideal,
+    };
+    for _ in 0..params.passes {
+        let before = report.total();
+        for k in 0..w.mesh.quads.len() as u32 {
+            if w.alive[k as usize] && w.collapse_sliver(k, params.sliver_sj) {
+                report.slivers += 1;
+            }
+        }
+        for k in 0..w.mesh.quads.len() as u32 {
+            if w.alive[k as usize] && w.collapse(k) {
+                report.collapses += 1;
+            }
+        }
+        for k in 0..w.mesh.quads.len() as u32 {
+            if !w.alive[k as usize] {
+                continue;
+            }
+            for i in 0..4 {
+                let q = w.mesh.quads[k as usize];
+                if !w.alive[k as usize] {
+                    break;
+                }
+                let (u, v) = (q[i], q[(i + 1) % 4]);
+                if u < v && w.swap(u, v, params.min_swap_quality) {
+                    report.swaps += 1;
+                }
+            }
+        }
+        if report.total() == before {
+            break;
+        }
+    }
+    let Work { mesh, alive, .. } = w;
+    let mut k = 0;
+    mesh.quads.retain(|_| {
+        k += 1;
+        alive[k - 1]
+    });
+    mesh.compact();
+    report
+}
+
+/// Mesh improvement after extraction: smoothing ([`smooth`] then
+/// [`optimize`]), preceded on a `complete` mesh by [`cleanup`] and repeated
+/// while the cleanup finds changes, up to `cleanup.rounds` rounds. Returns
+/// the cleanup's changes over all rounds.
+pub fn improve(
+    mesh: &mut QuadMesh,
+    complete: bool,
+    cleanup_params: &CleanupParams,
+    smooth_params: &SmoothParams,
+) -> CleanupReport {
+    let mut total = CleanupReport::default();
+    for round in 0..cleanup_params.rounds.max(1) {
+        let changed = if complete && round < cleanup_params.rounds {
+            let r = cleanup(mesh, cleanup_params);
+            total.slivers += r.slivers;
+            total.collapses += r.collapses;
+            total.swaps += r.swaps;
+            r.total() > 0
+        } else {
+            false
+        };
+        if round > 0 && !changed {
+            break;
+        }
+        smooth(mesh, smooth_params);
+        optimize(mesh, smooth_params);
+    }
+    total
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An n × n grid of unit squares as raw points and quads; node (i, j)
+    /// is `j * (n + 1) + i`.
+    fn grid(n: usize) -> (Vec<Point>, Vec<[u32; 4]>) {
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut pts = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                pts.push(Point::new(i as f64, j as f64));
+            }
+        }
+        let mut quads = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        (pts, quads)
+    }
+
+    fn mesh(pts: Vec<Point>, quads: Vec<[u32; 4]>) -> QuadMesh {
+        let m = QuadMesh::from_quads(pts, quads).unwrap();
+        m.check_invariants(true).unwrap();
+        m
+    }
+
+    fn interior_valences(m: &QuadMesh) -> Vec<usize> {
+        let inc = m.node_quads();
+        (m.n_boundary()..m.nodes.len())
+            .map(|v| inc[v].len())
+            .collect()
+    }
+
+    #[test]
+    fn a_regular_grid_is_left_alone() {
+        let (p, q) = grid(4);
+        let mut m = mesh(p, q);
+        let before = m.clone();
+        assert_eq!(cleanup(&mut m, &CleanupParams::DEFAULT).total(), 0);
+        assert_eq!(m, before);
+    }
+
+    #[test]
+    fn collapses_a_quad_between_two_valence_three_nodes() {
+        // A 4 × 4 grid whose centre node (2, 2) is opened into a diamond
+        // c–s–e–t: its left and right corners c and e have valence 3, and
+        // the diamond collapses back into one node of valence 4.
+        let (mut p, mut q) = grid(4);
+        let (c, s, t) = (12u32, 7u32, 17u32);
+        p[c as usize] = Point::new(1.8, 2.0);
+        p.push(Point::new(2.2, 2.0));
+        let e = (p.len() - 1) as u32;
+        for quad in &mut q {
+            if *quad == [7, 8, 13, 12] {
+                *quad = [7, 8, 13, e];
+            }
+            if *quad == [12, 13, 18, 17] {
+                *quad = [e, 13, 18, 17];
+            }
+        }
+        q.push([c, s, e, t]);
+        let mut m = mesh(p, q);
+        let r = cleanup(&mut m, &CleanupParams::DEFAULT);
+        assert_eq!(r.collapses, 1, "{r:?}");
+        m.check_invariants(true).unwrap();
+        assert_eq!(m.quads.len(), 16);
+        assert!(interior_valences(&m).iter().all(|&v| v == 4));
+    }
+
+    #[test]
+    fn swaps_an_edge_back_to_regular_valences() {
+        // Quads (5, 6, 11, 10) and (6, 7, 12, 11) of a 4 × 4 grid re-split
+        // along 5–12: nodes 6 and 11 drop to valence 3, 12 rises to 5. The
+        // cleanup swaps back.
+        let (mut p, mut q) = grid(4);
+        p[6] = Point::new(1.0, 0.8);
+        p[11] = Point::new(1.0, 2.2);
+        let a = q.iter().position(|x| *x == [5, 6, 11, 10]).unwrap();
+        let b = q.iter().position(|x| *x == [6, 7, 12, 11]).unwrap();
+        q[a] = [5, 6, 7, 12];
+        q[b] = [12, 11, 10, 5];
+        let mut m = mesh(p, q);
+        assert!(interior_valences(&m).iter().any(|&v| v != 4));
+        let r = cleanup(&mut m, &CleanupParams::DEFAULT);
+        assert_eq!(r.swaps, 1, "{r:?}");
+        m.check_invariants(true).unwrap();
+        assert_eq!(m.quads.len(), 16);
+        assert!(interior_valences(&m).iter().all(|&v| v == 4));
+    }
+}
