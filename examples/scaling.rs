@@ -1,25 +1,22 @@
 //! Prints time per element for growing meshes: generated unit squares
-//! (n × n quads) and the benchmark disks. Median of 3 runs, release build.
+//! (n × n boundary segments a side) and the benchmark disks, meshed with
+//! the default model and parameters. Median of 3 runs, release build.
 //!
 //! `cargo run --release --example scaling [MAX_SIDE]`
 
 use quadex::extract::{MeshParams, Mesher};
-use quadex::model::RulesModel;
+use quadex::model::{default_model, Model};
 use quadex::Boundary;
 use std::sync::Arc;
 use std::time::Instant;
 
-fn time(b: &Boundary) -> Result<(usize, f64, f64), String> {
+fn time(b: &Boundary, model: &Arc<dyn Model>) -> Result<(usize, f64, f64), String> {
     let mut runs = Vec::new();
     let mut quads = 0;
     let mut smooth_share = 0.0;
     for _ in 0..3 {
         let t0 = Instant::now();
-        let mut m = Mesher::new(
-            b.clone(),
-            Arc::new(RulesModel::DEFAULT),
-            MeshParams::DEFAULT,
-        );
+        let mut m = Mesher::new(b.clone(), model.clone(), MeshParams::DEFAULT);
         m.run(|_| {}).map_err(|e| e.to_string())?;
         let t1 = Instant::now();
         let mesh = m.finish().expect("finish");
@@ -37,11 +34,12 @@ fn main() {
         .nth(1)
         .and_then(|s| s.parse().ok())
         .unwrap_or(1024);
-    println!("| case | quads | median s | µs / quad | smoothing share |");
+    let model: Arc<dyn Model> = Arc::new(default_model().expect("the shipped model"));
+    println!("| case | quads | median s | µs / quad | improvement share |");
     println!("|---|---:|---:|---:|---:|");
     let mut n = 32;
     while n <= max {
-        match time(&Boundary::unit_square(n)) {
+        match time(&Boundary::unit_square(n), &model) {
             Ok((q, t, s)) => println!(
                 "| square {n}×{n} | {q} | {t:.3} | {:.2} | {:.0}% |",
                 1e6 * t / q as f64,
@@ -56,7 +54,7 @@ fn main() {
         let Ok(b) = quadex::io::read_boundary(&dir.join(format!("{name}.poly"))) else {
             continue;
         };
-        match time(&b) {
+        match time(&b, &model) {
             Ok((q, t, s)) => println!(
                 "| {name} | {q} | {t:.3} | {:.2} | {:.0}% |",
                 1e6 * t / q as f64,

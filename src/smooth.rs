@@ -170,7 +170,10 @@ pub fn unflatten(mesh: &mut QuadMesh) -> usize {
     bad.len()
 }
 
-/// Smooths `mesh` in place; returns the number of accepted moves.
+/// Smooths `mesh` in place; returns the number of accepted moves. A move is
+/// refused when one of the node's quads would stop being convex (measurably
+/// so, if it was), fall under `params.threshold` scaled Jacobian (or under
+/// its own), or stretch past [`MAX_STRETCH`] (or past its own).
 pub fn smooth(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
     if params.iterations == 0 || mesh.quads.is_empty() {
         return 0;
@@ -200,16 +203,26 @@ pub fn smooth(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
             before.clear();
             for &k in &adj.quads[q0..q1] {
                 let p = mesh.corners(&mesh.quads[k as usize]);
-                before.push((Shape::of(p).scaled_jacobian, is_measurably_convex(p)));
+                let shape = Shape::of(p);
+                before.push((
+                    shape.scaled_jacobian,
+                    is_measurably_convex(p),
+                    shape.stretch().max(MAX_STRETCH),
+                ));
             }
             mesh.nodes[v] = target;
             // A quad stays convex, and measurably so if it was.
-            let ok = adj.quads[q0..q1].iter().zip(&before).all(|(&k, &(b, m))| {
-                let q = &mesh.quads[k as usize];
-                let p = mesh.corners(q);
-                let convex = is_strictly_convex(p) && (!m || is_measurably_convex(p));
-                convex && quad_sj(mesh, q) >= b.min(params.threshold)
-            });
+            let ok = adj.quads[q0..q1]
+                .iter()
+                .zip(&before)
+                .all(|(&k, &(b, m, st))| {
+                    let p = mesh.corners(&mesh.quads[k as usize]);
+                    let convex = is_strictly_convex(p) && (!m || is_measurably_convex(p));
+                    let shape = Shape::of(p);
+                    convex
+                        && shape.scaled_jacobian >= b.min(params.threshold)
+                        && shape.stretch() <= st
+                });
             if ok {
                 moved += 1;
             } else {
@@ -224,6 +237,20 @@ pub fn smooth(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
     accepted
 }
 
+/// Smoothing never makes a quad's [`Shape::stretch`] exceed this, or its
+/// own if larger: the scaled Jacobian does not see an edge shrinking to
+/// nothing.
+pub const MAX_STRETCH: f64 = 4.0;
+
+/// What optimisation may not go past, per quad: its area, Rs and
+/// [`Shape::stretch`] bounds, and whether it must stay measurably convex.
+struct Floor {
+    area: f64,
+    rs: f64,
+    convex: bool,
+    stretch: f64,
+}
+
 /// A quad may shrink to this fraction of its area before optimisation: the
 /// scaled Jacobian does not see size, and would let a quad be flattened
 /// into a thin rectangle to favour its neighbours.
@@ -232,14 +259,18 @@ const MIN_AREA_RATIO: f64 = 0.3;
 /// The quality of a node's `quads`: their smallest scaled Jacobian and
 /// their sum, or `None` when one is not measurably convex, has shrunk below
 /// its `floor` area or become thinner than its `floor` Rs.
-fn node_quality(mesh: &QuadMesh, quads: &[u32], floor: &[(f64, f64, bool)]) -> Option<(f64, f64)> {
+fn node_quality(mesh: &QuadMesh, quads: &[u32], floor: &[Floor]) -> Option<(f64, f64)> {
     let mut min = f64::INFINITY;
     let mut sum = 0.0;
     for &k in quads {
         let p = mesh.corners(&mesh.quads[k as usize]);
         let q = Shape::of(p);
-        let (area, rs, convex) = floor[k as usize];
-        if (convex && !is_measurably_convex(p)) || q.area < area || q.rs < rs {
+        let f = &floor[k as usize];
+        if (f.convex && !is_measurably_convex(p))
+            || q.area < f.area
+            || q.rs < f.rs
+            || q.stretch() > f.stretch
+        {
             return None;
         }
         let sj = q.scaled_jacobian;
@@ -277,13 +308,15 @@ const DIRECTIONS: [(f64, f64); 8] = [
 /// is refused) is best, starting from `best` = its quality where it is, by
 /// a pattern search in eight directions whose step starts at a quarter of
 /// the shortest edge to `nbs`, doubles after a success (up to a quarter of
-/// the longest) and halves after a failure. Returns the final position
-/// (the node is left there).
+/// the longest) and halves after a failure, until the first part of the
+/// quality reaches `enough`. Returns the final position (the node is left
+/// there).
 pub(crate) fn pattern_search(
     mesh: &mut QuadMesh,
     v: usize,
     nbs: &[u32],
     mut best: (f64, f64),
+    enough: f64,
     quality: impl Fn(&QuadMesh) -> Option<(f64, f64)>,
 ) -> Point {
     let start = mesh.nodes[v];
@@ -296,7 +329,7 @@ pub(crate) fn pattern_search(
     let cap = 0.25 * longest;
     let mut at = start;
     let mut iterations = 0;
-    while h > stop && iterations < 60 {
+    while h > stop && iterations < 60 && best.0 < enough {
         iterations += 1;
         let mut step = None;
         for (dx, dy) in DIRECTIONS {
@@ -329,24 +362,26 @@ pub(crate) fn pattern_search(
 /// at least sin 45°). A move never lowers the node's worst quad, never
 /// leaves a quad not measurably convex, never shrinks one below
 /// [`MIN_AREA_RATIO`] of its area and never makes one thinner than
-/// [`QuadQuality::THIN_RS`] (or than it was). Returns the number of nodes moved.
+/// [`QuadQuality::THIN_RS`] (or than it was), and never stretches one past
+/// [`MAX_STRETCH`] (or past its own). Returns the number of nodes moved.
 pub fn optimize(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
     if params.optimize_sweeps == 0 || mesh.quads.is_empty() {
         return 0;
     }
     let adj = Adjacency::new(mesh);
     let nb = mesh.n_boundary();
-    let floor: Vec<(f64, f64, bool)> = mesh
+    let floor: Vec<Floor> = mesh
         .quads
         .iter()
         .map(|q| {
             let p = mesh.corners(q);
             let s = Shape::of(p);
-            (
-                MIN_AREA_RATIO * s.area,
-                s.rs.min(QuadQuality::THIN_RS),
-                is_measurably_convex(p),
-            )
+            Floor {
+                area: MIN_AREA_RATIO * s.area,
+                rs: s.rs.min(QuadQuality::THIN_RS),
+                convex: is_measurably_convex(p),
+                stretch: s.stretch().max(MAX_STRETCH),
+            }
         })
         .collect();
     let mut moved = 0;
@@ -367,7 +402,9 @@ pub fn optimize(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
             };
             let start = mesh.nodes[v];
             let nbs = &adj.nbs[adj.nb_start[v] as usize..adj.nb_start[v + 1] as usize];
-            let at = pattern_search(mesh, v, nbs, best, |m| node_quality(m, quads, &floor));
+            let at = pattern_search(mesh, v, nbs, best, f64::INFINITY, |m| {
+                node_quality(m, quads, &floor)
+            });
             if at != start {
                 moved_now += 1;
             }

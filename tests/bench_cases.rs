@@ -46,25 +46,35 @@ fn benchmark_cases_mesh_validly() {
 }
 
 /// On small cases the front and the partial mesh are checked after every
-/// step.
+/// step, with the default fill inside the second layer and with extraction
+/// to the end.
 #[test]
 fn invariants_hold_after_every_step() {
-    for name in [
+    let names = [
         "square",
         "lshape",
         "irregular",
         "circle",
         "wedge30",
         "annulus",
-    ] {
+    ];
+    for (name, layers) in names
+        .iter()
+        .flat_map(|n| [(n, MeshParams::DEFAULT.fill_after_layers), (n, None)])
+    {
         let b = quadex::io::read_boundary(&common::bench().join(format!("boundaries/{name}.poly")))
             .unwrap();
-        let mut m = Mesher::new(b, Arc::new(RulesModel::DEFAULT), MeshParams::DEFAULT);
+        let params = MeshParams {
+            fill_after_layers: layers,
+            ..MeshParams::DEFAULT
+        };
+        let mut m = Mesher::new(b, Arc::new(RulesModel::DEFAULT), params);
         let mut steps = 0;
         while let StepOutcome::Stepped(r) = m.step().unwrap_or_else(|e| panic!("{name}: {e}")) {
             steps += 1;
-            m.check_invariants()
-                .unwrap_or_else(|e| panic!("{name} after step {steps} ({:?}): {e}", r.kind));
+            m.check_invariants().unwrap_or_else(|e| {
+                panic!("{name} ({layers:?}) after step {steps} ({:?}): {e}", r.kind)
+            });
         }
         assert!(m.is_done());
         m.finish().unwrap().check_finished().unwrap();
