@@ -7,23 +7,26 @@
 //! placement makes square.
 //!
 //! The valence of a node is its number of quads. Its ideal is 4 inside and,
-//! on the boundary, its interior angle in right angles (at least 1). The
-//! operations (an interior node of valence 2 cannot occur: its two quads'
-//! angles there add up to 360°, so one is not convex), each taken only when it lowers the sum of squared deviations
-//! from the ideal over the nodes it touches, and only when every quad it
-//! makes is measurably convex ([`crate::geom::is_measurably_convex`]) and
-//! not thin ([`QuadQuality::THIN_RS`]):
+//! on the boundary, its interior angle in right angles (at least 1). (An
+//! interior node of valence 2 cannot occur: its two quads' angles there add
+//! up to 360°, so one is not convex.) The operations, every quad they make
+//! measurably convex ([`crate::geom::is_measurably_convex`]):
 //!
 //! - **Sliver collapse**: a quad with a scaled Jacobian below
 //!   [`CleanupParams::sliver_sj`] (a needle or a flattened quad, where
 //!   fronts met at a shallow angle) is removed by merging two opposite
-//!   corners, the shorter diagonal first, when that raises the worst quad
-//!   around it; an interior corner may merge into a boundary node.
+//!   corners, the shorter diagonal first, when that leaves fewer such quads
+//!   around and the worst of them no worse; an interior corner may merge
+//!   into a boundary node.
 //! - **Diagonal collapse**: a quad whose opposite corners are interior
 //!   nodes of valence 3 is removed and the two nodes merge at their
 //!   midpoint.
 //! - **Edge swap**: the hexagon of two quads sharing an interior edge is
 //!   re-split along one of its two other diagonals.
+//!
+//! The collapse and the swap are taken only when they lower the sum of
+//! squared deviations from the ideal valence over the nodes they touch, and
+//! the quads they make must not be thin ([`QuadQuality::THIN_RS`]).
 //!
 //! Boundary nodes never move and are never removed. Passes run in node,
 //! quad and edge order, so the result is deterministic. Removed nodes are
@@ -133,6 +136,14 @@ impl Work<'_> {
         Shape::of(self.mesh.corners(q)).scaled_jacobian
     }
 
+    /// The worst scaled Jacobian of `quads` and how many are below `bound`.
+    fn slivers<'q>(&self, quads: impl Iterator<Item = &'q [u32; 4]>, bound: f64) -> (f64, usize) {
+        quads.fold((f64::INFINITY, 0), |(m, n), r| {
+            let sj = self.sj(r);
+            (m.min(sj), n + usize::from(sj < bound))
+        })
+    }
+
     fn remove_quad(&mut self, k: u32) {
         self.alive[k as usize] = false;
         for v in self.mesh.quads[k as usize] {
@@ -236,39 +247,23 @@ impl Work<'_> {
             .map(|&j| self.mesh.quads[j as usize])
             .collect();
         let after = || renamed.iter().chain(&v_quads);
-        // With `worst`: the worst scaled Jacobian around and the number of
-        // quads below the sliver bound there.
-        let score = |w: &Self, quads: &mut dyn Iterator<Item = &[u32; 4]>, bound: f64| {
-            quads.fold((f64::INFINITY, 0), |(m, n), r| {
-                let sj = w.sj(r);
-                (m.min(sj), n + usize::from(sj < bound))
-            })
-        };
-        let floor = sliver.map(|bound| {
-            let others_now: Vec<[u32; 4]> = others
-                .iter()
-                .map(|&j| self.mesh.quads[j as usize])
-                .collect();
-            let mut all = std::iter::once(&q).chain(&others_now).chain(&v_quads);
-            (score(self, &mut all, bound), bound)
-        });
         let spots: &[Point] = if self.interior(v) {
             &[0.5 * (pv + pw), pv, pw]
         } else {
             &[pv]
         };
-        let mut placed = false;
-        match floor {
-            None => {
-                for &p in spots {
-                    self.mesh.nodes[v as usize] = p;
-                    if after().all(|r| self.convex(r)) {
-                        placed = true;
-                        break;
-                    }
-                }
-            }
-            Some(((min, count), bound)) => {
+        let placed = match sliver {
+            None => spots.iter().any(|&p| {
+                self.mesh.nodes[v as usize] = p;
+                after().all(|r| self.convex(r))
+            }),
+            Some(bound) => {
+                let others_now: Vec<[u32; 4]> = others
+                    .iter()
+                    .map(|&j| self.mesh.quads[j as usize])
+                    .collect();
+                let all = std::iter::once(&q).chain(&others_now).chain(&v_quads);
+                let (min, count) = self.slivers(all, bound);
                 self.mesh.nodes[v as usize] = spots[0];
                 if self.interior(v) {
                     let quads: Vec<[u32; 4]> = after().copied().collect();
@@ -285,14 +280,14 @@ impl Work<'_> {
                         }))
                     };
                     let start = quality(self.mesh).unwrap_or_default();
-                    pattern_search(self.mesh, v as usize, &nbs, start, f64::INFINITY, quality);
+                    pattern_search(self.mesh, v as usize, &nbs, start, quality);
                 }
-                let (new_min, new_count) = score(self, &mut after(), bound);
-                placed = after().all(|r| is_measurably_convex(self.mesh.corners(r)))
+                let (new_min, new_count) = self.slivers(after(), bound);
+                after().all(|r| is_measurably_convex(self.mesh.corners(r)))
                     && new_count < count
-                    && new_min >= min;
+                    && new_min >= min
             }
-        }
+        };
         if !placed {
             self.mesh.nodes[v as usize] = pv;
             return false;

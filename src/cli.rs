@@ -59,8 +59,8 @@ enum Command {
         /// Laplacian nor optimisation).
         #[arg(long, default_value_t = SmoothParams::DEFAULT.iterations)]
         smooth: usize,
-        /// No topological cleanup (edge swaps, diagonal collapses) of the
-        /// finished mesh.
+        /// No topological cleanup (sliver and diagonal collapses, edge
+        /// swaps) of the finished mesh.
         #[arg(long)]
         no_cleanup: bool,
         /// Pure model: no remedies; a rejected prediction stops the run.
@@ -70,9 +70,9 @@ enum Command {
         #[arg(long)]
         no_fill: bool,
         /// Layers extracted from the boundary before the region left is
-        /// filled directly; `all`: extraction to the end.
-        #[arg(long, default_value = "2", value_parser = parse_layers)]
-        layers: Layers,
+        /// filled directly (default 2); `all`: extraction to the end.
+        #[arg(long, value_parser = parse_layers)]
+        layers: Option<Layers>,
         /// Write the quality figures and step counts as JSON.
         #[arg(long)]
         report: Option<PathBuf>,
@@ -315,7 +315,7 @@ fn run(c: Command) -> Result<()> {
                 },
                 pure_model,
                 fill: !no_fill,
-                fill_after_layers: layers.0,
+                fill_after_layers: layers.map_or(MeshParams::DEFAULT.fill_after_layers, |l| l.0),
                 ..MeshParams::DEFAULT
             };
             let t0 = Instant::now();

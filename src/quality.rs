@@ -50,13 +50,13 @@ impl Shape {
         }
     }
 
-    /// The aspect ratio: the larger ratio of opposite edges.
     /// Longest over shortest edge.
     pub fn stretch(&self) -> f64 {
         let [a, b, c, d] = self.edges;
         a.max(b).max(c).max(d) / a.min(b).min(c).min(d)
     }
 
+    /// The aspect ratio: the larger ratio of opposite edges.
     pub fn aspect(&self) -> f64 {
         let len = self.edges;
         (len[0] / len[2])

@@ -257,8 +257,9 @@ struct Floor {
 const MIN_AREA_RATIO: f64 = 0.3;
 
 /// The quality of a node's `quads`: their smallest scaled Jacobian and
-/// their sum, or `None` when one is not measurably convex, has shrunk below
-/// its `floor` area or become thinner than its `floor` Rs.
+/// their sum, or `None` when one goes past its [`Floor`]: not measurably
+/// convex (when it was), smaller than its area bound, thinner than its Rs
+/// bound or stretched past its stretch bound.
 fn node_quality(mesh: &QuadMesh, quads: &[u32], floor: &[Floor]) -> Option<(f64, f64)> {
     let mut min = f64::INFINITY;
     let mut sum = 0.0;
@@ -308,15 +309,13 @@ const DIRECTIONS: [(f64, f64); 8] = [
 /// is refused) is best, starting from `best` = its quality where it is, by
 /// a pattern search in eight directions whose step starts at a quarter of
 /// the shortest edge to `nbs`, doubles after a success (up to a quarter of
-/// the longest) and halves after a failure, until the first part of the
-/// quality reaches `enough`. Returns the final position (the node is left
-/// there).
+/// the longest) and halves after a failure. Returns the final position
+/// (the node is left there).
 pub(crate) fn pattern_search(
     mesh: &mut QuadMesh,
     v: usize,
     nbs: &[u32],
     mut best: (f64, f64),
-    enough: f64,
     quality: impl Fn(&QuadMesh) -> Option<(f64, f64)>,
 ) -> Point {
     let start = mesh.nodes[v];
@@ -329,7 +328,7 @@ pub(crate) fn pattern_search(
     let cap = 0.25 * longest;
     let mut at = start;
     let mut iterations = 0;
-    while h > stop && iterations < 60 && best.0 < enough {
+    while h > stop && iterations < 60 {
         iterations += 1;
         let mut step = None;
         for (dx, dy) in DIRECTIONS {
@@ -356,9 +355,8 @@ pub(crate) fn pattern_search(
 /// Optimisation-based smoothing: every interior node of a quad whose
 /// scaled Jacobian is under `params.optimize_below` moves to where the
 /// worst of its quads is best (ties: their sum), found by
-/// [`pattern_search`]. Aimed
-/// at the elements Laplacian smoothing leaves poor where fronts meet (a
-/// quad has all angles in [45°, 135°] exactly when its scaled Jacobian is
+/// [`pattern_search`]. Aimed at the elements Laplacian smoothing leaves
+/// poor where fronts meet (a quad has all angles in [45°, 135°] exactly when its scaled Jacobian is
 /// at least sin 45°). A move never lowers the node's worst quad, never
 /// leaves a quad not measurably convex, never shrinks one below
 /// [`MIN_AREA_RATIO`] of its area and never makes one thinner than
@@ -402,9 +400,7 @@ pub fn optimize(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
             };
             let start = mesh.nodes[v];
             let nbs = &adj.nbs[adj.nb_start[v] as usize..adj.nb_start[v + 1] as usize];
-            let at = pattern_search(mesh, v, nbs, best, f64::INFINITY, |m| {
-                node_quality(m, quads, &floor)
-            });
+            let at = pattern_search(mesh, v, nbs, best, |m| node_quality(m, quads, &floor));
             if at != start {
                 moved_now += 1;
             }

@@ -4,7 +4,7 @@
 
 use super::command::Command;
 use super::document::{Document, Settings};
-use crate::extract::Strategy;
+use crate::extract::{MeshParams, Strategy};
 use crate::model::BUILTIN;
 use egui::Ui;
 
@@ -59,7 +59,10 @@ impl StepPanel {
             ui.checkbox(&mut on, "fill inside layer").on_hover_text(
                 "Extract this many layers from the boundary, then fill the region left directly",
             );
-            let mut k = s.fill_after_layers.unwrap_or(2);
+            let mut k = s
+                .fill_after_layers
+                .or(MeshParams::DEFAULT.fill_after_layers)
+                .unwrap_or(1);
             ui.add_enabled(on, egui::DragValue::new(&mut k).range(1..=1000));
             s.fill_after_layers = on.then_some(k);
         });

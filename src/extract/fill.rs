@@ -55,18 +55,35 @@ pub struct RegionFill {
 }
 
 impl RegionFill {
+    /// An empty fill over `nodes`, to be built.
+    fn new(nodes: &[Point]) -> RegionFill {
+        RegionFill {
+            first_new: nodes.len() as u32,
+            points: Vec::new(),
+            quads: Vec::new(),
+        }
+    }
+
+    /// Adds a new node; returns its id.
+    fn add(&mut self, p: Point) -> u32 {
+        self.points.push(p);
+        self.first_new + self.points.len() as u32 - 1
+    }
+
+    /// The position of node `v`, existing or new.
+    fn at(&self, v: u32, nodes: &[Point]) -> Point {
+        if v < self.first_new {
+            nodes[v as usize]
+        } else {
+            self.points[(v - self.first_new) as usize]
+        }
+    }
+
     /// The smallest scaled Jacobian of the fill's quads.
     pub fn min_scaled_jacobian(&self, nodes: &[Point]) -> f64 {
-        let at = |v: u32| {
-            if v < self.first_new {
-                nodes[v as usize]
-            } else {
-                self.points[(v - self.first_new) as usize]
-            }
-        };
         self.quads
             .iter()
-            .map(|q| crate::quality::Shape::of(q.map(at)).scaled_jacobian)
+            .map(|q| crate::quality::Shape::of(q.map(|v| self.at(v, nodes))).scaled_jacobian)
             .fold(f64::INFINITY, f64::min)
     }
 }
@@ -188,27 +205,6 @@ fn fill_one(loops: &[Vec<u32>], nodes: &[Point]) -> Result<RegionFill, FillError
     Err(last)
 }
 
-/// New nodes being built: positions and their ids.
-struct Builder {
-    first_new: u32,
-    points: Vec<Point>,
-    quads: Vec<[u32; 4]>,
-}
-
-impl Builder {
-    fn add(&mut self, p: Point) -> u32 {
-        self.points.push(p);
-        self.first_new + self.points.len() as u32 - 1
-    }
-    fn at(&self, v: u32, nodes: &[Point]) -> Point {
-        if v < self.first_new {
-            nodes[v as usize]
-        } else {
-            self.points[(v - self.first_new) as usize]
-        }
-    }
-}
-
 fn try_fill(
     loops: &[Vec<u32>],
     nodes: &[Point],
@@ -218,11 +214,7 @@ fn try_fill(
     min_area: f64,
     refine: bool,
 ) -> Result<RegionFill, FillError> {
-    let mut b = Builder {
-        first_new: nodes.len() as u32,
-        points: Vec::new(),
-        quads: Vec::new(),
-    };
+    let mut b = RegionFill::new(nodes);
     // 1. Inner nodes q_i and split radial nodes r_i.
     let mut inner: Vec<Vec<u32>> = Vec::with_capacity(loops.len());
     let mut radial: Vec<Vec<Option<u32>>> = Vec::with_capacity(loops.len());
@@ -289,11 +281,7 @@ fn try_fill(
     if !ring_is_clear(loops, &inner, nodes, &b) {
         return Err(FillError::RingCrossing);
     }
-    Ok(RegionFill {
-        first_new: b.first_new,
-        points: b.points,
-        quads: b.quads,
-    })
+    Ok(b)
 }
 
 /// Fills the region bounded by `loops` with a direct quadrangulation: the
@@ -308,11 +296,7 @@ fn try_direct(
     size: f64,
     min_area: f64,
 ) -> Result<RegionFill, FillError> {
-    let mut b = Builder {
-        first_new: nodes.len() as u32,
-        points: Vec::new(),
-        quads: Vec::new(),
-    };
+    let mut b = RegionFill::new(nodes);
     let mut coarse: Vec<Vec<u32>> = Vec::with_capacity(loops.len());
     let mut skipped: BTreeMap<(u32, u32), u32> = BTreeMap::new();
     for l in loops {
@@ -335,11 +319,7 @@ fn try_direct(
     })?;
     check_quads(&b, nodes, min_area)?;
     check_edges(loops, &b.quads)?;
-    Ok(RegionFill {
-        first_new: b.first_new,
-        points: b.points,
-        quads: b.quads,
-    })
+    Ok(b)
 }
 
 /// The quads' sides: each loop edge once in its direction, every other
@@ -367,7 +347,7 @@ fn check_edges(loops: &[Vec<u32>], quads: &[[u32; 4]]) -> Result<(), FillError> 
 
 /// Measurably convex, and not so thin that its area is lost to rounding when
 /// computed from absolute coordinates (as other tools do).
-fn check_quads(b: &Builder, nodes: &[Point], min_area: f64) -> Result<(), FillError> {
+fn check_quads(b: &RegionFill, nodes: &[Point], min_area: f64) -> Result<(), FillError> {
     for quad in &b.quads {
         let p = quad.map(|v| b.at(v, nodes));
         if !crate::geom::is_measurably_convex(p) || crate::geom::polygon_area(p) < min_area {
@@ -388,10 +368,10 @@ fn check_quads(b: &Builder, nodes: &[Point], min_area: f64) -> Result<(), FillEr
 fn quadrangulate(
     loops: &[Vec<u32>],
     nodes: &[Point],
-    b: &mut Builder,
+    b: &mut RegionFill,
     size: f64,
     refine: bool,
-    mut loop_mid: impl FnMut(&mut Builder, u32, u32, Point, Point) -> Option<u32>,
+    mut loop_mid: impl FnMut(&mut RegionFill, u32, u32, Point, Point) -> Option<u32>,
 ) -> Result<(), FillError> {
     let mut vertices: Vec<Point2<f64>> = Vec::new();
     let mut edges: Vec<[usize; 2]> = Vec::new();
@@ -580,7 +560,7 @@ fn clearances(loops: &[Vec<u32>], nodes: &[Point]) -> Vec<Vec<f64>> {
 /// True when no radial or inner-loop edge crosses a front edge or another
 /// ring edge (the triangulation already ruled out crossings among inner
 /// edges).
-fn ring_is_clear(loops: &[Vec<u32>], inner: &[Vec<u32>], nodes: &[Point], b: &Builder) -> bool {
+fn ring_is_clear(loops: &[Vec<u32>], inner: &[Vec<u32>], nodes: &[Point], b: &RegionFill) -> bool {
     let mut ends: Vec<(u32, u32)> = Vec::new();
     for (l, q) in loops.iter().zip(inner) {
         let n = l.len();

@@ -6,8 +6,10 @@
 //! other types, a corrected Pn, the next reference point, and finally a
 //! rule-based element. Loops of 4 and 6 nodes are closed with the final
 //! patterns; a loop that no element can reduce is split along a chord into
-//! two even loops. When nothing reduces the front any more, or the step
-//! budget is spent, the region left is filled by [`fill`].
+//! two even loops. Once the reference points left lie on layer
+//! [`MeshParams::fill_after_layers`] or deeper, when nothing reduces the
+//! front any more, or when the step budget is spent, the region left is
+//! filled by [`fill`].
 //!
 //! The same step API drives the command line, the tests and the editor.
 
