@@ -97,6 +97,45 @@ fn undo_returns_to_the_same_state() {
     assert_eq!(m.steps(), 7);
 }
 
+/// Redo takes undone steps again, corrections included, and a new step
+/// clears what was undone.
+#[test]
+fn redo_takes_undone_steps_again() {
+    use quadex::extract::{Correction, StepOutcome};
+    let b = quadex::io::read_boundary(&common::bench().join("boundaries/lshape.poly")).unwrap();
+    let mut m = Mesher::new(b, Arc::new(RulesModel::DEFAULT), MeshParams::DEFAULT);
+    for _ in 0..5 {
+        m.step().unwrap();
+    }
+    // A correction: a type-0 element at the next step's reference point,
+    // with Pn where the model put it.
+    let mut probe = m.clone();
+    let StepOutcome::Stepped(r) = probe.step().unwrap() else {
+        panic!("the mesh is not done")
+    };
+    let c = Correction {
+        reference: r.reference.unwrap(),
+        element_type: quadex::ElementType::New,
+        pn: r.predicted_pn,
+        snap_to: None,
+    };
+    m.correct(&c).unwrap();
+    m.step().unwrap();
+    let after = m.mesh().clone();
+    assert!(m.undo() && m.undo());
+    assert_eq!(m.redo_len(), 2);
+    let redone = m.redo().unwrap().unwrap();
+    assert_eq!(redone.kind, quadex::extract::StepKind::Correction);
+    m.redo().unwrap().unwrap();
+    assert_eq!(m.mesh(), &after);
+    assert_eq!(m.redo().unwrap(), None);
+    m.check_invariants().unwrap();
+    // A new step after an undo drops the undone one.
+    assert!(m.undo());
+    m.step().unwrap();
+    assert_eq!(m.redo_len(), 0);
+}
+
 /// Same input, same bytes.
 #[test]
 fn output_is_deterministic() {

@@ -348,6 +348,9 @@ pub struct Mesher {
     version: Vec<u32>,
     seq: u64,
     history: Vec<Action>,
+    /// Actions undone, the most recent last: what [`Mesher::redo`] takes
+    /// again. A new step or correction clears it.
+    undone: Vec<Action>,
     stats: StepStats,
     scratch: Scratch,
     step_limit: usize,
@@ -439,6 +442,7 @@ impl Mesher {
             version: Vec::new(),
             seq: 0,
             history: Vec::new(),
+            undone: Vec::new(),
             stats: StepStats::default(),
             scratch: Scratch::default(),
             rules: RulesModel::DEFAULT,
@@ -824,6 +828,7 @@ impl Mesher {
             self.relax_streak = 0;
         }
         self.history.push(Action::Auto);
+        self.undone.clear();
         self.stats.record(&r);
         Ok(StepOutcome::Stepped(Box::new(r)))
     }
@@ -1073,6 +1078,7 @@ impl Mesher {
         self.fill_retry_at = 0;
         let r = self.fill_rest()?;
         self.history.push(Action::Fill);
+        self.undone.clear();
         self.stats.record(&r);
         Some(r)
     }
@@ -1752,6 +1758,7 @@ impl Mesher {
     pub fn correct(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
         let r = self.apply_correction(c)?;
         self.history.push(Action::Correction(c.clone()));
+        self.undone.clear();
         self.stats.record(&r);
         Ok(r)
     }
@@ -1837,13 +1844,44 @@ impl Mesher {
     /// Undoes the last step by replaying all the others from the start
     /// (steps are deterministic). Returns false when there is nothing to undo.
     pub fn undo(&mut self) -> bool {
-        let Some(_) = self.history.pop() else {
+        let Some(a) = self.history.pop() else {
             return false;
         };
         let mut fresh = self.replayed(&self.history);
         fresh.rewound = self.rewound;
+        fresh.undone = std::mem::take(&mut self.undone);
+        fresh.undone.push(a);
         *self = fresh;
         true
+    }
+
+    /// Steps that [`Mesher::undo`] took back and [`Mesher::redo`] can take
+    /// again.
+    pub fn redo_len(&self) -> usize {
+        self.undone.len()
+    }
+
+    /// Takes the most recently undone step again (the same action: an
+    /// automatic step, the user's correction, or a fill) and returns its
+    /// report; `Ok(None)` when nothing was undone.
+    pub fn redo(&mut self) -> Result<Option<StepReport>, MeshError> {
+        let Some(a) = self.undone.pop() else {
+            return Ok(None);
+        };
+        let rest = std::mem::take(&mut self.undone);
+        let r = match &a {
+            Action::Auto => self.step().map(|o| match o {
+                StepOutcome::Stepped(r) => Some(*r),
+                StepOutcome::Done => None,
+            }),
+            Action::Correction(c) => self.correct(c).map(Some),
+            Action::Fill => Ok(self.commit_fill()),
+        };
+        self.undone = rest;
+        if r.is_err() {
+            self.undone.push(a);
+        }
+        r
     }
 
     /// A new mesher over the same input with `actions` replayed, switching
