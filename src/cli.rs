@@ -102,6 +102,10 @@ enum Command {
         /// Window size, WIDTHxHEIGHT in points.
         #[arg(long, value_parser = parse_size)]
         size: Option<[f32; 2]>,
+        /// The panel shown on the right: model, samples, quality or
+        /// smoothing.
+        #[arg(long)]
+        panel: Option<String>,
     },
     /// Collect training samples from quad meshes (.msh) into a training
     /// set (.csv in the thesis's column order, or .json).
@@ -269,12 +273,14 @@ fn run(c: Command) -> Result<()> {
             run,
             screenshot,
             size,
+            panel,
         } => gui(quadex::app::GuiOptions {
             open,
             steps,
             run,
             screenshot,
             size,
+            panel,
         }),
         Command::Mesh {
             input,

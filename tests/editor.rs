@@ -24,8 +24,22 @@ fn assert_judged_valid(mesh: &std::path::Path) {
 
 fn harness(app: App) -> Harness<'static, App> {
     Harness::builder()
-        .with_size([1280.0, 800.0])
+        .with_size([1400.0, 860.0])
         .build_state(|ctx, app: &mut App| app.ui(ctx), app)
+}
+
+/// Runs frames until the background run (if any) is over.
+fn settle(h: &mut Harness<'static, App>) {
+    let t = std::time::Instant::now();
+    while h.state().busy() {
+        assert!(
+            t.elapsed().as_secs() < 300,
+            "the background run did not end"
+        );
+        h.step();
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    h.run();
 }
 
 fn example() -> App {
@@ -45,11 +59,16 @@ fn step_undo_run_and_export_a_mesh_the_judge_accepts() {
     assert!(last.reference.is_some() && !last.leading.is_empty());
     // The panel shows what the step did.
     h.get_by_label("remedy");
-    h.get_by_label_contains("Undo step").click();
+    h.get_by_label_contains("Undo  (").click();
     h.run();
     assert_eq!(h.state().doc.mesher.steps(), 4);
-    h.get_by_label_contains("Run to end").click();
+    h.get_by_label_contains("Redo  (").click();
     h.run();
+    assert_eq!(h.state().doc.mesher.steps(), 5);
+    // Run to end goes to the background: a progress bar, then the mesh.
+    h.get_by_label_contains("Run to end").click();
+    h.step();
+    settle(&mut h);
     assert!(h.state().doc.is_done());
     h.get_by_label("mesh complete");
     let dir = tempfile::tempdir().unwrap();
@@ -170,11 +189,14 @@ fn correct_append_refit_and_finish() {
     assert!(f.after.0.accuracy > 0.95 && f.after.1.r > 0.95, "{f:?}");
     assert!(h.state().doc.mesher.model().name().starts_with("fitted"));
     h.get_by_label("before");
-    // Undo keeps the refit model for what comes next.
+    // The refit is an edit: undo brings the old model back, redo the new.
     h.state_mut().apply(Command::Undo);
+    assert!(!h.state().doc.mesher.model().name().starts_with("fitted"));
+    h.state_mut().apply(Command::Redo);
     assert!(h.state().doc.mesher.model().name().starts_with("fitted"));
     h.get_by_label_contains("Run to end").click();
-    h.run();
+    h.step();
+    settle(&mut h);
     assert!(h.state().doc.is_done());
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("annulus.vtu");
@@ -200,4 +222,176 @@ fn an_invalid_correction_changes_nothing() {
     assert_eq!(s.doc.mesher.steps(), 3);
     assert_eq!(s.doc.last, last);
     assert_eq!(s.doc.training.len(), 0);
+}
+
+#[test]
+fn undo_and_redo_every_edit() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(4));
+    let stepped = h.state().doc.mesher.mesh().clone();
+    // A correction (an edit) on top of steps.
+    let last = h.state().doc.last.clone().unwrap();
+    let pn = h.state().doc.mesher.mesh().nodes[last.pn_node().unwrap() as usize];
+    h.state_mut().apply(Command::CorrectLast {
+        element_type: quadex::ElementType::New,
+        pn,
+    });
+    assert_eq!(h.state().doc.training.len(), 1);
+    let corrected = h.state().doc.mesher.mesh().clone();
+    // New settings (an edit that restarts the mesh).
+    let rules = Settings {
+        model: "rules".into(),
+        ..Settings::default()
+    };
+    h.state_mut().apply(Command::SetSettings(rules));
+    assert_eq!(h.state().doc.mesher.steps(), 0);
+    // Ctrl+Z twice: the settings, then the correction.
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    h.run();
+    assert_eq!(h.state().doc.settings.model, "default");
+    assert_eq!(h.state().doc.mesher.mesh(), &corrected);
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    h.run();
+    assert_eq!(h.state().doc.training.len(), 0);
+    assert_eq!(h.state().doc.mesher.mesh(), &stepped);
+    // Ctrl+Shift+Z twice: the correction, then the settings.
+    let redo = egui::Modifiers::COMMAND.plus(egui::Modifiers::SHIFT);
+    h.key_press_modifiers(redo, egui::Key::Z);
+    h.run();
+    assert_eq!(h.state().doc.training.len(), 1);
+    assert_eq!(h.state().doc.mesher.mesh(), &corrected);
+    h.key_press_modifiers(redo, egui::Key::Z);
+    h.run();
+    assert_eq!(h.state().doc.settings.model, "rules");
+    assert!(!h.state().history.can_redo());
+    // Undo past the steps too, one at a time.
+    for _ in 0..6 {
+        h.state_mut().apply(Command::Undo);
+    }
+    assert_eq!(h.state().doc.mesher.steps(), 0);
+    assert_eq!(h.state().doc.training.len(), 0);
+}
+
+#[test]
+fn a_project_saves_and_opens_whole() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(6));
+    h.state_mut().apply(Command::AppendLast);
+    h.state_mut()
+        .apply(Command::Refit(quadex::model::Form::Quadratic));
+    h.state_mut().apply(Command::StepN(3));
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("annulus.quadex.json");
+    h.state_mut().apply(Command::SaveProject(path.clone()));
+    assert!(
+        h.state().status.starts_with("saved"),
+        "{}",
+        h.state().status
+    );
+    assert!(!h.state().dirty);
+    let mesh = h.state().doc.mesher.mesh().clone();
+    let mut other = harness(example());
+    other.run();
+    other.state_mut().apply(Command::Open(path.clone()));
+    let s = other.state();
+    assert!(s.status.starts_with("opened"), "{}", s.status);
+    assert_eq!(s.doc.mesher.steps(), 9);
+    assert_eq!(s.doc.mesher.mesh(), &mesh);
+    assert_eq!(s.doc.training.len(), 1);
+    assert!(s.doc.mesher.model().name().starts_with("fitted"));
+    assert_eq!(s.project_path.as_deref(), Some(path.as_path()));
+    // Stepping carries on, and undo too.
+    other.state_mut().apply(Command::Step);
+    other.state_mut().apply(Command::Undo);
+    assert_eq!(other.state().doc.mesher.mesh(), &mesh);
+    // A project whose steps do not replay is refused.
+    let text = std::fs::read_to_string(&path).unwrap();
+    let broken = dir.path().join("broken.json");
+    std::fs::write(
+        &broken,
+        text.replace("\"quadex-project\"", "\"something-else\""),
+    )
+    .unwrap();
+    other.state_mut().apply(Command::Open(broken));
+    assert!(other.state().status.starts_with("error:"));
+    assert_eq!(other.state().doc.mesher.steps(), 9);
+}
+
+#[test]
+fn panels_show_the_model_samples_quality_and_smoothing() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(5));
+    h.state_mut().apply(Command::AppendLast);
+    h.run();
+    // Quality: the figures of the mesh so far.
+    h.get_by_label("Quality").click();
+    h.run();
+    h.get_by_label("scaled Jacobian mean");
+    // Model: the fit table and the critical factors of the samples.
+    h.get_by_label("Model").click();
+    h.run();
+    h.get_by_label_contains("type accuracy");
+    h.get_by_label_contains("Critical factors");
+    h.get_by_label("RMSE");
+    // Training set: the table, export and import, delete.
+    h.get_by_label("Training set").click();
+    h.run();
+    h.get_by_label_contains("1 shown");
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("samples.csv");
+    h.state_mut().apply(Command::ExportSamples(csv.clone()));
+    h.state_mut().apply(Command::ImportSamples(csv.clone()));
+    assert_eq!(h.state().doc.training.len(), 2);
+    h.run();
+    h.get_by_label("Select shown").click();
+    h.run();
+    h.get_by_label("Delete selected").click();
+    h.run();
+    assert_eq!(h.state().doc.training.len(), 0);
+    h.state_mut().apply(Command::Undo);
+    assert_eq!(h.state().doc.training.len(), 2);
+    // Smoothing: changing it keeps the steps.
+    h.get_by_label("Smoothing").click();
+    h.run();
+    h.get_by_label("No smoothing").click();
+    h.run();
+    assert_eq!(h.state().doc.mesher.steps(), 5);
+    assert_eq!(
+        h.state().doc.settings.smooth,
+        quadex::smooth::SmoothParams::OFF
+    );
+    // Collect from the finished mesh.
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    h.state_mut().apply(Command::CollectFromMesh);
+    assert!(
+        h.state().status.contains("collected"),
+        "{}",
+        h.state().status
+    );
+    assert!(h.state().doc.training.len() > 10);
+    h.get_by_label("as stepped");
+}
+
+#[test]
+fn a_background_run_can_be_cancelled() {
+    let b = quadex::io::read_boundary(&bench().join("boundaries/disk1600.poly")).unwrap();
+    let mut app = App::new(Document::new(b, None, Settings::default()).unwrap());
+    app.apply(Command::RunToEnd);
+    assert!(app.busy());
+    let mut h = harness(app);
+    h.step();
+    h.get_by_label("Cancel").click();
+    h.step();
+    settle(&mut h);
+    let s = h.state();
+    assert!(s.status.starts_with("cancelled after"), "{}", s.status);
+    assert!(!s.doc.is_done());
+    let steps = s.doc.mesher.steps();
+    // The steps taken are kept and undo one at a time.
+    h.state_mut().apply(Command::Undo);
+    assert_eq!(h.state().doc.mesher.steps() + 1, steps);
 }

@@ -3,6 +3,7 @@
 //! right), the mesh as one batched shape, the front, and the last step's
 //! reference point, leading points, predicted Pn and element.
 
+use super::quality_panel::Metric;
 use crate::extract::{Remedy, StepReport};
 use crate::geom::{point_in_polygon, Point};
 use crate::mesh::QuadMesh;
@@ -142,32 +143,35 @@ fn push_fan(mesh: &mut Mesh, pts: &[Pos2], color: Color32) {
 /// and each edge once, rebuilt when the mesh or the colouring changes.
 #[derive(Default)]
 pub struct MeshCache {
-    key: Option<(u64, usize, bool)>,
+    key: Option<(u64, usize, Option<Metric>)>,
     colors: Vec<Color32>,
     edges: Vec<[u32; 2]>,
+    /// Quads that miss the thesis criteria.
+    poor: Vec<u32>,
     /// Mean edge length in world units.
     mean_edge: f64,
 }
 
 impl MeshCache {
     fn refresh(&mut self, o: &Overlay) {
-        let key = (o.version, o.mesh.quads.len(), o.color_by_quality);
+        let key = (o.version, o.mesh.quads.len(), o.metric);
         if self.key == Some(key) {
             return;
         }
         self.key = Some(key);
         let m = o.mesh;
-        self.colors = m
-            .quads
-            .iter()
-            .map(|q| {
-                let c = if o.color_by_quality {
-                    quality_color(QuadQuality::of(m.corners(q)).scaled_jacobian)
-                } else {
-                    Color32::from_rgb(70, 110, 90)
+        let plain = Color32::from_rgb(70, 110, 90);
+        self.colors = (0..m.quads.len())
+            .map(|k| {
+                let c = match (o.metric, o.qualities.get(k)) {
+                    (Some(metric), Some(q)) => quality_color(metric.score(q)),
+                    _ => plain,
                 };
                 c.gamma_multiply(0.8)
             })
+            .collect();
+        self.poor = (0..o.qualities.len() as u32)
+            .filter(|&k| !o.qualities[k as usize].meets_thesis())
             .collect();
         let mut edges: Vec<[u32; 2]> = m
             .quads
@@ -201,16 +205,32 @@ pub struct Overlay<'a> {
     pub boundary: &'a Boundary,
     pub domain: &'a [[Point; 3]],
     pub mesh: &'a QuadMesh,
+    /// Figures of each quad of `mesh` (empty: not computed).
+    pub qualities: &'a [QuadQuality],
     /// Front loops as node ids.
     pub front: Vec<Vec<u32>>,
     pub last: Option<&'a StepReport>,
-    /// Colour quads by scaled Jacobian.
-    pub color_by_quality: bool,
+    /// Colour quads by this metric (plain when `None`).
+    pub metric: Option<Metric>,
+    /// Boundary nodes to mark (problems of live validation).
+    pub marked: &'a [Point],
+}
+
+/// What the user did on the canvas this frame.
+pub struct CanvasResponse {
+    /// World position under the pointer.
+    pub hover: Option<Point>,
+    /// The quad under the pointer.
+    pub hovered_quad: Option<usize>,
+    /// Primary click without a drag, in world coordinates.
+    pub clicked: Option<Point>,
+    /// The egui response of the canvas, for tools.
+    pub rect: Rect,
 }
 
 /// Draws the canvas and handles pan (drag) and zoom (wheel about the
 /// cursor). Returns the world position under the pointer, if any.
-pub fn ui(ui: &mut Ui, view: &mut View, cache: &mut MeshCache, o: &Overlay) -> Option<Point> {
+pub fn ui(ui: &mut Ui, view: &mut View, cache: &mut MeshCache, o: &Overlay) -> CanvasResponse {
     let (resp, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
     let rect = resp.rect;
     if view.fit_pending {
@@ -257,7 +277,29 @@ pub fn ui(ui: &mut Ui, view: &mut View, cache: &mut MeshCache, o: &Overlay) -> O
         }
     }
     painter.add(Shape::mesh(quads));
-    if cache.mean_edge * view.zoom >= 3.0 {
+    let show_edges = cache.mean_edge * view.zoom >= 3.0;
+    // Quads that miss the thesis criteria: tinted, and outlined dashed
+    // when edges are drawn.
+    let mut tint = Mesh::default();
+    let poor_color = Color32::from_rgba_unmultiplied(200, 60, 220, 90);
+    for &k in &cache.poor {
+        let s = o.mesh.quads[k as usize].map(|v| screen[v as usize]);
+        if rect.intersects(Rect::from_points(&s)) {
+            push_fan(&mut tint, &s, poor_color);
+            if show_edges {
+                let mut ring = s.to_vec();
+                ring.push(s[0]);
+                painter.extend(Shape::dashed_line(
+                    &ring,
+                    Stroke::new(1.5, Color32::from_rgb(230, 90, 255)),
+                    4.0,
+                    3.0,
+                ));
+            }
+        }
+    }
+    painter.add(Shape::mesh(tint));
+    if show_edges {
         let mut edges = Mesh::default();
         let edge_color = ui.visuals().text_color().gamma_multiply(0.7);
         for e in &cache.edges {
@@ -292,10 +334,63 @@ pub fn ui(ui: &mut Ui, view: &mut View, cache: &mut MeshCache, o: &Overlay) -> O
     }
     painter.add(Shape::mesh(lines));
 
+    for &p in o.marked {
+        painter.circle_stroke(to(p), 7.0, Stroke::new(2.0, Color32::from_rgb(255, 60, 60)));
+    }
+
     if let Some(r) = o.last {
         draw_step(&painter, r, o.mesh, &to);
     }
-    hover.map(|h| view.to_world(rect, h))
+    let world = hover.map(|h| view.to_world(rect, h));
+    let hovered_quad = world.and_then(|p| quad_at(o.mesh, p));
+    if let (Some(k), Some(q)) = (hovered_quad, hovered_quad.and_then(|k| o.qualities.get(k))) {
+        let s = o.mesh.quads[k].map(|v| screen[v as usize]);
+        painter.add(Shape::closed_line(
+            s.to_vec(),
+            Stroke::new(2.0, Color32::WHITE),
+        ));
+        resp.clone()
+            .on_hover_ui_at_pointer(|ui| quad_tooltip(ui, k, q));
+    }
+    CanvasResponse {
+        hover: world,
+        hovered_quad,
+        clicked: resp
+            .clicked()
+            .then(|| resp.interact_pointer_pos().map(|p| view.to_world(rect, p)))
+            .flatten(),
+        rect,
+    }
+}
+
+/// The quad of `mesh` containing `p` (a scan: called once per frame).
+fn quad_at(mesh: &QuadMesh, p: Point) -> Option<usize> {
+    mesh.quads
+        .iter()
+        .position(|q| point_in_polygon(p, &mesh.corners(q)))
+}
+
+/// The figures of one quad, shown while hovering it.
+fn quad_tooltip(ui: &mut Ui, k: usize, q: &QuadQuality) {
+    egui::Grid::new("quad_tip").num_columns(2).show(ui, |ui| {
+        ui.label("quad");
+        ui.label(k.to_string());
+        ui.end_row();
+        for (name, v) in [
+            ("scaled Jacobian", q.scaled_jacobian),
+            ("min angle", q.min_angle()),
+            ("max angle", q.max_angle()),
+            ("aspect", q.aspect),
+            ("taper", q.taper),
+        ] {
+            ui.label(name);
+            ui.monospace(format!("{v:.3}"));
+            ui.end_row();
+        }
+        ui.label("thesis criteria");
+        ui.label(if q.meets_thesis() { "met" } else { "missed" });
+        ui.end_row();
+    });
 }
 
 /// Grid lines at a power of ten that keeps them 40+ pixels apart, with

@@ -14,7 +14,7 @@ pub enum Command {
     StepN(usize),
     /// Step until the mesh is complete.
     RunToEnd,
-    /// Undo the last step.
+    /// Undo the last edit or step.
     Undo,
     /// Start the mesh again.
     Reset,
@@ -37,6 +37,41 @@ pub enum Command {
     /// Refit the model on the reference samples and the user's, and mesh
     /// the rest with it.
     Refit(Form),
+    /// Take the last undone edit or step again.
+    Redo,
+    /// Step on their own at the animation speed, or stop.
+    Animate(bool),
+    /// Stop the run in the background (the steps taken so far stay).
+    Cancel,
+    /// Save the project (to the file it came from, else ask where).
+    Save,
+    /// Save the project to this file.
+    SaveProject(PathBuf),
+    /// Ask for a file with a dialog, then act on it.
+    Dialog(Dialog),
+    /// Append the samples of a training-set file (CSV or JSON).
+    ImportSamples(PathBuf),
+    /// Write the user's samples (CSV, or JSON by extension).
+    ExportSamples(PathBuf),
+    /// Drop the user's samples at these positions.
+    DeleteSamples(Vec<usize>),
+    /// Collect samples from the finished mesh on the canvas.
+    CollectFromMesh,
+    /// Collect samples from a quad mesh file (`.msh`).
+    CollectFromFile(PathBuf),
+    /// Replace the boundary (an edit on the canvas); the mesh restarts.
+    SetBoundary(Box<crate::Boundary>),
+}
+
+/// What a file dialog is asked for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dialog {
+    Open,
+    SaveProjectAs,
+    ExportMesh,
+    ImportSamples,
+    ExportSamples,
+    CollectFromFile,
 }
 
 impl Command {
@@ -48,6 +83,19 @@ impl Command {
             Command::StepN(_) => Some(KeyboardShortcut::new(Modifiers::SHIFT, Key::Space)),
             Command::RunToEnd => Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::Enter)),
             Command::Undo => Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::Z)),
+            Command::Redo => Some(KeyboardShortcut::new(
+                Modifiers::COMMAND.plus(Modifiers::SHIFT),
+                Key::Z,
+            )),
+            Command::Save => Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::S)),
+            Command::Dialog(Dialog::Open) => {
+                Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::O))
+            }
+            Command::Dialog(Dialog::ExportMesh) => {
+                Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::E))
+            }
+            Command::Animate(_) => Some(KeyboardShortcut::new(Modifiers::NONE, Key::P)),
+            Command::Cancel => Some(KeyboardShortcut::new(Modifiers::NONE, Key::Escape)),
             Command::Reset => Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::R)),
             Command::FitView => Some(KeyboardShortcut::new(Modifiers::NONE, Key::F)),
             _ => None,

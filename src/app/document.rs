@@ -1,17 +1,25 @@
 //! The editor's document: the boundary, the mesher stepping over it with
-//! the chosen model and settings, the last step's report, and the training
-//! set the user's corrections go to. Everything here goes through the
-//! core's public API (`Mesher`, `model::load`, `io`).
+//! the chosen model and settings, the last step's report, the training set
+//! the user's corrections go to, and the models refits made. A document is
+//! saved whole as a project file ([`Project`]). Everything here goes
+//! through the core's public API (`Mesher`, `model::load`, `fit`, `io`).
 
-use crate::extract::{Correction, MeshParams, Mesher, StepKind, StepOutcome, StepReport, Strategy};
+use crate::cleanup::CleanupParams;
+use crate::extract::{
+    Action, Correction, MeshParams, Mesher, StepKind, StepOutcome, StepReport, Strategy,
+};
 use crate::fit::{self, Figures, FitParams, TypeFigures};
 use crate::io;
+use crate::io::boundary_json::BoundaryDoc;
 use crate::mesh::QuadMesh;
 use crate::model;
+use crate::model::fitted::FittedModel;
 use crate::model::Form;
 use crate::samples::CollectParams;
 use crate::samples::TrainingSet;
+use crate::smooth::SmoothParams;
 use crate::Boundary;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -27,6 +35,10 @@ pub struct Settings {
     pub pure_model: bool,
     /// See [`MeshParams::fill_after_layers`].
     pub fill_after_layers: Option<u32>,
+    /// Smoothing of the finished mesh.
+    pub smooth: SmoothParams,
+    /// Topological cleanup of the finished mesh.
+    pub cleanup: CleanupParams,
 }
 
 impl Default for Settings {
@@ -37,6 +49,8 @@ impl Default for Settings {
             points: 7,
             pure_model: false,
             fill_after_layers: MeshParams::DEFAULT.fill_after_layers,
+            smooth: MeshParams::DEFAULT.smooth,
+            cleanup: MeshParams::DEFAULT.cleanup,
         }
     }
 }
@@ -48,12 +62,16 @@ impl Settings {
             leading_points: (self.points - 1) / 2,
             pure_model: self.pure_model,
             fill_after_layers: self.fill_after_layers,
+            smooth: self.smooth,
+            cleanup: self.cleanup,
             ..MeshParams::DEFAULT
         }
     }
 }
 
-/// The boundary being meshed and the state of its mesh.
+/// The boundary being meshed and the state of its mesh. Cloning is what
+/// the editor's undo keeps; the reference samples are shared.
+#[derive(Clone)]
 pub struct Document {
     pub boundary: Boundary,
     /// The file the boundary came from.
@@ -64,9 +82,11 @@ pub struct Document {
     pub last: Option<StepReport>,
     /// Samples from accepted and corrected elements.
     pub training: TrainingSet,
+    /// Models set by refits, with the number of steps taken before each.
+    pub refits: Vec<(usize, FittedModel)>,
     /// The reference meshes' samples a refit starts from (loaded at the
     /// first refit).
-    base: Option<TrainingSet>,
+    base: Option<Arc<TrainingSet>>,
 }
 
 /// Figures of the model before and after a refit, on the same samples.
@@ -94,6 +114,7 @@ impl Document {
             settings,
             mesher,
             last: None,
+            refits: Vec::new(),
             base: None,
         })
     }
@@ -110,6 +131,9 @@ impl Document {
     /// Opens a boundary file (`.poly`, `.json`); the message names the file
     /// and the problem.
     pub fn open(path: &Path, settings: Settings) -> Result<Document, String> {
+        if is_project(path) {
+            return Document::open_project(path);
+        }
         let b = io::read_boundary(path).map_err(|e| format!("{}: {e}", path.display()))?;
         Document::new(b, Some(path.to_path_buf()), settings)
     }
@@ -158,19 +182,53 @@ impl Document {
         self.mesher.undo()
     }
 
+    /// Takes the last undone step again; `Ok(false)` when there is none.
+    pub fn redo(&mut self) -> Result<bool, String> {
+        match self.mesher.redo().map_err(|e| e.to_string())? {
+            Some(r) => {
+                self.last = Some(r);
+                Ok(true)
+            }
+            None => Ok(false),
+        }
+    }
+
     /// Starts the mesh again with the current settings.
     pub fn reset(&mut self) -> Result<(), String> {
         self.mesher = Self::mesher(&self.boundary, &self.settings)?;
         self.last = None;
+        self.refits.clear();
         Ok(())
     }
 
-    /// Changes the settings and starts again; on failure nothing changes.
+    /// A new boundary (edited in the editor); the mesh starts again.
+    pub fn set_boundary(&mut self, boundary: Boundary) -> Result<(), String> {
+        self.mesher = Self::mesher(&boundary, &self.settings)?;
+        self.boundary = boundary;
+        self.last = None;
+        self.refits.clear();
+        Ok(())
+    }
+
+    /// Changes the settings and starts again (unless only cleanup and
+    /// smoothing changed: they apply to the finished mesh); on failure
+    /// nothing changes.
     pub fn set_settings(&mut self, settings: Settings) -> Result<(), String> {
+        let finishing_only = Settings {
+            smooth: self.settings.smooth,
+            cleanup: self.settings.cleanup,
+            ..settings.clone()
+        } == self.settings;
+        if finishing_only {
+            // Cleanup and smoothing act on the finished mesh only.
+            self.settings = settings;
+            return Ok(());
+        }
         let mesher = Self::mesher(&self.boundary, &settings)?;
         self.settings = settings;
         self.mesher = mesher;
         self.last = None;
+        self.refits.clear();
         Ok(())
     }
 
@@ -232,28 +290,35 @@ impl Document {
 
     /// The reference meshes' samples at the current input points (the
     /// method's defaults), loaded once.
-    fn base_set(&mut self) -> Result<&TrainingSet, String> {
+    pub fn base_set(&mut self) -> Result<Arc<TrainingSet>, String> {
         let points = self.training.points;
         if self.base.as_ref().is_none_or(|b| b.points != points) {
             let meshes = crate::reference::read_shipped().map_err(|e| e.to_string())?;
-            self.base = Some(TrainingSet::collect(
+            self.base = Some(Arc::new(TrainingSet::collect(
                 &meshes,
                 points,
                 &CollectParams::DEFAULT,
-            ));
+            )));
         }
         self.base
-            .as_ref()
+            .clone()
             .ok_or_else(|| "no reference samples".into())
+    }
+
+    /// The reference samples and the user's, as a refit sees them.
+    pub fn refit_set(&mut self) -> Result<TrainingSet, String> {
+        let mut set = (*self.base_set()?).clone();
+        set.merge(self.training.clone())
+            .map_err(|e| e.to_string())?;
+        Ok(set)
     }
 
     /// Refits a model of `form` on the reference samples plus the user's,
     /// meshes the rest of the mesh with it, and returns the figures of the
     /// old and the new model on those samples.
     pub fn refit(&mut self, form: Form) -> Result<RefitFigures, String> {
-        let corrections = self.training.clone();
-        let mut set = self.base_set()?.clone();
-        set.merge(corrections.clone()).map_err(|e| e.to_string())?;
+        let corrections = self.training.len();
+        let set = self.refit_set()?;
         let params = FitParams {
             folds: 0,
             ..FitParams::DEFAULT
@@ -262,10 +327,11 @@ impl Document {
             fit::evaluate(self.mesher.model().as_ref(), &set).map_err(|e| e.to_string())?;
         let model = fit::refit(&set, form, &params).map_err(|e| e.to_string())?;
         let after = fit::evaluate(&model, &set).map_err(|e| e.to_string())?;
-        self.mesher.set_model(Arc::new(model));
+        self.mesher.set_model(Arc::new(model.clone()));
+        self.refits.push((self.mesher.steps(), model));
         Ok(RefitFigures {
             samples: set.len(),
-            corrections: corrections.len(),
+            corrections,
             before,
             after,
         })
@@ -280,7 +346,9 @@ impl Document {
         if !self.is_done() {
             return Err("the mesh is not finished: run to the end first".into());
         }
-        self.mesher.finish().map_err(|e| e.to_string())
+        self.mesher
+            .finish_with(&self.settings.cleanup, &self.settings.smooth)
+            .map_err(|e| e.to_string())
     }
 
     /// Writes the finished mesh; the format follows the extension.
@@ -291,4 +359,166 @@ impl Document {
         io::write_atomic(path, fmt.render(&mesh).as_bytes())
             .map_err(|e| format!("{}: {e}", path.display()))
     }
+}
+
+/// A training-set edit from the editor's Training set panel.
+impl Document {
+    /// Drops the user's samples at `indices` (positions in the set);
+    /// returns how many are left.
+    pub fn delete_samples(&mut self, indices: &[usize]) -> usize {
+        let drop: std::collections::BTreeSet<usize> = indices.iter().copied().collect();
+        let mut k = 0;
+        self.training.samples.retain(|_| {
+            k += 1;
+            !drop.contains(&(k - 1))
+        });
+        self.training.len()
+    }
+
+    /// Appends the samples of a CSV or JSON training-set file (the input
+    /// points must match the set's, unless the set is empty); returns how
+    /// many were added.
+    pub fn import_samples(&mut self, path: &Path) -> Result<usize, String> {
+        let set = TrainingSet::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        self.add_samples(set)
+            .map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    fn add_samples(&mut self, set: TrainingSet) -> Result<usize, String> {
+        let n = set.len();
+        if self.training.is_empty() {
+            self.training = set;
+        } else {
+            self.training.merge(set).map_err(|e| e.to_string())?;
+        }
+        Ok(n)
+    }
+
+    /// Writes the user's samples (CSV, or JSON for a `.json` path).
+    pub fn export_samples(&self, path: &Path) -> Result<(), String> {
+        self.training
+            .write(path)
+            .map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// Collects samples from a finished mesh (the current one, or a mesh
+    /// file) at the set's input points and appends them; returns how many.
+    pub fn collect_samples(&mut self, name: &str, mesh: QuadMesh) -> Result<usize, String> {
+        let set = TrainingSet::collect(
+            &[(name.to_string(), mesh)],
+            self.training.points,
+            &CollectParams::DEFAULT,
+        );
+        self.add_samples(set)
+    }
+
+    /// Collects from a quad mesh file (`.msh`).
+    pub fn collect_from_file(&mut self, path: &Path) -> Result<usize, String> {
+        let mesh = io::read_mesh(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let name = path
+            .file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        self.collect_samples(&name, mesh)
+    }
+}
+
+/// A project file: the whole document in one JSON file. The mesh is kept
+/// both as the actions that built it (replayed on opening, so stepping and
+/// undo carry on) and as nodes and quads for other readers.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Project {
+    pub format: String,
+    pub version: u32,
+    pub boundary: BoundaryDoc,
+    pub settings: Settings,
+    pub actions: Vec<Action>,
+    /// Models set by refits, with the steps taken before each.
+    pub refits: Vec<(usize, FittedModel)>,
+    pub training: TrainingSet,
+    /// The mesh as stepped (not smoothed).
+    pub mesh: QuadMesh,
+}
+
+/// The `format` field of a project file.
+pub const PROJECT_FORMAT: &str = "quadex-project";
+
+impl Document {
+    /// The document as a project.
+    pub fn project(&self) -> Project {
+        Project {
+            format: PROJECT_FORMAT.into(),
+            version: 1,
+            boundary: BoundaryDoc::from_boundary(&self.boundary, &self.name()),
+            settings: self.settings.clone(),
+            actions: self.mesher.actions().to_vec(),
+            refits: self.refits.clone(),
+            training: self.training.clone(),
+            mesh: self.mesher.mesh().clone(),
+        }
+    }
+
+    /// Saves the document as a project file (written whole or not at all).
+    pub fn save_project(&self, path: &Path) -> Result<(), String> {
+        let json = serde_json::to_string(&self.project()).map_err(|e| e.to_string())?;
+        io::write_atomic(path, json.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// A document from a project: the boundary checked, the actions
+    /// replayed with the refitted models set where they were.
+    pub fn from_project(p: Project, source: Option<PathBuf>) -> Result<Document, String> {
+        if p.format != PROJECT_FORMAT {
+            return Err(format!("not a quadex project (format \"{}\")", p.format));
+        }
+        let boundary = p.boundary.to_boundary().map_err(|e| e.to_string())?;
+        let mut doc = Document::new(boundary, source, p.settings)?;
+        let mut refits = p.refits.into_iter().peekable();
+        for (i, a) in p.actions.iter().enumerate() {
+            while let Some((_, m)) = refits.next_if(|(at, _)| *at <= i) {
+                doc.set_refit(m);
+            }
+            doc.last = doc
+                .mesher
+                .take(a)
+                .map_err(|e| format!("step {} of the project does not replay: {e}", i + 1))?;
+        }
+        for (_, m) in refits {
+            doc.set_refit(m);
+        }
+        if doc.mesher.mesh() != &p.mesh {
+            return Err("the project's mesh differs from its replayed steps".into());
+        }
+        doc.training = p.training;
+        Ok(doc)
+    }
+
+    fn set_refit(&mut self, m: FittedModel) {
+        self.mesher.set_model(Arc::new(m.clone()));
+        self.refits.push((self.mesher.steps(), m));
+    }
+
+    /// Opens a project file.
+    pub fn open_project(path: &Path) -> Result<Document, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let p: Project =
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        Document::from_project(p, Some(path.to_path_buf()))
+            .map_err(|e| format!("{}: {e}", path.display()))
+    }
+}
+
+/// True for a JSON file whose `format` is a project's.
+fn is_project(path: &Path) -> bool {
+    #[derive(Deserialize)]
+    struct Format {
+        format: Option<String>,
+    }
+    let json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    json && std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<Format>(&t).ok())
+        .and_then(|f| f.format)
+        .is_some_and(|f| f == PROJECT_FORMAT)
 }

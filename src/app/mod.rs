@@ -1,20 +1,37 @@
 //! The desktop editor (eframe/egui): a view and a controller over the core.
-//! [`App`] holds the [`Document`] (boundary, mesher, training set), the
-//! canvas [`View`], the panels' own state and a status line; every user
-//! intent is a [`Command`] applied in [`App::apply`]. No meshing logic
-//! lives here: the editor drives `Mesher` through its public step API like
-//! the CLI and the tests do.
+//! [`App`] holds the [`Document`] (boundary, mesher, training set), its
+//! [`History`] for undo and redo, the canvas [`View`], the panels' own state
+//! and a status line; every user intent is a [`Command`] applied in
+//! [`App::apply`]. No meshing logic lives here: the editor drives `Mesher`
+//! through its public step API like the CLI and the tests do. Long runs go
+//! to a background [`job::Job`].
 
 pub mod canvas;
 pub mod command;
 pub mod document;
+pub mod files;
+pub mod history;
+pub mod job;
+pub mod model_panel;
+pub mod quality_panel;
+pub mod samples_panel;
+pub mod smooth_panel;
 pub mod step_panel;
 pub mod train_panel;
 
 use crate::geom::Point;
+use crate::mesh::QuadMesh;
 use canvas::{MeshCache, Overlay, View};
-pub use command::Command;
+pub use command::{Command, Dialog};
 pub use document::{Document, Settings};
+use files::Recent;
+pub use history::History;
+use job::Job;
+use model_panel::ModelPanel;
+use quality_panel::{MeshStats, QualityPanel};
+use samples_panel::SamplesPanel;
+use serde::{Deserialize, Serialize};
+use smooth_panel::SmoothPanel;
 use std::path::{Path, PathBuf};
 use step_panel::StepPanel;
 use train_panel::TrainPanel;
@@ -22,7 +39,7 @@ use train_panel::TrainPanel;
 /// How the editor starts (`quadex gui`).
 #[derive(Clone, Debug, Default)]
 pub struct GuiOptions {
-    /// Boundary to open (default: the shipped example).
+    /// Boundary or project to open (default: the shipped example).
     pub open: Option<PathBuf>,
     /// Steps to take after opening.
     pub steps: Option<usize>,
@@ -32,6 +49,8 @@ pub struct GuiOptions {
     pub screenshot: Option<PathBuf>,
     /// Window size in points.
     pub size: Option<[f32; 2]>,
+    /// The panel on the right (`model`, `samples`, `quality`, `smoothing`).
+    pub panel: Option<String>,
 }
 
 /// The shipped example the editor opens by default.
@@ -42,27 +61,96 @@ pub fn example_path() -> PathBuf {
 /// Frames drawn before a screenshot is taken (layout and view settle).
 const SCREENSHOT_FRAME: u64 = 3;
 
+/// Steps ×N above this run in the background.
+const BACKGROUND_STEPS: usize = 200;
+
+/// The panels on the right.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Tab {
+    #[default]
+    Quality,
+    Model,
+    Samples,
+    Smoothing,
+}
+
+impl Tab {
+    const ALL: [Tab; 4] = [Tab::Quality, Tab::Model, Tab::Samples, Tab::Smoothing];
+
+    fn name(self) -> &'static str {
+        match self {
+            Tab::Quality => "Quality",
+            Tab::Model => "Model",
+            Tab::Samples => "Training set",
+            Tab::Smoothing => "Smoothing",
+        }
+    }
+
+    fn parse(s: &str) -> Option<Tab> {
+        match s {
+            "quality" => Some(Tab::Quality),
+            "model" => Some(Tab::Model),
+            "samples" | "training" => Some(Tab::Samples),
+            "smoothing" => Some(Tab::Smoothing),
+            _ => None,
+        }
+    }
+}
+
+/// What the editor remembers between runs (eframe persistence): settings
+/// and view choices, not the document.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Prefs {
+    pub settings: Settings,
+    pub recent: Recent,
+    pub step: StepPanel,
+    pub quality: QualityPanel,
+    pub tab: Tab,
+}
+
+/// The finished mesh (cleaned up and smoothed) of one document version.
+struct Finished {
+    version: u64,
+    mesh: QuadMesh,
+}
+
 pub struct App {
     pub doc: Document,
+    pub history: History,
     pub view: View,
-    step_panel: StepPanel,
+    pub prefs: Prefs,
     train_panel: TrainPanel,
+    model_panel: ModelPanel,
+    samples_panel: SamplesPanel,
+    smooth_panel: SmoothPanel,
     /// Figures of the last refit.
     pub refit: Option<document::RefitFigures>,
     /// Export path typed in the export box.
     pub export_path: String,
     /// The last message for the user (errors from files and steps).
     pub status: String,
+    /// The project file the document was opened from or saved to.
+    pub project_path: Option<PathBuf>,
+    /// Changes since the last save.
+    pub dirty: bool,
+    /// Long runs go to a thread (off in some tests).
+    pub background: bool,
+    job: Option<Job>,
+    /// Animated run: steps owed to the animation.
+    animating: Option<f64>,
     /// Cached domain triangles of the boundary.
     domain: Vec<[Point; 3]>,
-    color_by_quality: bool,
     mesh_cache: MeshCache,
-    /// Bumped whenever a command may have changed the mesh.
+    stats: MeshStats,
+    /// Bumped whenever the document changes.
     version: u64,
-    /// The smoothed mesh once the run is complete, with the step count it
-    /// belongs to.
-    finished: Option<(usize, crate::mesh::QuadMesh)>,
+    finished: Option<Finished>,
+    finished_failed: Option<u64>,
     hover: Option<Point>,
+    /// The close-without-saving question is open.
+    confirm_close: bool,
+    close_allowed: bool,
     screenshot: Option<PathBuf>,
     screenshot_requested: bool,
     frame: u64,
@@ -78,17 +166,29 @@ impl App {
                 .display()
                 .to_string(),
             doc,
+            history: History::default(),
             view: View::default(),
-            step_panel: StepPanel::default(),
+            prefs: Prefs::default(),
             train_panel: TrainPanel::default(),
+            model_panel: ModelPanel::default(),
+            samples_panel: SamplesPanel::default(),
+            smooth_panel: SmoothPanel::default(),
             refit: None,
             status: String::new(),
+            project_path: None,
+            dirty: false,
+            background: true,
+            job: None,
+            animating: None,
             domain,
-            color_by_quality: true,
             mesh_cache: MeshCache::default(),
+            stats: MeshStats::default(),
             version: 0,
             finished: None,
+            finished_failed: None,
             hover: None,
+            confirm_close: false,
+            close_allowed: false,
             screenshot: None,
             screenshot_requested: false,
             frame: 0,
@@ -96,97 +196,443 @@ impl App {
     }
 
     /// The editor as `quadex gui` starts it: the file (or the shipped
-    /// example) opened, then the requested steps taken.
-    pub fn from_options(o: &GuiOptions) -> Result<App, String> {
+    /// example) opened with the remembered settings, then the requested
+    /// steps taken.
+    pub fn from_options(o: &GuiOptions, prefs: Prefs) -> Result<App, String> {
         let path = o.open.clone().unwrap_or_else(example_path);
-        let mut app = App::new(Document::open(&path, Settings::default())?);
+        // Remembered settings that no longer load (a model file gone) give
+        // way to the defaults.
+        let doc = Document::open(&path, prefs.settings.clone())
+            .or_else(|_| Document::open(&path, Settings::default()))?;
+        let mut app = App::new(doc);
+        app.prefs = prefs;
+        app.note_opened(&path);
+        if let Some(t) = o.panel.as_deref() {
+            app.prefs.tab = Tab::parse(t).ok_or_else(|| format!("unknown panel `{t}`"))?;
+        }
         if let Some(n) = o.steps {
             app.apply(Command::StepN(n));
         }
         if o.run {
             app.apply(Command::RunToEnd);
         }
+        app.wait();
         app.screenshot = o.screenshot.clone();
         Ok(app)
+    }
+
+    /// True while a run is going in the background.
+    pub fn busy(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Waits for the background run, if any, and takes its result.
+    pub fn wait(&mut self) {
+        if let Some(mut j) = self.job.take() {
+            if let Some(r) = j.wait() {
+                self.job_done(r);
+            }
+        }
+    }
+
+    /// Remembers a file opened from a path the user gave.
+    fn note_opened(&mut self, path: &Path) {
+        if path.extension().is_some_and(|e| e == "json") && document_is_project(&self.doc) {
+            self.project_path = Some(path.to_path_buf());
+        }
+        self.prefs.recent.push(path);
+    }
+
+    /// The document changed: caches and the finished mesh are stale.
+    fn changed(&mut self) {
+        self.version += 1;
+        self.dirty = true;
+    }
+
+    /// A new document in place of the old (the boundary may differ).
+    fn replaced(&mut self) {
+        self.domain = canvas::domain_triangles(&self.doc.boundary);
+        self.changed();
+    }
+
+    /// Runs an edit that keeps the document as it was for undo; on failure
+    /// the document is left as it was.
+    fn edit(
+        &mut self,
+        name: &'static str,
+        f: impl FnOnce(&mut Document) -> Result<String, String>,
+    ) -> Result<String, String> {
+        let before = self.doc.clone();
+        match f(&mut self.doc) {
+            Ok(msg) => {
+                let boundary_changed = before.boundary != self.doc.boundary;
+                self.history.edit(before, name);
+                if boundary_changed {
+                    self.replaced();
+                } else {
+                    self.changed();
+                }
+                Ok(msg)
+            }
+            Err(e) => {
+                self.doc = before;
+                Err(e)
+            }
+        }
     }
 
     /// Applies one command; failures go to the status line and leave the
     /// document as it was.
     pub fn apply(&mut self, cmd: Command) {
-        self.version += 1;
-        let res: Result<String, String> = match cmd {
-            Command::Step => self.doc.step().map(|more| {
-                if more {
-                    String::new()
-                } else {
-                    "the mesh is complete".into()
+        if self.busy() && !matches!(cmd, Command::Cancel | Command::FitView) {
+            self.status = "busy: wait for the run to finish or cancel it (Esc)".into();
+            return;
+        }
+        let res = self.run_command(cmd);
+        match res {
+            Ok(s) => {
+                if !s.is_empty() {
+                    self.status = s;
                 }
-            }),
-            Command::StepN(n) => self.doc.step_n(n).map(|k| format!("{k} steps")),
+            }
+            Err(e) => self.status = format!("error: {e}"),
+        }
+    }
+
+    fn run_command(&mut self, cmd: Command) -> Result<String, String> {
+        match cmd {
+            Command::Step => {
+                let more = self.doc.step();
+                let more = more?;
+                if more {
+                    self.history.steps(1);
+                    self.changed();
+                    Ok(String::new())
+                } else {
+                    Ok("the mesh is complete".into())
+                }
+            }
+            Command::StepN(n) if self.background && n > BACKGROUND_STEPS => {
+                self.start_job(n, "stepping");
+                Ok(format!("taking {n} steps…"))
+            }
+            Command::StepN(n) => self.step_sync(n).map(|k| format!("{k} steps")),
+            Command::RunToEnd if self.background => {
+                self.start_job(usize::MAX, "running to the end");
+                Ok("running to the end…".into())
+            }
             Command::RunToEnd => self
-                .doc
-                .run_to_end()
+                .step_sync(usize::MAX)
                 .map(|k| format!("{k} steps to the end")),
-            Command::Undo => Ok(if self.doc.undo() {
-                "undone".into()
-            } else {
-                "nothing to undo".into()
-            }),
-            Command::Reset => self.doc.reset().map(|_| "restarted".into()),
+            Command::Animate(on) => {
+                self.animating = on.then_some(0.0);
+                Ok(if on { "running…" } else { "paused" }.into())
+            }
+            Command::Cancel => {
+                self.animating = None;
+                match &self.job {
+                    Some(j) => {
+                        j.cancel();
+                        Ok("cancelling…".into())
+                    }
+                    None => Ok(String::new()),
+                }
+            }
+            Command::Undo => {
+                let what = self.history.undo(&mut self.doc);
+                self.after_history();
+                Ok(what.map_or("nothing to undo".into(), |w| format!("undone: {w}")))
+            }
+            Command::Redo => {
+                let what = self.history.redo(&mut self.doc);
+                self.after_history();
+                Ok(what?.map_or("nothing to redo".into(), |w| format!("redone: {w}")))
+            }
+            Command::Reset => self.edit("reset", |d| d.reset().map(|_| "restarted".into())),
             Command::FitView => {
                 self.view.fit_pending = true;
                 Ok(String::new())
             }
-            Command::Open(path) => Document::open(&path, self.doc.settings.clone()).map(|d| {
-                self.domain = canvas::domain_triangles(&d.boundary);
-                self.doc = d;
+            Command::Open(path) => {
+                let settings = self.doc.settings.clone();
+                let msg = self.edit("open", |d| {
+                    *d = Document::open(&path, settings)?;
+                    Ok(format!("opened {}", path.display()))
+                })?;
+                self.project_path = None;
+                self.note_opened(&path);
+                self.replaced();
+                self.dirty = false;
                 self.view.fit_pending = true;
-                format!("opened {}", path.display())
+                Ok(msg)
+            }
+            Command::Save => match self.project_path.clone() {
+                Some(p) => self.save(&p),
+                None => {
+                    self.dialog(Dialog::SaveProjectAs);
+                    Ok(String::new())
+                }
+            },
+            Command::SaveProject(path) => self.save(&path),
+            Command::Dialog(d) => {
+                self.dialog(d);
+                Ok(String::new())
+            }
+            Command::Export(path) => {
+                let fmt = crate::io::MeshFormat::from_path(&path)
+                    .map_err(|e| format!("{}: {e}", path.display()))?;
+                let mesh = self.finished_mesh()?;
+                crate::io::write_atomic(&path, fmt.render(&mesh).as_bytes())
+                    .map_err(|e| format!("{}: {e}", path.display()))?;
+                Ok(format!("wrote {}", path.display()))
+            }
+            Command::SetSettings(s) => {
+                self.prefs.settings = s.clone();
+                self.edit("settings", |d| {
+                    let restart = d.settings.model != s.model
+                        || d.settings.strategy != s.strategy
+                        || d.settings.points != s.points
+                        || d.settings.pure_model != s.pure_model
+                        || d.settings.fill_after_layers != s.fill_after_layers;
+                    d.set_settings(s)?;
+                    Ok(if restart {
+                        "settings changed; mesh restarted".into()
+                    } else {
+                        "cleanup and smoothing changed".into()
+                    })
+                })
+            }
+            Command::AppendLast => self.edit("append sample", |d| {
+                d.append_last()
+                    .map(|n| format!("sample appended ({n} in the training set)"))
             }),
-            Command::Export(path) => self
-                .doc
-                .export(&path)
-                .map(|_| format!("wrote {}", path.display())),
-            Command::SetSettings(s) => self
-                .doc
-                .set_settings(s)
-                .map(|_| "settings changed; mesh restarted".into()),
-            Command::AppendLast => self
-                .doc
-                .append_last()
-                .map(|n| format!("sample appended ({n} in the training set)")),
-            Command::CorrectLast { element_type, pn } => self
-                .doc
-                .correct_last(element_type, pn)
-                .map(|n| format!("element corrected, sample appended ({n} in the training set)")),
-            Command::Refit(form) => self.doc.refit(form).map(|f| {
-                let msg = format!(
-                    "refitted ({}) on {} samples: Xn R {:.3} → {:.3}",
-                    form.name(),
-                    f.samples,
-                    f.before.1.r,
-                    f.after.1.r
-                );
-                self.refit = Some(f);
-                msg
+            Command::CorrectLast { element_type, pn } => self.edit("correction", |d| {
+                d.correct_last(element_type, pn).map(|n| {
+                    format!("element corrected, sample appended ({n} in the training set)")
+                })
             }),
+            Command::Refit(form) => {
+                let mut figures = None;
+                let msg = self.edit("refit", |d| {
+                    let f = d.refit(form)?;
+                    let msg = format!(
+                        "refitted ({}) on {} samples: Xn R {:.3} → {:.3}",
+                        form.name(),
+                        f.samples,
+                        f.before.1.r,
+                        f.after.1.r
+                    );
+                    figures = Some(f);
+                    Ok(msg)
+                })?;
+                self.refit = figures;
+                Ok(msg)
+            }
+            Command::ImportSamples(p) => self.edit("import samples", |d| {
+                d.import_samples(&p)
+                    .map(|n| format!("{n} samples imported from {}", p.display()))
+            }),
+            Command::ExportSamples(p) => self.doc.export_samples(&p).map(|_| {
+                format!(
+                    "wrote {} samples to {}",
+                    self.doc.training.len(),
+                    p.display()
+                )
+            }),
+            Command::DeleteSamples(rows) => self.edit("delete samples", |d| {
+                let left = d.delete_samples(&rows);
+                Ok(format!("{} samples deleted, {left} left", rows.len()))
+            }),
+            Command::CollectFromMesh => {
+                let mesh = self.finished_mesh()?;
+                let name = self.doc.name();
+                self.edit("collect samples", |d| {
+                    d.collect_samples(&name, mesh)
+                        .map(|n| format!("{n} samples collected from the mesh"))
+                })
+            }
+            Command::CollectFromFile(p) => self.edit("collect samples", |d| {
+                d.collect_from_file(&p)
+                    .map(|n| format!("{n} samples collected from {}", p.display()))
+            }),
+            Command::SetBoundary(b) => self.edit("edit boundary", |d| {
+                d.set_boundary(*b)
+                    .map(|_| "boundary changed; mesh restarted".into())
+            }),
+        }
+    }
+
+    /// Steps on the UI thread; records them for undo.
+    fn step_sync(&mut self, n: usize) -> Result<usize, String> {
+        let mut k = 0;
+        let res = loop {
+            if k == n {
+                break Ok(k);
+            }
+            match self.doc.step() {
+                Ok(true) => k += 1,
+                Ok(false) => break Ok(k),
+                Err(e) => break Err(e),
+            }
         };
-        self.status = match res {
-            Ok(s) => s,
-            Err(e) => format!("error: {e}"),
+        self.history.steps(k);
+        if k > 0 {
+            self.changed();
+        }
+        res
+    }
+
+    fn start_job(&mut self, n: usize, what: &'static str) {
+        let s = &self.doc.settings;
+        self.job = Some(Job::start(
+            self.doc.mesher.clone(),
+            n,
+            Some((s.cleanup, s.smooth)),
+            what,
+        ));
+    }
+
+    /// Takes a background run's result into the document.
+    fn job_done(&mut self, r: Result<job::JobDone, String>) {
+        let done = match r {
+            Ok(d) => d,
+            Err(e) => {
+                self.status = format!("error: {e}");
+                return;
+            }
         };
+        if done.steps > 0 {
+            self.doc.mesher = done.mesher;
+            self.doc.last = done.last;
+            self.history.steps(done.steps);
+            self.changed();
+        }
+        match done.finished {
+            Some(Ok(mesh)) => {
+                self.finished = Some(Finished {
+                    version: self.version,
+                    mesh,
+                })
+            }
+            Some(Err(e)) => {
+                self.finished_failed = Some(self.version);
+                self.status = format!("error: {e}");
+                return;
+            }
+            None => {}
+        }
+        self.status = match (done.error, done.cancelled) {
+            (Some(e), _) => format!("error after {} steps: {e}", done.steps),
+            (None, true) => format!("cancelled after {} steps", done.steps),
+            (None, false) if done.steps > 0 => format!(
+                "{} steps{}",
+                done.steps,
+                if self.doc.is_done() {
+                    ", mesh complete"
+                } else {
+                    ""
+                }
+            ),
+            (None, false) => "mesh finished".into(),
+        };
+    }
+
+    /// After undo or redo: the document may be another one.
+    fn after_history(&mut self) {
+        self.replaced();
+    }
+
+    fn save(&mut self, path: &Path) -> Result<String, String> {
+        self.doc.save_project(path)?;
+        self.project_path = Some(path.to_path_buf());
+        self.prefs.recent.push(path);
+        self.dirty = false;
+        Ok(format!("saved {}", path.display()))
+    }
+
+    /// Asks for a file and applies what it is for.
+    fn dialog(&mut self, d: Dialog) {
+        let dir = self
+            .project_path
+            .as_ref()
+            .or(self.doc.source.as_ref())
+            .and_then(|p| p.parent())
+            .map(Path::to_path_buf);
+        let stem = self
+            .doc
+            .name()
+            .split('.')
+            .next()
+            .unwrap_or("quadex")
+            .to_string();
+        if let Some(p) = files::pick(d, dir.as_deref(), &stem) {
+            self.apply(files::command_for(d, p));
+        }
+    }
+
+    /// The finished mesh of the current document (computed here when the
+    /// background has not done it yet).
+    fn finished_mesh(&mut self) -> Result<QuadMesh, String> {
+        if let Some(f) = self.finished.as_ref().filter(|f| f.version == self.version) {
+            return Ok(f.mesh.clone());
+        }
+        let m = self.doc.finished()?;
+        self.finished = Some(Finished {
+            version: self.version,
+            mesh: m.clone(),
+        });
+        Ok(m)
+    }
+
+    /// Keeps the finished mesh for display while the run is complete: the
+    /// finishing pass runs in the background.
+    fn refresh_finished(&mut self) {
+        let fresh = self
+            .finished
+            .as_ref()
+            .is_some_and(|f| f.version == self.version);
+        if !self.doc.is_done() || fresh || self.busy() || self.finished_failed == Some(self.version)
+        {
+            return;
+        }
+        if self.background {
+            let s = &self.doc.settings;
+            self.job = Some(Job::start(
+                self.doc.mesher.clone(),
+                0,
+                Some((s.cleanup, s.smooth)),
+                "cleanup and smoothing",
+            ));
+        } else if self.finished_mesh().is_err() {
+            self.finished_failed = Some(self.version);
+        }
+    }
+
+    /// The mesh on the canvas: the finished one when there is one.
+    fn shown_mesh(&self) -> (&QuadMesh, bool) {
+        shown(&self.finished, self.version, &self.doc)
     }
 
     /// Shortcuts and dropped files, as commands.
     fn input_commands(&self, ctx: &egui::Context, out: &mut Vec<Command>) {
-        let n = self.step_panel.n;
+        if ctx.wants_keyboard_input() {
+            return;
+        }
+        let n = self.prefs.step.n;
+        // Redo before Undo: Ctrl+Shift+Z also matches Ctrl+Z.
         for cmd in [
+            Command::Redo,
+            Command::Undo,
             Command::StepN(n),
             Command::Step,
             Command::RunToEnd,
-            Command::Undo,
             Command::Reset,
             Command::FitView,
+            Command::Save,
+            Command::Dialog(Dialog::Open),
+            Command::Dialog(Dialog::ExportMesh),
+            Command::Animate(self.animating.is_none()),
+            Command::Cancel,
         ] {
             if let Some(s) = cmd.shortcut() {
                 if ctx.input_mut(|i| i.consume_shortcut(&s)) {
@@ -206,48 +652,25 @@ impl App {
     /// One frame of the whole editor (also what the UI tests drive).
     pub fn ui(&mut self, ctx: &egui::Context) {
         self.frame += 1;
+        if let Some(r) = self.job.as_mut().and_then(Job::poll) {
+            self.job = None;
+            self.job_done(r);
+        }
         let mut cmds = Vec::new();
         self.input_commands(ctx, &mut cmds);
         egui::TopBottomPanel::top("menu").show(ctx, |ui| {
-            egui::MenuBar::new().ui(ui, |ui| {
-                ui.menu_button("File", |ui| {
-                    ui.label("Open an example:");
-                    for name in examples() {
-                        if ui.button(&name).clicked() {
-                            let p = example_path().with_file_name(&name);
-                            cmds.push(Command::Open(p));
-                        }
-                    }
-                    ui.label("(or drop a .poly / .json file on the window)");
-                });
-                ui.menu_button("View", |ui| {
-                    ui.checkbox(
-                        &mut self.color_by_quality,
-                        "colour quads by scaled Jacobian",
-                    );
-                    if ui.button("Fit view (F)").clicked() {
-                        cmds.push(Command::FitView);
-                    }
-                });
-                ui.separator();
-                ui.label(format!("quadex — {}", self.doc.name()));
-            });
+            egui::MenuBar::new().ui(ui, |ui| self.menus(ui, &mut cmds));
         });
-        egui::TopBottomPanel::bottom("status").show(ctx, |ui| {
-            ui.horizontal(|ui| {
-                if let Some(p) = self.hover {
-                    ui.monospace(format!("x {:.4}  y {:.4}", p.x, p.y));
-                    ui.separator();
-                }
-                ui.label(&self.status);
-            });
-        });
+        egui::TopBottomPanel::bottom("status").show(ctx, |ui| self.status_bar(ui, &mut cmds));
         egui::SidePanel::left("steps")
             .resizable(true)
-            .default_width(280.0)
+            .default_width(290.0)
             .show(ctx, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
-                    self.step_panel.ui(ui, &self.doc, &mut cmds);
+                    let done = self.shown_mesh().1;
+                    self.prefs
+                        .step
+                        .ui(ui, &self.doc, self.animating.is_some(), &mut cmds);
                     ui.separator();
                     self.train_panel
                         .ui(ui, &self.doc, self.refit.as_ref(), &mut cmds);
@@ -255,12 +678,51 @@ impl App {
                     ui.label(egui::RichText::new("Export").strong());
                     ui.text_edit_singleline(&mut self.export_path);
                     ui.label(".msh .msh22 .vtk .vtu .inp .svg");
-                    if ui.button("Export mesh").clicked() {
-                        cmds.push(Command::Export(PathBuf::from(self.export_path.trim())));
-                    }
+                    ui.horizontal(|ui| {
+                        if ui
+                            .add_enabled(done, egui::Button::new("Export mesh"))
+                            .clicked()
+                        {
+                            cmds.push(Command::Export(PathBuf::from(self.export_path.trim())));
+                        }
+                        if ui.add_enabled(done, egui::Button::new("Export…")).clicked() {
+                            cmds.push(Command::Dialog(Dialog::ExportMesh));
+                        }
+                    });
                 });
             });
         self.refresh_finished();
+        let (shown_version, finished) = {
+            let (_, fin) = self.shown_mesh();
+            (2 * self.version + u64::from(fin), fin)
+        };
+        self.stats.refresh(
+            shown_version,
+            shown(&self.finished, self.version, &self.doc).0,
+        );
+        egui::SidePanel::right("panels")
+            .resizable(true)
+            .default_width(430.0)
+            .show(ctx, |ui| {
+                ui.horizontal(|ui| {
+                    for t in Tab::ALL {
+                        ui.selectable_value(&mut self.prefs.tab, t, t.name());
+                    }
+                });
+                ui.separator();
+                egui::ScrollArea::vertical().show(ui, |ui| match self.prefs.tab {
+                    Tab::Quality => self.prefs.quality.ui(ui, &self.stats, finished),
+                    Tab::Model => self.model_panel.ui(ui, &mut self.doc),
+                    Tab::Samples => self.samples_panel.ui(ui, &self.doc, finished, &mut cmds),
+                    Tab::Smoothing => self.smooth_panel.ui(
+                        ui,
+                        &self.doc,
+                        self.version,
+                        finished.then_some(&self.stats.summary),
+                        &mut cmds,
+                    ),
+                });
+            });
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE)
             .show(ctx, |ui| {
@@ -268,41 +730,231 @@ impl App {
                     let f = self.doc.mesher.front();
                     f.live_loops().map(|l| f.loop_nodes(l)).collect()
                 };
+                let (mesh, fin) = shown(&self.finished, self.version, &self.doc);
                 let overlay = Overlay {
-                    // The finished mesh is renumbered: a version of its own.
-                    version: 2 * self.version + u64::from(self.finished.is_some()),
+                    version: shown_version,
                     boundary: &self.doc.boundary,
                     domain: &self.domain,
-                    mesh: match &self.finished {
-                        Some((_, m)) => m,
-                        None => self.doc.mesher.mesh(),
-                    },
+                    mesh,
+                    qualities: &self.stats.per_quad,
                     front,
                     // The finished mesh is renumbered: the last step's node
                     // ids belong to the mesher's own mesh.
-                    last: match &self.finished {
-                        Some(_) => None,
-                        None => self.doc.last.as_ref(),
-                    },
-                    color_by_quality: self.color_by_quality,
+                    last: if fin { None } else { self.doc.last.as_ref() },
+                    metric: self.prefs.quality.metric,
+                    marked: &[],
                 };
-                self.hover = canvas::ui(ui, &mut self.view, &mut self.mesh_cache, &overlay);
+                let r = canvas::ui(ui, &mut self.view, &mut self.mesh_cache, &overlay);
+                self.hover = r.hover;
             });
+        self.close_dialog(ctx, &mut cmds);
         for c in cmds {
             self.apply(c);
+        }
+        self.animate(ctx);
+        if self.busy() {
+            ctx.request_repaint_after(std::time::Duration::from_millis(50));
         }
         self.screenshot_step(ctx);
     }
 
-    /// Keeps the smoothed mesh for display while the run is complete.
-    fn refresh_finished(&mut self) {
-        let steps = self.doc.mesher.steps();
-        let stale = self.finished.as_ref().is_none_or(|(k, _)| *k != steps);
-        if !self.doc.is_done() {
-            self.finished = None;
-        } else if stale {
-            self.finished = self.doc.finished().ok().map(|m| (steps, m));
+    fn menus(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
+        let item = |ui: &mut egui::Ui,
+                    label: &str,
+                    cmd: Command,
+                    enabled: bool,
+                    out: &mut Vec<Command>| {
+            let mut b = egui::Button::new(label);
+            if let Some(s) = cmd.shortcut() {
+                b = b.shortcut_text(ui.ctx().format_shortcut(&s));
+            }
+            if ui.add_enabled(enabled, b).clicked() {
+                out.push(cmd);
+            }
+        };
+        ui.menu_button("File", |ui| {
+            item(ui, "Open…", Command::Dialog(Dialog::Open), true, cmds);
+            ui.menu_button("Open an example", |ui| {
+                for name in examples() {
+                    if ui.button(&name).clicked() {
+                        cmds.push(Command::Open(example_path().with_file_name(&name)));
+                    }
+                }
+            });
+            ui.menu_button("Open recent", |ui| {
+                if self.prefs.recent.0.is_empty() {
+                    ui.label("none yet");
+                }
+                for p in self.prefs.recent.0.clone() {
+                    if ui.button(p.display().to_string()).clicked() {
+                        cmds.push(Command::Open(p));
+                    }
+                }
+            });
+            ui.separator();
+            item(ui, "Save project", Command::Save, true, cmds);
+            item(
+                ui,
+                "Save project as…",
+                Command::Dialog(Dialog::SaveProjectAs),
+                true,
+                cmds,
+            );
+            ui.separator();
+            let done = self.doc.is_done();
+            item(
+                ui,
+                "Export mesh…",
+                Command::Dialog(Dialog::ExportMesh),
+                done,
+                cmds,
+            );
+            item(
+                ui,
+                "Import training samples…",
+                Command::Dialog(Dialog::ImportSamples),
+                true,
+                cmds,
+            );
+            item(
+                ui,
+                "Export training samples…",
+                Command::Dialog(Dialog::ExportSamples),
+                !self.doc.training.is_empty(),
+                cmds,
+            );
+            item(
+                ui,
+                "Collect samples from a mesh file…",
+                Command::Dialog(Dialog::CollectFromFile),
+                true,
+                cmds,
+            );
+            ui.label("(or drop a .poly / .json file on the window)");
+        });
+        ui.menu_button("Edit", |ui| {
+            let undo = self
+                .history
+                .undo_name()
+                .map_or("Undo".into(), |n| format!("Undo {n}"));
+            let redo = self
+                .history
+                .redo_name()
+                .map_or("Redo".into(), |n| format!("Redo {n}"));
+            item(ui, &undo, Command::Undo, self.history.can_undo(), cmds);
+            item(ui, &redo, Command::Redo, self.history.can_redo(), cmds);
+            ui.separator();
+            item(ui, "Restart the mesh", Command::Reset, true, cmds);
+        });
+        ui.menu_button("Mesh", |ui| {
+            let n = self.prefs.step.n;
+            item(ui, "Step", Command::Step, true, cmds);
+            item(ui, &format!("Step ×{n}"), Command::StepN(n), true, cmds);
+            let anim = self.animating.is_some();
+            item(
+                ui,
+                if anim { "Pause" } else { "Run (animated)" },
+                Command::Animate(!anim),
+                true,
+                cmds,
+            );
+            item(ui, "Run to end", Command::RunToEnd, true, cmds);
+            item(ui, "Cancel the run", Command::Cancel, self.busy(), cmds);
+        });
+        ui.menu_button("View", |ui| {
+            item(ui, "Fit view", Command::FitView, true, cmds);
+            ui.separator();
+            for t in Tab::ALL {
+                ui.selectable_value(&mut self.prefs.tab, t, t.name());
+            }
+        });
+        ui.separator();
+        ui.label(format!(
+            "quadex — {}{}",
+            self.doc.name(),
+            if self.dirty { " •" } else { "" }
+        ));
+    }
+
+    fn status_bar(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
+        ui.horizontal(|ui| {
+            if let Some(j) = &self.job {
+                let (steps, front, frac) = j.progress();
+                ui.add(
+                    egui::ProgressBar::new(frac)
+                        .desired_width(160.0)
+                        .text(format!("{} {steps} steps, {front} front nodes", j.what)),
+                );
+                ui.label(format!("{:.1} s", j.elapsed()));
+                if ui.button("Cancel").clicked() {
+                    cmds.push(Command::Cancel);
+                }
+                ui.separator();
+            }
+            if let Some(p) = self.hover {
+                ui.monospace(format!("x {:.4}  y {:.4}", p.x, p.y));
+                ui.separator();
+            }
+            ui.label(&self.status);
+        });
+    }
+
+    /// The animated run: steps at the panel's speed, on the UI thread.
+    fn animate(&mut self, ctx: &egui::Context) {
+        let Some(owed) = self.animating else { return };
+        if self.busy() {
+            return;
         }
+        let dt = ctx.input(|i| i.stable_dt).min(0.1) as f64;
+        let owed = owed + dt * self.prefs.step.speed;
+        let n = owed.floor() as usize;
+        self.animating = Some(owed - n as f64);
+        if n > 0 {
+            match self.step_sync(n.min(1000)) {
+                Ok(k) if k < n.min(1000) => {
+                    self.animating = None;
+                    self.status = "the mesh is complete".into();
+                }
+                Ok(_) => {}
+                Err(e) => {
+                    self.animating = None;
+                    self.status = format!("error: {e}");
+                }
+            }
+        }
+        ctx.request_repaint();
+    }
+
+    /// Closing with unsaved changes asks first.
+    fn close_dialog(&mut self, ctx: &egui::Context, cmds: &mut Vec<Command>) {
+        if ctx.input(|i| i.viewport().close_requested()) && self.dirty && !self.close_allowed {
+            ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
+            self.confirm_close = true;
+        }
+        if !self.confirm_close {
+            return;
+        }
+        egui::Modal::new(egui::Id::new("confirm_close")).show(ctx, |ui| {
+            ui.heading("Unsaved changes");
+            ui.label(format!(
+                "Save the changes to {} before closing?",
+                self.doc.name()
+            ));
+            ui.horizontal(|ui| {
+                if ui.button("Save").clicked() {
+                    self.confirm_close = false;
+                    cmds.push(Command::Save);
+                }
+                if ui.button("Close without saving").clicked() {
+                    self.confirm_close = false;
+                    self.close_allowed = true;
+                    ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+                }
+                if ui.button("Cancel").clicked() {
+                    self.confirm_close = false;
+                }
+            });
+        });
     }
 
     /// The `--screenshot` option: request a screenshot after the first
@@ -311,6 +963,10 @@ impl App {
         let Some(path) = self.screenshot.clone() else {
             return;
         };
+        if self.busy() {
+            ctx.request_repaint();
+            return;
+        }
         if !self.screenshot_requested && self.frame >= SCREENSHOT_FRAME {
             ctx.send_viewport_cmd(egui::ViewportCommand::Screenshot(Default::default()));
             self.screenshot_requested = true;
@@ -332,11 +988,33 @@ impl App {
                 Err(e) => eprintln!("quadex: {}: {e}", path.display()),
             }
             self.screenshot = None;
+            self.close_allowed = true;
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         } else {
             ctx.request_repaint();
         }
     }
+}
+
+/// The mesh on the canvas: the finished one when it belongs to this
+/// version of the document, else the mesh as stepped.
+fn shown<'a>(
+    finished: &'a Option<Finished>,
+    version: u64,
+    doc: &'a Document,
+) -> (&'a QuadMesh, bool) {
+    match finished {
+        Some(f) if f.version == version && doc.is_done() => (&f.mesh, true),
+        _ => (doc.mesher.mesh(), false),
+    }
+}
+
+/// True when the document came from a project file.
+fn document_is_project(doc: &Document) -> bool {
+    doc.source
+        .as_ref()
+        .is_some_and(|p| p.extension().is_some_and(|e| e == "json"))
+        && !doc.mesher.actions().is_empty()
 }
 
 /// The shipped example boundaries, sorted.
@@ -358,18 +1036,44 @@ impl eframe::App for App {
     fn update(&mut self, ctx: &egui::Context, _frame: &mut eframe::Frame) {
         self.ui(ctx);
     }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        if !self.screenshot_requested {
+            eframe::set_value(storage, eframe::APP_KEY, &self.prefs);
+        }
+    }
 }
 
 /// Runs the editor window.
 pub fn run(o: GuiOptions) -> Result<(), String> {
-    let app = App::from_options(&o)?;
-    let size = o.size.unwrap_or([1280.0, 800.0]);
+    let size = o.size.unwrap_or([1400.0, 860.0]);
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_inner_size(size)
-            .with_title("quadex"),
+            .with_title("quadex")
+            .with_drag_and_drop(true),
+        // A screenshot run neither reads nor writes the remembered settings.
+        persist_window: o.screenshot.is_none(),
         ..Default::default()
     };
-    eframe::run_native("quadex", native, Box::new(|_cc| Ok(Box::new(app))))
-        .map_err(|e| e.to_string())
+    // A file that cannot be opened is reported before a window opens.
+    Document::open(
+        &o.open.clone().unwrap_or_else(example_path),
+        Settings::default(),
+    )?;
+    let screenshot = o.screenshot.is_some();
+    eframe::run_native(
+        "quadex",
+        native,
+        Box::new(move |cc| {
+            let prefs = match cc.storage {
+                Some(s) if !screenshot => eframe::get_value(s, eframe::APP_KEY).unwrap_or_default(),
+                _ => Prefs::default(),
+            };
+            let app = App::from_options(&o, prefs)
+                .map_err(|e| -> Box<dyn std::error::Error + Send + Sync> { e.into() })?;
+            Ok(Box::new(app))
+        }),
+    )
+    .map_err(|e| e.to_string())
 }

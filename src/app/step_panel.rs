@@ -8,14 +8,19 @@ use crate::extract::{MeshParams, Strategy};
 use crate::model::BUILTIN;
 use egui::Ui;
 
-/// The panel's own state: how many steps "Step ×N" takes.
+/// The panel's own state: how many steps "Step ×N" takes and how fast the
+/// animated run goes.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct StepPanel {
     pub n: usize,
+    /// Steps per second of the animated run.
+    pub speed: f64,
 }
 
 impl Default for StepPanel {
     fn default() -> Self {
-        StepPanel { n: 10 }
+        StepPanel { n: 10, speed: 20.0 }
     }
 }
 
@@ -32,7 +37,7 @@ fn button(ui: &mut Ui, label: &str, cmd: Command, out: &mut Vec<Command>) {
 
 impl StepPanel {
     /// Draws the panel; the user's intents are pushed to `out`.
-    pub fn ui(&mut self, ui: &mut Ui, doc: &Document, out: &mut Vec<Command>) {
+    pub fn ui(&mut self, ui: &mut Ui, doc: &Document, animating: bool, out: &mut Vec<Command>) {
         ui.heading("Extraction");
         let mut s: Settings = doc.settings.clone();
         egui::ComboBox::from_label("model")
@@ -80,11 +85,23 @@ impl StepPanel {
             button(ui, "Step ×N", Command::StepN(self.n), out);
         });
         ui.horizontal_wrapped(|ui| {
+            let label = if animating { "Pause" } else { "Run" };
+            button(ui, label, Command::Animate(!animating), out);
+            ui.add(
+                egui::Slider::new(&mut self.speed, 1.0..=2000.0)
+                    .logarithmic(true)
+                    .suffix(" steps/s"),
+            );
+        });
+        ui.horizontal_wrapped(|ui| {
             button(ui, "Run to end", Command::RunToEnd, out);
-            button(ui, "Undo step", Command::Undo, out);
             button(ui, "Reset", Command::Reset, out);
         });
-        button(ui, "Fit view", Command::FitView, out);
+        ui.horizontal_wrapped(|ui| {
+            button(ui, "Undo", Command::Undo, out);
+            button(ui, "Redo", Command::Redo, out);
+            button(ui, "Fit view", Command::FitView, out);
+        });
         ui.separator();
         let m = doc.mesher.mesh();
         let stats = doc.mesher.stats();

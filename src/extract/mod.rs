@@ -283,9 +283,15 @@ pub struct Correction {
     pub snap_to: Option<u32>,
 }
 
+/// One recorded step, as [`Mesher::actions`] lists them: replaying the
+/// actions of a run with [`Mesher::take`] rebuilds it (steps are
+/// deterministic), which is how undo works and how a project file keeps a
+/// mesh that can be stepped on.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-enum Action {
+pub enum Action {
+    /// A step chosen by the mesher.
     Auto,
+    /// An element given by the user.
     Correction(Correction),
     /// A fill taken after rewinding (see [`Mesher::rewind_and_fill`]).
     Fill,
@@ -1855,6 +1861,24 @@ impl Mesher {
         true
     }
 
+    /// The actions taken so far, in order.
+    pub fn actions(&self) -> &[Action] {
+        &self.history
+    }
+
+    /// Takes one recorded action: an automatic step, a correction or a
+    /// fill. `Ok(None)` when the mesh is complete or the fill does not go.
+    pub fn take(&mut self, a: &Action) -> Result<Option<StepReport>, MeshError> {
+        match a {
+            Action::Auto => self.step().map(|o| match o {
+                StepOutcome::Stepped(r) => Some(*r),
+                StepOutcome::Done => None,
+            }),
+            Action::Correction(c) => self.correct(c).map(Some),
+            Action::Fill => Ok(self.commit_fill()),
+        }
+    }
+
     /// Steps that [`Mesher::undo`] took back and [`Mesher::redo`] can take
     /// again.
     pub fn redo_len(&self) -> usize {
@@ -1869,14 +1893,7 @@ impl Mesher {
             return Ok(None);
         };
         let rest = std::mem::take(&mut self.undone);
-        let r = match &a {
-            Action::Auto => self.step().map(|o| match o {
-                StepOutcome::Stepped(r) => Some(*r),
-                StepOutcome::Done => None,
-            }),
-            Action::Correction(c) => self.correct(c).map(Some),
-            Action::Fill => Ok(self.commit_fill()),
-        };
+        let r = self.take(&a);
         self.undone = rest;
         if r.is_err() {
             self.undone.push(a);
@@ -1924,14 +1941,19 @@ impl Mesher {
     /// Call after [`Mesher::run`]; an unfinished mesh is returned as it
     /// stands, checked as a partial mesh.
     pub fn finish(&self) -> Result<QuadMesh, MeshError> {
+        self.finish_with(&self.params.cleanup, &self.params.smooth)
+    }
+
+    /// [`Mesher::finish`] with other cleanup and smoothing parameters (the
+    /// editor's Smoothing panel changes them without stepping again).
+    pub fn finish_with(
+        &self,
+        cleanup: &CleanupParams,
+        smooth: &SmoothParams,
+    ) -> Result<QuadMesh, MeshError> {
         let mut mesh = self.mesh.clone();
         mesh.compact();
-        improve(
-            &mut mesh,
-            self.front.is_empty(),
-            &self.params.cleanup,
-            &self.params.smooth,
-        );
+        improve(&mut mesh, self.front.is_empty(), cleanup, smooth);
         unflatten(&mut mesh);
         let checked = if self.front.is_empty() {
             mesh.check_finished()

@@ -284,12 +284,42 @@ pub fn evaluate(
     model: &dyn crate::model::Model,
     set: &TrainingSet,
 ) -> Result<(TypeFigures, Figures, Figures), FitError> {
+    Ok(evaluate_all(model, set)?.figures)
+}
+
+/// A model's output on every sample of a set beside the sample's own: what
+/// the fit plots draw (thesis Tables 5–8 plot both against the sample
+/// index).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Evaluation {
+    /// The samples' types and Pn.
+    pub types: Vec<u8>,
+    pub pn: Vec<Point>,
+    /// The model's.
+    pub predicted_types: Vec<u8>,
+    pub predicted_pn: Vec<Point>,
+    /// Type, Xn and Yn figures, as [`evaluate`] gives them.
+    pub figures: (TypeFigures, Figures, Figures),
+}
+
+/// [`evaluate`] with the predictions kept.
+pub fn evaluate_all(
+    model: &dyn crate::model::Model,
+    set: &TrainingSet,
+) -> Result<Evaluation, FitError> {
     let data = Data::of(set)?;
     let (value, types, pn) = predictions(&data, |lp| {
         let p = model.predict(lp);
         (p.element_type.number() as f64, p)
     });
-    Ok(figures(&data, &value, &types, &pn))
+    let figures = figures(&data, &value, &types, &pn);
+    Ok(Evaluation {
+        types: data.types,
+        pn: data.pn,
+        predicted_types: types,
+        predicted_pn: pn,
+        figures,
+    })
 }
 
 /// What a training set holds, for a model file.

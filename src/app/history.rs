@@ -1,0 +1,133 @@
+//! Undo and redo over every edit of the document. Steps are undone by the
+//! mesher itself (it replays its actions, so a step costs nothing to keep);
+//! every other edit (a correction, a training-set change, a refit, new
+//! settings, a boundary edit, an opened file) keeps the document as it was
+//! before, and undoing it swaps the two.
+
+use super::document::Document;
+
+/// One undoable edit.
+enum Entry {
+    /// This many steps of the mesher, taken one after another.
+    Steps(usize),
+    /// The document before (on the undo stack) or after (on the redo stack)
+    /// an edit, with the edit's name.
+    State(Box<Document>, &'static str),
+}
+
+/// The undo and redo stacks.
+#[derive(Default)]
+pub struct History {
+    undo: Vec<Entry>,
+    redo: Vec<Entry>,
+}
+
+/// Whole documents kept for undo, at most; older ones are dropped with
+/// the steps below them.
+pub const MAX_STATES: usize = 50;
+
+impl History {
+    /// Records `n` steps just taken.
+    pub fn steps(&mut self, n: usize) {
+        if n > 0 {
+            push_steps(&mut self.undo, n);
+            self.redo.clear();
+        }
+    }
+
+    /// Records an edit: `before` is the document as it was.
+    pub fn edit(&mut self, before: Document, name: &'static str) {
+        self.undo.push(Entry::State(Box::new(before), name));
+        self.redo.clear();
+        let states = self
+            .undo
+            .iter()
+            .filter(|e| matches!(e, Entry::State(..)))
+            .count();
+        if states > MAX_STATES {
+            if let Some(k) = self.undo.iter().position(|e| matches!(e, Entry::State(..))) {
+                self.undo.drain(..=k);
+            }
+        }
+    }
+
+    pub fn can_undo(&self) -> bool {
+        !self.undo.is_empty()
+    }
+
+    pub fn can_redo(&self) -> bool {
+        !self.redo.is_empty()
+    }
+
+    /// Undoes the last edit or step; returns what was undone.
+    pub fn undo(&mut self, doc: &mut Document) -> Option<&'static str> {
+        match self.undo.pop()? {
+            Entry::Steps(n) => {
+                if n > 1 {
+                    self.undo.push(Entry::Steps(n - 1));
+                }
+                if !doc.undo() {
+                    return None;
+                }
+                push_steps(&mut self.redo, 1);
+                Some("step")
+            }
+            Entry::State(before, name) => {
+                let after = std::mem::replace(doc, *before);
+                self.redo.push(Entry::State(Box::new(after), name));
+                Some(name)
+            }
+        }
+    }
+
+    /// Redoes the last undone edit or step; returns what was redone.
+    pub fn redo(&mut self, doc: &mut Document) -> Result<Option<&'static str>, String> {
+        let Some(e) = self.redo.pop() else {
+            return Ok(None);
+        };
+        match e {
+            Entry::Steps(n) => {
+                if !doc.redo()? {
+                    self.redo.clear();
+                    return Ok(None);
+                }
+                if n > 1 {
+                    self.redo.push(Entry::Steps(n - 1));
+                }
+                push_steps(&mut self.undo, 1);
+                Ok(Some("step"))
+            }
+            Entry::State(after, name) => {
+                let before = std::mem::replace(doc, *after);
+                self.undo.push(Entry::State(Box::new(before), name));
+                Ok(Some(name))
+            }
+        }
+    }
+
+    /// What Undo would undo, for the menu.
+    pub fn undo_name(&self) -> Option<&'static str> {
+        name(self.undo.last())
+    }
+
+    /// What Redo would redo, for the menu.
+    pub fn redo_name(&self) -> Option<&'static str> {
+        name(self.redo.last())
+    }
+}
+
+fn name(e: Option<&Entry>) -> Option<&'static str> {
+    e.map(|e| match e {
+        Entry::Steps(_) => "step",
+        Entry::State(_, n) => n,
+    })
+}
+
+/// Pushes `n` steps, merged with steps on top.
+fn push_steps(stack: &mut Vec<Entry>, n: usize) {
+    if let Some(Entry::Steps(m)) = stack.last_mut() {
+        *m += n;
+    } else {
+        stack.push(Entry::Steps(n));
+    }
+}

@@ -1,0 +1,226 @@
+//! The Quality panel: the figures of the mesh on the canvas (method §5, the
+//! fields `judge.py` reports), histograms of the minimum angle and of the
+//! scaled Jacobian, and the metric the canvas colours quads by.
+
+use crate::mesh::QuadMesh;
+use crate::quality::{MeshQuality, QuadQuality};
+use egui::Ui;
+use egui_plot::{Bar, BarChart, Plot};
+use serde::{Deserialize, Serialize};
+
+/// A per-quad figure the canvas can colour by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Metric {
+    ScaledJacobian,
+    MinAngle,
+    MaxAngle,
+    Aspect,
+    Taper,
+}
+
+impl Metric {
+    pub const ALL: [Metric; 5] = [
+        Metric::ScaledJacobian,
+        Metric::MinAngle,
+        Metric::MaxAngle,
+        Metric::Aspect,
+        Metric::Taper,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Metric::ScaledJacobian => "scaled Jacobian",
+            Metric::MinAngle => "minimum angle",
+            Metric::MaxAngle => "maximum angle",
+            Metric::Aspect => "aspect ratio",
+            Metric::Taper => "taper",
+        }
+    }
+
+    /// The figure itself.
+    pub fn value(self, q: &QuadQuality) -> f64 {
+        match self {
+            Metric::ScaledJacobian => q.scaled_jacobian,
+            Metric::MinAngle => q.min_angle(),
+            Metric::MaxAngle => q.max_angle(),
+            Metric::Aspect => q.aspect,
+            Metric::Taper => q.taper,
+        }
+    }
+
+    /// The figure on a 0 (bad) to 1 (ideal) scale, for the colour.
+    pub fn score(self, q: &QuadQuality) -> f64 {
+        let v = self.value(q);
+        match self {
+            Metric::ScaledJacobian => v,
+            Metric::MinAngle => v / 90.0,
+            Metric::MaxAngle => (180.0 - v) / 90.0,
+            Metric::Aspect | Metric::Taper => 1.0 / v.max(1.0),
+        }
+    }
+}
+
+/// Figures of the mesh on the canvas, recomputed when it changes.
+#[derive(Default)]
+pub struct MeshStats {
+    key: Option<u64>,
+    pub per_quad: Vec<QuadQuality>,
+    pub summary: MeshQuality,
+}
+
+impl MeshStats {
+    /// Recomputes for `mesh` unless `key` (the mesh version) is the same.
+    pub fn refresh(&mut self, key: u64, mesh: &QuadMesh) {
+        if self.key == Some(key) {
+            return;
+        }
+        self.key = Some(key);
+        self.per_quad = mesh
+            .quads
+            .iter()
+            .map(|q| QuadQuality::of(mesh.corners(q)))
+            .collect();
+        self.summary = MeshQuality::of(mesh);
+    }
+}
+
+/// The panel's own state: the colouring.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct QualityPanel {
+    /// The canvas colours quads by this (plain when `None`).
+    pub metric: Option<Metric>,
+}
+
+impl Default for QualityPanel {
+    fn default() -> Self {
+        QualityPanel {
+            metric: Some(Metric::ScaledJacobian),
+        }
+    }
+}
+
+impl QualityPanel {
+    pub fn ui(&mut self, ui: &mut Ui, stats: &MeshStats, finished: bool) {
+        ui.label(if finished {
+            "The finished mesh (cleaned up and smoothed)."
+        } else {
+            "The mesh so far (not smoothed); run to the end for the finished mesh."
+        });
+        egui::ComboBox::from_label("colour quads by")
+            .selected_text(self.metric.map_or("nothing", Metric::name))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut self.metric, None, "nothing");
+                for m in Metric::ALL {
+                    ui.selectable_value(&mut self.metric, Some(m), m.name());
+                }
+            });
+        ui.label("Quads that miss the thesis criteria (angles in [45°, 135°], aspect and taper ≤ 10) are tinted and outlined dashed.");
+        let q = &stats.summary;
+        if q.quads == 0 {
+            ui.label("No quads yet.");
+            return;
+        }
+        egui::Grid::new("quality_summary")
+            .num_columns(2)
+            .striped(true)
+            .show(ui, |ui| {
+                let rows: [(&str, String); 11] = [
+                    ("quads", q.quads.to_string()),
+                    ("nodes", q.nodes.to_string()),
+                    ("scaled Jacobian min", format!("{:.3}", q.sj_min)),
+                    ("scaled Jacobian mean", format!("{:.3}", q.sj_mean)),
+                    (
+                        "angles",
+                        format!("{:.1}° – {:.1}°", q.min_angle, q.max_angle),
+                    ),
+                    (
+                        "angles in [45°, 135°]",
+                        format!("{:.1} %", 100.0 * q.frac_angles_45_135),
+                    ),
+                    (
+                        "thesis criteria met",
+                        format!("{:.1} %", 100.0 * q.frac_thesis_good),
+                    ),
+                    ("Rs ≥ 0.8", format!("{:.1} %", 100.0 * q.frac_rs_ge_0_8)),
+                    ("aspect max", format!("{:.2}", q.aspect_max)),
+                    ("taper max", format!("{:.2}", q.taper_max)),
+                    (
+                        "irregular interior nodes",
+                        format!("{} of {}", q.irregular_interior, q.interior_nodes),
+                    ),
+                ];
+                for (name, v) in rows {
+                    ui.label(name);
+                    ui.monospace(v);
+                    ui.end_row();
+                }
+            });
+        let sj: Vec<f64> = stats.per_quad.iter().map(|q| q.scaled_jacobian).collect();
+        let angle: Vec<f64> = stats.per_quad.iter().map(|q| q.min_angle()).collect();
+        ui.label("Minimum angle (degrees)");
+        histogram(ui, "hist_min_angle", &angle, 0.0, 90.0, 18);
+        ui.label("Scaled Jacobian");
+        histogram(ui, "hist_sj", &sj, 0.0, 1.0, 20);
+    }
+}
+
+/// Counts of `values` in `bins` equal bins over `lo..hi` (values outside
+/// go to the end bins).
+pub fn bin_counts(values: &[f64], lo: f64, hi: f64, bins: usize) -> Vec<usize> {
+    let mut c = vec![0; bins];
+    let w = (hi - lo) / bins as f64;
+    for &v in values {
+        let k = ((v - lo) / w).floor().clamp(0.0, (bins - 1) as f64) as usize;
+        c[k] += 1;
+    }
+    c
+}
+
+fn histogram(ui: &mut Ui, id: &str, values: &[f64], lo: f64, hi: f64, bins: usize) {
+    let w = (hi - lo) / bins as f64;
+    let bars: Vec<Bar> = bin_counts(values, lo, hi, bins)
+        .into_iter()
+        .enumerate()
+        .map(|(k, n)| {
+            let x = lo + (k as f64 + 0.5) * w;
+            Bar::new(x, n as f64)
+                .width(w * 0.95)
+                .fill(super::canvas::quality_color((x - lo) / (hi - lo)))
+        })
+        .collect();
+    Plot::new(id)
+        .height(140.0)
+        .allow_scroll(false)
+        .allow_zoom(false)
+        .allow_drag(false)
+        .y_axis_label("quads")
+        .show(ui, |p| p.bar_chart(BarChart::new("quads", bars)));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bins_hold_every_value() {
+        let c = bin_counts(&[0.0, 0.05, 0.5, 1.0, 1.5, -1.0], 0.0, 1.0, 10);
+        assert_eq!(c.iter().sum::<usize>(), 6);
+        assert_eq!(c[0], 3);
+        assert_eq!(c[5], 1);
+        assert_eq!(c[9], 2);
+    }
+
+    #[test]
+    fn scores_run_from_bad_to_ideal() {
+        let square = QuadQuality::of([
+            crate::Point::new(0.0, 0.0),
+            crate::Point::new(1.0, 0.0),
+            crate::Point::new(1.0, 1.0),
+            crate::Point::new(0.0, 1.0),
+        ]);
+        for m in Metric::ALL {
+            assert!((m.score(&square) - 1.0).abs() < 1e-9, "{}", m.name());
+        }
+    }
+}

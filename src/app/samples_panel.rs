@@ -1,0 +1,150 @@
+//! The Training set panel: the user's samples (method §3: the leading
+//! points normalised, the type and Pn) in a table with a filter, deleting
+//! the selected ones, CSV import and export, and collecting samples from
+//! the finished mesh or a mesh file.
+
+use super::command::{Command, Dialog};
+use super::document::Document;
+use crate::samples::{Sample, Source};
+use egui::Ui;
+use std::collections::BTreeSet;
+
+/// The panel's state: the filter and the selection.
+#[derive(Default)]
+pub struct SamplesPanel {
+    /// Show only this type.
+    pub type_filter: Option<u8>,
+    /// Show only samples whose source contains this text.
+    pub source_filter: String,
+    /// Selected rows (positions in the set).
+    pub selected: BTreeSet<usize>,
+}
+
+/// The source of a sample as the table shows it.
+fn source(s: &Sample) -> String {
+    match &s.source {
+        Source::Mesh { file, element } => format!("{file} #{element}"),
+        Source::Correction => "correction".into(),
+    }
+}
+
+impl SamplesPanel {
+    /// Positions of the samples the filter lets through.
+    pub fn visible(&self, doc: &Document) -> Vec<usize> {
+        let text = self.source_filter.to_lowercase();
+        doc.training
+            .samples
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| {
+                self.type_filter
+                    .is_none_or(|t| s.element_type.number() == t)
+                    && (text.is_empty() || source(s).to_lowercase().contains(&text))
+            })
+            .map(|(i, _)| i)
+            .collect()
+    }
+
+    pub fn ui(&mut self, ui: &mut Ui, doc: &Document, done: bool, out: &mut Vec<Command>) {
+        let set = &doc.training;
+        let [t0, t1, t2] = set.type_counts();
+        ui.label(format!(
+            "{} samples of yours at {} input points (type 0: {t0}, 1: {t1}, 2: {t2}); a refit adds them to the reference meshes' samples",
+            set.len(),
+            set.points
+        ));
+        ui.horizontal_wrapped(|ui| {
+            if ui.button("Import CSV…").clicked() {
+                out.push(Command::Dialog(Dialog::ImportSamples));
+            }
+            if ui
+                .add_enabled(!set.is_empty(), egui::Button::new("Export CSV…"))
+                .clicked()
+            {
+                out.push(Command::Dialog(Dialog::ExportSamples));
+            }
+            if ui
+                .add_enabled(done, egui::Button::new("Collect from this mesh"))
+                .on_disabled_hover_text("Run the mesh to the end first")
+                .clicked()
+            {
+                out.push(Command::CollectFromMesh);
+            }
+            if ui.button("Collect from a mesh file…").clicked() {
+                out.push(Command::Dialog(Dialog::CollectFromFile));
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("type");
+            ui.selectable_value(&mut self.type_filter, None, "all");
+            for t in 0..3u8 {
+                ui.selectable_value(&mut self.type_filter, Some(t), t.to_string());
+            }
+            ui.label("source");
+            ui.add(egui::TextEdit::singleline(&mut self.source_filter).desired_width(90.0));
+        });
+        self.selected.retain(|&i| i < set.len());
+        let rows = self.visible(doc);
+        ui.horizontal(|ui| {
+            ui.label(format!(
+                "{} shown, {} selected",
+                rows.len(),
+                self.selected.len()
+            ));
+            if ui.button("Select shown").clicked() {
+                self.selected.extend(rows.iter().copied());
+            }
+            if ui.button("Select none").clicked() {
+                self.selected.clear();
+            }
+            if ui
+                .add_enabled(
+                    !self.selected.is_empty(),
+                    egui::Button::new("Delete selected"),
+                )
+                .clicked()
+            {
+                out.push(Command::DeleteSamples(
+                    self.selected.iter().copied().collect(),
+                ));
+                self.selected.clear();
+            }
+        });
+        let row_h = ui.text_style_height(&egui::TextStyle::Monospace) + 4.0;
+        let header = format!(
+            "{:>6} {:>4} {:>8} {:>8}  {:<8} source",
+            "#", "type", "Xn", "Yn", "l1"
+        );
+        ui.monospace(header);
+        egui::ScrollArea::vertical()
+            .id_salt("samples_table")
+            .max_height(320.0)
+            .auto_shrink([false, true])
+            .show_rows(ui, row_h, rows.len(), |ui, range| {
+                for &i in &rows[range] {
+                    let s = &set.samples[i];
+                    let l1 = s.input.left.first().copied().unwrap_or_default();
+                    let text = format!(
+                        "{i:>6} {:>4} {:>8.4} {:>8.4}  ({:.2},{:.2}) {}",
+                        s.element_type.number(),
+                        s.pn.x,
+                        s.pn.y,
+                        l1.x,
+                        l1.y,
+                        source(s)
+                    );
+                    let mut on = self.selected.contains(&i);
+                    if ui
+                        .toggle_value(&mut on, egui::RichText::new(text).monospace())
+                        .changed()
+                    {
+                        if on {
+                            self.selected.insert(i);
+                        } else {
+                            self.selected.remove(&i);
+                        }
+                    }
+                }
+            });
+    }
+}

@@ -1,0 +1,142 @@
+//! The Smoothing panel: the cleanup (topological improvement) and the
+//! smoothing (constrained Laplacian, method §2 step 4, then optimisation)
+//! applied to the finished mesh, with the mesh's figures before and after.
+//! Changing them does not step again: the finished mesh is recomputed.
+
+use super::command::Command;
+use super::document::{Document, Settings};
+use crate::cleanup::CleanupParams;
+use crate::quality::MeshQuality;
+use crate::smooth::SmoothParams;
+use egui::Ui;
+
+/// One figure of a mesh, as the comparison table shows it.
+type Figure = fn(&MeshQuality) -> String;
+
+#[derive(Default)]
+pub struct SmoothPanel {
+    /// Figures of the mesh as stepped, keyed by the mesh version.
+    raw: Option<(u64, MeshQuality)>,
+}
+
+impl SmoothPanel {
+    /// `finished`: the figures of the finished mesh, when there is one;
+    /// `version`: the version of the stepped mesh.
+    pub fn ui(
+        &mut self,
+        ui: &mut Ui,
+        doc: &Document,
+        version: u64,
+        finished: Option<&MeshQuality>,
+        out: &mut Vec<Command>,
+    ) {
+        let mut s: Settings = doc.settings.clone();
+        let sm = &mut s.smooth;
+        egui::Grid::new("smooth_params")
+            .num_columns(2)
+            .show(ui, |ui| {
+                ui.label("Laplacian sweeps");
+                ui.add(egui::DragValue::new(&mut sm.iterations).range(0..=100));
+                ui.end_row();
+                ui.label("keep scaled Jacobian ≥");
+                ui.add(
+                    egui::DragValue::new(&mut sm.threshold)
+                        .range(0.0..=1.0)
+                        .speed(0.01),
+                );
+                ui.end_row();
+                ui.label("relaxation");
+                ui.add(
+                    egui::DragValue::new(&mut sm.relaxation)
+                        .range(0.05..=1.0)
+                        .speed(0.01),
+                );
+                ui.end_row();
+                ui.label("optimisation sweeps");
+                ui.add(egui::DragValue::new(&mut sm.optimize_sweeps).range(0..=50));
+                ui.end_row();
+                ui.label("optimise quads below");
+                ui.add(
+                    egui::DragValue::new(&mut sm.optimize_below)
+                        .range(0.0..=1.0)
+                        .speed(0.01),
+                );
+                ui.end_row();
+            });
+        ui.label(egui::RichText::new("Cleanup").strong());
+        let c = &mut s.cleanup;
+        egui::Grid::new("cleanup_params")
+            .num_columns(2)
+            .show(ui, |ui| {
+                ui.label("passes");
+                ui.add(egui::DragValue::new(&mut c.passes).range(0..=20));
+                ui.end_row();
+                ui.label("rounds with smoothing");
+                ui.add(egui::DragValue::new(&mut c.rounds).range(0..=20));
+                ui.end_row();
+                ui.label("collapse slivers below SJ");
+                ui.add(
+                    egui::DragValue::new(&mut c.sliver_sj)
+                        .range(0.0..=0.5)
+                        .speed(0.01),
+                );
+                ui.end_row();
+                ui.label("edge swap keeps SJ ≥");
+                ui.add(
+                    egui::DragValue::new(&mut c.min_swap_quality)
+                        .range(0.0..=1.0)
+                        .speed(0.01),
+                );
+                ui.end_row();
+            });
+        ui.horizontal_wrapped(|ui| {
+            if ui.button("Defaults").clicked() {
+                s.smooth = SmoothParams::DEFAULT;
+                s.cleanup = CleanupParams::DEFAULT;
+            }
+            if ui.button("No smoothing").clicked() {
+                s.smooth = SmoothParams::OFF;
+            }
+            if ui.button("No cleanup").clicked() {
+                s.cleanup = CleanupParams::OFF;
+            }
+        });
+        if s != doc.settings {
+            out.push(Command::SetSettings(s));
+        }
+        ui.separator();
+        if self.raw.as_ref().is_none_or(|(v, _)| *v != version) {
+            self.raw = Some((version, MeshQuality::of(doc.mesher.mesh())));
+        }
+        let Some((_, raw)) = &self.raw else { return };
+        let Some(done) = finished else {
+            ui.label("Run the mesh to the end to see the finished mesh's figures.");
+            return;
+        };
+        egui::Grid::new("smooth_effect")
+            .num_columns(3)
+            .striped(true)
+            .show(ui, |ui| {
+                ui.strong("");
+                ui.strong("as stepped");
+                ui.strong("finished");
+                ui.end_row();
+                let rows: [(&str, Figure); 6] = [
+                    ("quads", |q| q.quads.to_string()),
+                    ("scaled Jacobian min", |q| format!("{:.3}", q.sj_min)),
+                    ("scaled Jacobian mean", |q| format!("{:.3}", q.sj_mean)),
+                    ("angles in [45°, 135°]", |q| {
+                        format!("{:.1} %", 100.0 * q.frac_angles_45_135)
+                    }),
+                    ("min angle", |q| format!("{:.1}°", q.min_angle)),
+                    ("irregular interior", |q| q.irregular_interior.to_string()),
+                ];
+                for (name, f) in rows {
+                    ui.label(name);
+                    ui.monospace(f(raw));
+                    ui.monospace(f(done));
+                    ui.end_row();
+                }
+            });
+    }
+}
