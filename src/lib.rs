@@ -27,6 +27,7 @@
 
 pub mod app;
 pub mod boundary;
+pub mod boundary_edit;
 pub mod cleanup;
 pub mod extract;
 pub mod factors;

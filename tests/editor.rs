@@ -163,6 +163,7 @@ fn correct_append_refit_and_finish() {
     h.state_mut().apply(Command::CorrectLast {
         element_type: quadex::ElementType::New,
         pn: moved,
+        snap_to: None,
     });
     h.run();
     let s = h.state();
@@ -215,6 +216,7 @@ fn an_invalid_correction_changes_nothing() {
     h.state_mut().apply(Command::CorrectLast {
         element_type: quadex::ElementType::New,
         pn: quadex::Point::new(100.0, 100.0),
+        snap_to: None,
     });
     let s = h.state();
     assert!(s.status.starts_with("error:"), "{}", s.status);
@@ -236,6 +238,7 @@ fn undo_and_redo_every_edit() {
     h.state_mut().apply(Command::CorrectLast {
         element_type: quadex::ElementType::New,
         pn,
+        snap_to: None,
     });
     assert_eq!(h.state().doc.training.len(), 1);
     let corrected = h.state().doc.mesher.mesh().clone();
@@ -394,4 +397,83 @@ fn a_background_run_can_be_cancelled() {
     // The steps taken are kept and undo one at a time.
     h.state_mut().apply(Command::Undo);
     assert_eq!(h.state().doc.mesher.steps() + 1, steps);
+}
+
+/// A primary click at a screen position.
+fn click_at(h: &mut Harness<'static, App>, pos: egui::Pos2) {
+    h.hover_at(pos);
+    h.run();
+    h.drag_at(pos);
+    h.run();
+    h.drop_at(pos);
+    h.run();
+}
+
+#[test]
+fn boundary_edits_on_the_canvas_are_validated_live() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(3));
+    h.run();
+    let nodes = h.state().doc.boundary.node_count();
+    h.get_by_label("split").click();
+    h.run();
+    let mid = |h: &Harness<'static, App>, k: usize| {
+        let s = h.state();
+        let l = &s.tools.draft.loops[0];
+        let p = (l[k] + l[(k + 1) % l.len()]) * 0.5;
+        s.view.to_screen(s.canvas_rect, p)
+    };
+    // Splitting one segment in two makes the node count odd: the problem
+    // is listed and the document keeps its boundary.
+    let p = mid(&h, 0);
+    click_at(&mut h, p);
+    assert!(h.state().tools.problem.is_some());
+    assert_eq!(h.state().doc.boundary.node_count(), nodes);
+    assert_eq!(h.state().doc.mesher.steps(), 3);
+    h.get_by_label_contains("not a valid boundary yet");
+    // A second split makes it even: the boundary changes, the mesh restarts.
+    let p = mid(&h, 10);
+    click_at(&mut h, p);
+    assert!(h.state().tools.problem.is_none());
+    assert_eq!(h.state().doc.boundary.node_count(), nodes + 2);
+    assert_eq!(h.state().doc.mesher.steps(), 0);
+    // Undo brings the boundary and the steps back.
+    h.state_mut().apply(Command::Undo);
+    h.run();
+    assert_eq!(h.state().doc.boundary.node_count(), nodes);
+    assert_eq!(h.state().doc.mesher.steps(), 3);
+    assert_eq!(h.state().tools.draft.node_count(), nodes);
+}
+
+#[test]
+fn dragging_pn_on_the_canvas_corrects_the_element() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(5));
+    h.run();
+    let last = h.state().doc.last.clone().unwrap();
+    let pn = h.state().doc.mesher.mesh().nodes[last.pn_node().unwrap() as usize];
+    let s = h.state().view.to_screen(h.state().canvas_rect, pn);
+    // Drag the handle a few pixels towards P0 and let go.
+    let p0 = h.state().doc.mesher.mesh().nodes[last.reference.unwrap() as usize];
+    let t = h.state().view.to_screen(h.state().canvas_rect, p0);
+    let to = s + (t - s) * 0.15;
+    h.hover_at(s);
+    h.run();
+    h.drag_at(s);
+    h.run();
+    for k in 1..=5 {
+        h.hover_at(s + (to - s) * (k as f32 / 5.0));
+        h.run();
+    }
+    h.drop_at(to);
+    h.run();
+    let st = h.state();
+    assert!(st.status.starts_with("element corrected"), "{}", st.status);
+    assert_eq!(st.doc.training.len(), 1);
+    let new_node = st.doc.last.as_ref().unwrap().new_nodes[0];
+    let moved = st.doc.mesher.mesh().nodes[new_node as usize];
+    assert!(moved.distance(pn) > 1e-6);
+    assert_eq!(st.doc.mesher.steps(), 5);
 }

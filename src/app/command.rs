@@ -33,6 +33,8 @@ pub enum Command {
         element_type: ElementType,
         /// Pn in world coordinates (types 1 and 2 take P_r2 / P_l2).
         pn: Point,
+        /// Type 0 closed onto this front node instead of a new one.
+        snap_to: Option<u32>,
     },
     /// Refit the model on the reference samples and the user's, and mesh
     /// the rest with it.

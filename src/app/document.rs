@@ -250,13 +250,14 @@ impl Document {
         Ok(self.training.len())
     }
 
-    /// Replaces the last element by the user's: the step is undone, the
-    /// correction committed at the same reference point, and its sample
-    /// appended. If the correction is not a valid element, nothing changes.
+    /// Replaces the last element by the user's (type 0 closes onto front
+    /// node `snap_to` when given): the step is undone, the correction
+    /// committed at the same reference point, and its sample appended. If the correction is not a valid element, nothing changes.
     pub fn correct_last(
         &mut self,
         element_type: crate::model::ElementType,
         pn: crate::geom::Point,
+        snap_to: Option<u32>,
     ) -> Result<usize, String> {
         let r = self.last.clone().ok_or("no step to correct")?;
         if !matches!(r.kind, StepKind::Element | StepKind::Correction) {
@@ -267,7 +268,7 @@ impl Document {
             reference,
             element_type,
             pn: Some(pn),
-            snap_to: None,
+            snap_to,
         };
         let saved = self.mesher.clone();
         self.mesher.undo();

@@ -17,6 +17,7 @@ pub mod quality_panel;
 pub mod samples_panel;
 pub mod smooth_panel;
 pub mod step_panel;
+pub mod tools;
 pub mod train_panel;
 
 use crate::geom::Point;
@@ -34,6 +35,7 @@ use serde::{Deserialize, Serialize};
 use smooth_panel::SmoothPanel;
 use std::path::{Path, PathBuf};
 use step_panel::StepPanel;
+use tools::Tools;
 use train_panel::TrainPanel;
 
 /// How the editor starts (`quadex gui`).
@@ -121,6 +123,10 @@ pub struct App {
     pub view: View,
     pub prefs: Prefs,
     train_panel: TrainPanel,
+    pub tools: Tools,
+    /// The element the next step would cut, with the document version it
+    /// belongs to.
+    preview: Option<(u64, Vec<[Point; 4]>)>,
     model_panel: ModelPanel,
     samples_panel: SamplesPanel,
     smooth_panel: SmoothPanel,
@@ -148,6 +154,8 @@ pub struct App {
     finished: Option<Finished>,
     finished_failed: Option<u64>,
     hover: Option<Point>,
+    /// Where the canvas was drawn last (screen points).
+    pub canvas_rect: egui::Rect,
     /// The close-without-saving question is open.
     confirm_close: bool,
     close_allowed: bool,
@@ -170,6 +178,8 @@ impl App {
             view: View::default(),
             prefs: Prefs::default(),
             train_panel: TrainPanel::default(),
+            tools: Tools::default(),
+            preview: None,
             model_panel: ModelPanel::default(),
             samples_panel: SamplesPanel::default(),
             smooth_panel: SmoothPanel::default(),
@@ -187,6 +197,7 @@ impl App {
             finished: None,
             finished_failed: None,
             hover: None,
+            canvas_rect: egui::Rect::NOTHING,
             confirm_close: false,
             close_allowed: false,
             screenshot: None,
@@ -406,8 +417,12 @@ impl App {
                 d.append_last()
                     .map(|n| format!("sample appended ({n} in the training set)"))
             }),
-            Command::CorrectLast { element_type, pn } => self.edit("correction", |d| {
-                d.correct_last(element_type, pn).map(|n| {
+            Command::CorrectLast {
+                element_type,
+                pn,
+                snap_to,
+            } => self.edit("correction", |d| {
+                d.correct_last(element_type, pn, snap_to).map(|n| {
                     format!("element corrected, sample appended ({n} in the training set)")
                 })
             }),
@@ -584,6 +599,30 @@ impl App {
         Ok(m)
     }
 
+    /// The element the next step would cut (a step taken on a copy of the
+    /// mesher), when the Extraction panel asks for it.
+    fn refresh_preview(&mut self) {
+        if !self.prefs.step.preview || self.busy() || self.doc.is_done() {
+            self.preview = None;
+            return;
+        }
+        if self
+            .preview
+            .as_ref()
+            .is_some_and(|(v, _)| *v == self.version)
+        {
+            return;
+        }
+        let mut probe = self.doc.mesher.clone();
+        let quads = match probe.step() {
+            Ok(crate::extract::StepOutcome::Stepped(r)) => {
+                r.quads.iter().map(|q| probe.mesh().corners(q)).collect()
+            }
+            _ => Vec::new(),
+        };
+        self.preview = Some((self.version, quads));
+    }
+
     /// Keeps the finished mesh for display while the run is complete: the
     /// finishing pass runs in the background.
     fn refresh_finished(&mut self) {
@@ -658,6 +697,8 @@ impl App {
         }
         let mut cmds = Vec::new();
         self.input_commands(ctx, &mut cmds);
+        self.tools.sync(&self.doc);
+        self.refresh_preview();
         egui::TopBottomPanel::top("menu").show(ctx, |ui| {
             egui::MenuBar::new().ui(ui, |ui| self.menus(ui, &mut cmds));
         });
@@ -674,6 +715,8 @@ impl App {
                     ui.separator();
                     self.train_panel
                         .ui(ui, &self.doc, self.refit.as_ref(), &mut cmds);
+                    ui.separator();
+                    self.tools.panel(ui, &self.doc, &mut cmds);
                     ui.separator();
                     ui.label(egui::RichText::new("Export").strong());
                     ui.text_edit_singleline(&mut self.export_path);
@@ -731,6 +774,7 @@ impl App {
                     f.live_loops().map(|l| f.loop_nodes(l)).collect()
                 };
                 let (mesh, fin) = shown(&self.finished, self.version, &self.doc);
+                let marked = self.tools.marked();
                 let overlay = Overlay {
                     version: shown_version,
                     boundary: &self.doc.boundary,
@@ -742,10 +786,33 @@ impl App {
                     // ids belong to the mesher's own mesh.
                     last: if fin { None } else { self.doc.last.as_ref() },
                     metric: self.prefs.quality.metric,
-                    marked: &[],
+                    marked: &marked,
                 };
                 let r = canvas::ui(ui, &mut self.view, &mut self.mesh_cache, &overlay);
                 self.hover = r.hover;
+                self.canvas_rect = r.rect;
+                if let Some((_, quads)) = &self.preview {
+                    let cyan = egui::Color32::from_rgb(80, 220, 255);
+                    for q in quads {
+                        let mut ring: Vec<egui::Pos2> =
+                            q.iter().map(|&p| self.view.to_screen(r.rect, p)).collect();
+                        ring.push(ring[0]);
+                        ui.painter_at(r.rect).extend(egui::Shape::dashed_line(
+                            &ring,
+                            egui::Stroke::new(2.0, cyan),
+                            6.0,
+                            4.0,
+                        ));
+                    }
+                }
+                let at = tools::OnCanvas {
+                    view: &self.view,
+                    response: &r,
+                    doc: &self.doc,
+                    finished: fin,
+                };
+                self.tools
+                    .canvas(ui, &at, &mut self.train_panel.pn, &mut cmds);
             });
         self.close_dialog(ctx, &mut cmds);
         for c in cmds {

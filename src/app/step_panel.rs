@@ -16,11 +16,17 @@ pub struct StepPanel {
     pub n: usize,
     /// Steps per second of the animated run.
     pub speed: f64,
+    /// Show the element the next step would cut.
+    pub preview: bool,
 }
 
 impl Default for StepPanel {
     fn default() -> Self {
-        StepPanel { n: 10, speed: 20.0 }
+        StepPanel {
+            n: 10,
+            speed: 20.0,
+            preview: true,
+        }
     }
 }
 
@@ -97,6 +103,7 @@ impl StepPanel {
             button(ui, "Run to end", Command::RunToEnd, out);
             button(ui, "Reset", Command::Reset, out);
         });
+        ui.checkbox(&mut self.preview, "show the next element (dashed)");
         ui.horizontal_wrapped(|ui| {
             button(ui, "Undo", Command::Undo, out);
             button(ui, "Redo", Command::Redo, out);

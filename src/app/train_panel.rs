@@ -12,8 +12,9 @@ use egui::Ui;
 
 /// The panel's own state: the correction being edited.
 pub struct TrainPanel {
-    element_type: ElementType,
-    pn: Point,
+    pub element_type: ElementType,
+    /// Pn of the correction (the canvas handle drags it).
+    pub pn: Point,
     /// The step the correction fields were filled from.
     filled_from: Option<usize>,
     form: Form,
@@ -81,6 +82,7 @@ impl TrainPanel {
                         out.push(Command::CorrectLast {
                             element_type: self.element_type,
                             pn: self.pn,
+                            snap_to: None,
                         });
                     }
                     if ui.button("Append as sample").clicked() {

@@ -1,0 +1,285 @@
+//! Boundary editing (method §1: the given nodes are the discretisation, and
+//! resampling is a separate, explicit editing tool): a [`Draft`] of loops of
+//! points that may be invalid while the user edits it, with the operations
+//! of the editor's boundary tools (draw, move, insert, delete, split a
+//! segment into k parts, resample a loop to a target size with the
+//! even-count rule) and live validation that names the nodes at fault.
+
+use crate::boundary::{Boundary, BoundaryError};
+use crate::geom::Point;
+
+/// Loops of points being edited: `loops[0]` is the outer loop when the
+/// draft becomes a boundary (the largest loop is taken as outer whatever
+/// the order; orientation is set then).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Draft {
+    pub loops: Vec<Vec<Point>>,
+}
+
+/// A node of a draft: loop and position in it.
+pub type At = (usize, usize);
+
+impl Draft {
+    /// The draft of a boundary (its loops in order).
+    pub fn of(b: &Boundary) -> Draft {
+        Draft {
+            loops: b
+                .loops
+                .iter()
+                .map(|l| l.iter().map(|&i| b.points[i]).collect())
+                .collect(),
+        }
+    }
+
+    /// All nodes.
+    pub fn node_count(&self) -> usize {
+        self.loops.iter().map(Vec::len).sum()
+    }
+
+    /// The validated boundary (the checks of [`Boundary::new`]).
+    pub fn to_boundary(&self) -> Result<Boundary, BoundaryError> {
+        let mut points = Vec::with_capacity(self.node_count());
+        let mut loops = Vec::with_capacity(self.loops.len());
+        for l in &self.loops {
+            let start = points.len();
+            points.extend_from_slice(l);
+            loops.push((start..points.len()).collect());
+        }
+        Boundary::new(points, loops, None)
+    }
+
+    /// The node with label `label` (1-based over all loops, as
+    /// [`Draft::to_boundary`] numbers them).
+    fn at_label(&self, label: i64) -> Option<At> {
+        let mut k = usize::try_from(label).ok()?.checked_sub(1)?;
+        for (li, l) in self.loops.iter().enumerate() {
+            if k < l.len() {
+                return Some((li, k));
+            }
+            k -= l.len();
+        }
+        None
+    }
+
+    /// The nodes a validation error is about: the node(s) it names, or
+    /// every node of the loop it names.
+    pub fn marked(&self, e: &BoundaryError) -> Vec<At> {
+        let whole = |li: usize| -> Vec<At> {
+            self.loops
+                .get(li)
+                .map(|l| (0..l.len()).map(|k| (li, k)).collect())
+                .unwrap_or_default()
+        };
+        use BoundaryError as E;
+        match *e {
+            E::NonFinite { node }
+            | E::OpenChain { node }
+            | E::Branching { node, .. }
+            | E::DuplicateNode { node, .. } => self.at_label(node).into_iter().collect(),
+            E::Crossing { node_a, node_b, .. } => [node_a, node_b]
+                .iter()
+                .filter_map(|&n| self.at_label(n))
+                .collect(),
+            E::LoopTooShort { loop_index, .. }
+            | E::ZeroArea { loop_index }
+            | E::HoleOutside { loop_index }
+            | E::NestedHole { loop_index, .. } => whole(loop_index),
+            E::Empty
+            | E::TooFewNodes { .. }
+            | E::BadSegmentIndex { .. }
+            | E::OddNodeCount { .. } => Vec::new(),
+        }
+    }
+
+    /// The node nearest to `p` within `r`.
+    pub fn nearest_node(&self, p: Point, r: f64) -> Option<At> {
+        let mut best: Option<(f64, At)> = None;
+        for (li, l) in self.loops.iter().enumerate() {
+            for (k, q) in l.iter().enumerate() {
+                let d = q.distance(p);
+                if d <= r && best.is_none_or(|(b, _)| d < b) {
+                    best = Some((d, (li, k)));
+                }
+            }
+        }
+        best.map(|(_, a)| a)
+    }
+
+    /// The segment (from node `k` to the next) nearest to `p` within `r`.
+    pub fn nearest_segment(&self, p: Point, r: f64) -> Option<At> {
+        let mut best: Option<(f64, At)> = None;
+        for (li, l) in self.loops.iter().enumerate() {
+            for k in 0..l.len() {
+                let (a, b) = (l[k], l[(k + 1) % l.len()]);
+                let d = crate::geom::point_segment_distance(p, a, b);
+                if d <= r && best.is_none_or(|(b, _)| d < b) {
+                    best = Some((d, (li, k)));
+                }
+            }
+        }
+        best.map(|(_, a)| a)
+    }
+
+    pub fn move_node(&mut self, (li, k): At, p: Point) {
+        if let Some(q) = self.loops.get_mut(li).and_then(|l| l.get_mut(k)) {
+            *q = p;
+        }
+    }
+
+    /// Inserts `p` after node `k` (on segment `k`).
+    pub fn insert(&mut self, (li, k): At, p: Point) {
+        if let Some(l) = self.loops.get_mut(li) {
+            l.insert((k + 1).min(l.len()), p);
+        }
+    }
+
+    /// Deletes a node; a loop left with no nodes goes.
+    pub fn delete(&mut self, (li, k): At) {
+        if let Some(l) = self.loops.get_mut(li) {
+            if k < l.len() {
+                l.remove(k);
+            }
+            if l.is_empty() {
+                self.loops.remove(li);
+            }
+        }
+    }
+
+    /// Splits segment `k` into `parts` equal parts.
+    pub fn split(&mut self, (li, k): At, parts: usize) {
+        let Some(l) = self.loops.get_mut(li) else {
+            return;
+        };
+        if k >= l.len() || parts < 2 {
+            return;
+        }
+        let (a, b) = (l[k], l[(k + 1) % l.len()]);
+        let new: Vec<Point> = (1..parts)
+            .map(|j| a + (b - a) * (j as f64 / parts as f64))
+            .collect();
+        l.splice(k + 1..k + 1, new);
+    }
+
+    /// Resamples loop `li` to segments of about `h`: every segment is cut
+    /// into `max(1, round(len / h))` equal parts, so the loop's nodes (its
+    /// corners) stay. Even-count rule: when the whole draft would then have
+    /// an odd node count, the segment whose parts are longest gets one
+    /// part more.
+    pub fn resample(&mut self, li: usize, h: f64) {
+        if h.is_nan() || h <= 0.0 {
+            return;
+        }
+        let others: usize = self
+            .loops
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i != li)
+            .map(|(_, l)| l.len())
+            .sum();
+        let Some(l) = self.loops.get_mut(li) else {
+            return;
+        };
+        let n = l.len();
+        let seg = |k: usize| (l[k], l[(k + 1) % n]);
+        let mut parts: Vec<usize> = (0..n)
+            .map(|k| {
+                let (a, b) = seg(k);
+                ((a.distance(b) / h).round() as usize).max(1)
+            })
+            .collect();
+        if (others + parts.iter().sum::<usize>()) % 2 == 1 {
+            let longest = (0..n).max_by(|&i, &j| {
+                let (a, b) = seg(i);
+                let (c, d) = seg(j);
+                (a.distance(b) / parts[i] as f64).total_cmp(&(c.distance(d) / parts[j] as f64))
+            });
+            if let Some(k) = longest {
+                parts[k] += 1;
+            }
+        }
+        let mut out = Vec::with_capacity(parts.iter().sum());
+        for (k, &m) in parts.iter().enumerate() {
+            let (a, b) = seg(k);
+            for j in 0..m {
+                out.push(a + (b - a) * (j as f64 / m as f64));
+            }
+        }
+        *l = out;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square() -> Draft {
+        Draft {
+            loops: vec![vec![
+                Point::new(0.0, 0.0),
+                Point::new(1.0, 0.0),
+                Point::new(1.0, 1.0),
+                Point::new(0.0, 1.0),
+            ]],
+        }
+    }
+
+    #[test]
+    fn a_square_round_trips_and_edits_stay_valid() {
+        let d = square();
+        let b = d.to_boundary().unwrap();
+        assert_eq!(Draft::of(&b).node_count(), 4);
+        let mut e = d.clone();
+        e.split((0, 0), 3);
+        assert_eq!(e.loops[0][1], Point::new(1.0 / 3.0, 0.0));
+        // 6 nodes: even, valid.
+        e.to_boundary().unwrap();
+        e.insert((0, 3), Point::new(1.0, 0.5));
+        assert!(matches!(
+            e.to_boundary(),
+            Err(BoundaryError::OddNodeCount { count: 7 })
+        ));
+        e.delete((0, 4));
+        e.to_boundary().unwrap();
+    }
+
+    #[test]
+    fn resampling_keeps_corners_and_makes_the_count_even() {
+        let mut d = square();
+        d.resample(0, 0.3);
+        // round(1 / 0.3) = 3 parts a side: 12 nodes, corners kept.
+        assert_eq!(d.node_count(), 12);
+        assert_eq!(d.loops[0][3], Point::new(1.0, 0.0));
+        let mut t = Draft {
+            loops: vec![vec![
+                Point::new(0.0, 0.0),
+                Point::new(2.0, 0.0),
+                Point::new(0.0, 1.0),
+            ]],
+        };
+        t.resample(0, 0.5);
+        assert_eq!(t.node_count() % 2, 0);
+        t.to_boundary().unwrap();
+    }
+
+    #[test]
+    fn validation_marks_the_nodes_at_fault() {
+        // A bow tie: the loop crosses itself.
+        let d = Draft {
+            loops: vec![vec![
+                Point::new(0.0, 0.0),
+                Point::new(1.0, 1.0),
+                Point::new(1.0, 0.0),
+                Point::new(0.0, 1.0),
+            ]],
+        };
+        let e = d.to_boundary().unwrap_err();
+        let marked = d.marked(&e);
+        assert!(!marked.is_empty(), "{e}");
+        assert!(marked.iter().all(|&(l, k)| l == 0 && k < 4));
+        assert_eq!(d.nearest_node(Point::new(0.9, 0.95), 0.2), Some((0, 1)));
+        assert_eq!(
+            square().nearest_segment(Point::new(0.5, -0.05), 0.1),
+            Some((0, 0))
+        );
+    }
+}
