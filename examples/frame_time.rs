@@ -3,8 +3,9 @@
 //! the canvas shapes and egui's tessellation into triangles), not the
 //! GPU's drawing.
 //!
-//! `cargo run --release --example frame_time [CELLS_PER_SIDE]` (default 450,
-//! about 200k quads).
+//! `cargo run --release --example frame_time [CELLS_PER_SIDE | FILE]`
+//! (default 450, about 200k quads; a boundary file is meshed with the
+//! default model).
 
 use egui_kittest::Harness;
 use quadex::app::{App, Command, Document, Settings};
@@ -12,24 +13,33 @@ use quadex::Boundary;
 use std::time::Instant;
 
 fn main() -> Result<(), String> {
-    let n: usize = std::env::args()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(450);
-    let settings = Settings {
-        model: "rules".into(),
-        ..Settings::default()
+    let arg = std::env::args().nth(1).unwrap_or_else(|| "450".into());
+    let (boundary, settings) = match arg.parse::<usize>() {
+        Ok(n) => (
+            Boundary::unit_square(n),
+            // Extraction to the end: a uniform n × n grid.
+            Settings {
+                model: "rules".into(),
+                fill_after_layers: None,
+                ..Settings::default()
+            },
+        ),
+        Err(_) => (
+            quadex::io::read_boundary(std::path::Path::new(&arg)).map_err(|e| e.to_string())?,
+            Settings::default(),
+        ),
     };
     let t0 = Instant::now();
-    let mut app = App::new(Document::new(Boundary::unit_square(n), None, settings)?);
+    let mut app = App::new(Document::new(boundary, None, settings)?);
     app.apply(Command::RunToEnd);
+    app.wait();
     let quads = app.doc.mesher.mesh().quads.len();
     eprintln!(
-        "meshed {quads} quads in {:.2} s",
+        "meshed and finished {quads} quads in {:.2} s",
         t0.elapsed().as_secs_f64()
     );
     let mut h = Harness::builder()
-        .with_size([1280.0, 800.0])
+        .with_size([1400.0, 860.0])
         .build_state(|ctx, app: &mut App| app.ui(ctx), app);
     h.run();
     let mut times = Vec::new();
