@@ -142,6 +142,12 @@ fn changing_the_model_restarts_the_mesh() {
     h.state_mut().apply(Command::SetSettings(bad));
     assert!(h.state().status.starts_with("error:"));
     assert_eq!(h.state().doc.settings.model, "rules");
+    // A fitted model from a file (the model button's dialog gives a path).
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/models/default.json");
+    h.state_mut().apply(Command::UseModel(file.clone()));
+    assert_eq!(h.state().doc.settings.model, file.display().to_string());
+    h.state_mut().apply(Command::Step);
+    assert_eq!(h.state().doc.mesher.steps(), 1);
 }
 
 #[test]
@@ -181,24 +187,20 @@ fn correct_append_refit_and_finish() {
     h.run();
     assert_eq!(h.state().doc.training.len(), 2);
     h.get_by_label_contains("2 samples of yours");
-    // Refit in one click: figures before and after; the rest of the mesh
-    // uses the new model.
+    // Refit in one click: figures before and after, and the rest of the
+    // mesh regenerated with the new model (in the background).
     h.get_by_label("Refit").click();
-    h.run();
+    h.step();
+    settle(&mut h);
     let f = h.state().refit.clone().expect("refit figures");
     assert_eq!(f.corrections, 2);
     assert!(f.after.0.accuracy > 0.95 && f.after.1.r > 0.95, "{f:?}");
     assert!(h.state().doc.mesher.model().name().starts_with("fitted"));
     h.get_by_label("before");
-    // The refit is an edit: undo brings the old model back, redo the new.
-    h.state_mut().apply(Command::Undo);
-    assert!(!h.state().doc.mesher.model().name().starts_with("fitted"));
-    h.state_mut().apply(Command::Redo);
-    assert!(h.state().doc.mesher.model().name().starts_with("fitted"));
-    h.get_by_label_contains("Run to end").click();
-    h.step();
-    settle(&mut h);
     assert!(h.state().doc.is_done());
+    // The corrected step stays as the user made it.
+    let kept = h.state().doc.mesher.actions()[4].clone();
+    assert!(matches!(kept, quadex::extract::Action::Correction(_)));
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("annulus.vtu");
     h.state_mut().apply(Command::Export(out.clone()));
@@ -274,6 +276,16 @@ fn undo_and_redo_every_edit() {
     }
     assert_eq!(h.state().doc.mesher.steps(), 0);
     assert_eq!(h.state().doc.training.len(), 0);
+    // A refit is an edit: undo brings the old model back, redo the new.
+    h.state_mut().apply(Command::StepN(5));
+    h.state_mut().apply(Command::AppendLast);
+    h.state_mut()
+        .apply(Command::Refit(quadex::model::Form::Quadratic));
+    assert!(h.state().doc.mesher.model().name().starts_with("fitted"));
+    h.state_mut().apply(Command::Undo);
+    assert!(!h.state().doc.mesher.model().name().starts_with("fitted"));
+    h.state_mut().apply(Command::Redo);
+    assert!(h.state().doc.mesher.model().name().starts_with("fitted"));
 }
 
 #[test]
@@ -381,7 +393,7 @@ fn panels_show_the_model_samples_quality_and_smoothing() {
 
 #[test]
 fn a_background_run_can_be_cancelled() {
-    let b = quadex::io::read_boundary(&bench().join("boundaries/disk1600.poly")).unwrap();
+    let b = quadex::io::read_boundary(&bench().join("boundaries/disk6400.poly")).unwrap();
     let mut app = App::new(Document::new(b, None, Settings::default()).unwrap());
     app.apply(Command::RunToEnd);
     assert!(app.busy());

@@ -61,6 +61,8 @@ pub enum Command {
     CollectFromMesh,
     /// Collect samples from a quad mesh file (`.msh`).
     CollectFromFile(PathBuf),
+    /// Mesh with the fitted model in this file (restarts).
+    UseModel(PathBuf),
     /// Replace the boundary (an edit on the canvas); the mesh restarts.
     SetBoundary(Box<crate::Boundary>),
 }
@@ -74,6 +76,8 @@ pub enum Dialog {
     ImportSamples,
     ExportSamples,
     CollectFromFile,
+    /// A fitted model file to mesh with.
+    ModelFile,
 }
 
 impl Command {

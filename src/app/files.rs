@@ -44,6 +44,10 @@ pub fn pick(d: Dialog, dir: Option<&Path>, name: &str) -> Option<PathBuf> {
             .set_title("Collect samples from a quad mesh")
             .add_filter("Gmsh", &["msh"])
             .pick_file(),
+        Dialog::ModelFile => f
+            .set_title("Mesh with a fitted model")
+            .add_filter("quadex model", &["json"])
+            .pick_file(),
     }
 }
 
@@ -56,6 +60,7 @@ pub fn command_for(d: Dialog, path: PathBuf) -> Command {
         Dialog::ImportSamples => Command::ImportSamples(path),
         Dialog::ExportSamples => Command::ExportSamples(path),
         Dialog::CollectFromFile => Command::CollectFromFile(path),
+        Dialog::ModelFile => Command::UseModel(path),
     }
 }
 

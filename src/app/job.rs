@@ -54,7 +54,7 @@ impl Job {
         let (c, s, f) = (cancel.clone(), steps.clone(), front.clone());
         let handle = std::thread::spawn(move || {
             let (mut last, mut taken, mut cancelled, mut error) = (None, 0, false, None);
-            while taken < max_steps {
+            while taken < max_steps && !mesher.is_done() {
                 if c.load(Ordering::Relaxed) {
                     cancelled = true;
                     break;

@@ -470,6 +470,13 @@ impl App {
                 d.collect_from_file(&p)
                     .map(|n| format!("{n} samples collected from {}", p.display()))
             }),
+            Command::UseModel(path) => {
+                let s = Settings {
+                    model: path.display().to_string(),
+                    ..self.doc.settings.clone()
+                };
+                self.run_command(Command::SetSettings(s))
+            }
             Command::SetBoundary(b) => self.edit("edit boundary", |d| {
                 d.set_boundary(*b)
                     .map(|_| "boundary changed; mesh restarted".into())

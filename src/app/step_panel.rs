@@ -46,13 +46,25 @@ impl StepPanel {
     pub fn ui(&mut self, ui: &mut Ui, doc: &Document, animating: bool, out: &mut Vec<Command>) {
         ui.heading("Extraction");
         let mut s: Settings = doc.settings.clone();
-        egui::ComboBox::from_label("model")
-            .selected_text(s.model.clone())
-            .show_ui(ui, |ui| {
-                for name in BUILTIN {
-                    ui.selectable_value(&mut s.model, name.to_string(), name);
-                }
-            });
+        ui.horizontal(|ui| {
+            let shown = std::path::Path::new(&s.model)
+                .file_name()
+                .map_or(s.model.clone(), |f| f.to_string_lossy().into_owned());
+            egui::ComboBox::from_label("model")
+                .selected_text(shown)
+                .show_ui(ui, |ui| {
+                    for name in BUILTIN {
+                        ui.selectable_value(&mut s.model, name.to_string(), name);
+                    }
+                });
+            if ui
+                .button("File…")
+                .on_hover_text("Mesh with a fitted model file")
+                .clicked()
+            {
+                out.push(Command::Dialog(super::command::Dialog::ModelFile));
+            }
+        });
         ui.horizontal(|ui| {
             ui.label("strategy");
             ui.selectable_value(&mut s.strategy, Strategy::A, "A");

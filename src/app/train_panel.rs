@@ -18,6 +18,8 @@ pub struct TrainPanel {
     /// The step the correction fields were filled from.
     filled_from: Option<usize>,
     form: Form,
+    /// Mesh the rest with the new model right after a refit.
+    pub regenerate: bool,
 }
 
 impl Default for TrainPanel {
@@ -27,6 +29,7 @@ impl Default for TrainPanel {
             pn: Point::ZERO,
             filled_from: None,
             form: Form::Quadratic,
+            regenerate: true,
         }
     }
 }
@@ -96,12 +99,16 @@ impl TrainPanel {
             doc.training.len(),
             if doc.training.len() == 1 { "" } else { "s" }
         ));
+        ui.checkbox(&mut self.regenerate, "mesh the rest after a refit");
         ui.horizontal(|ui| {
             for f in Form::ALL {
                 ui.selectable_value(&mut self.form, f, f.name());
             }
             if ui.button("Refit").clicked() {
                 out.push(Command::Refit(self.form));
+                if self.regenerate {
+                    out.push(Command::RunToEnd);
+                }
             }
         });
         if let Some(f) = refit {
