@@ -394,10 +394,13 @@ fn panels_show_the_model_samples_quality_and_smoothing() {
 #[test]
 fn a_background_run_can_be_cancelled() {
     let b = quadex::io::read_boundary(&bench().join("boundaries/disk6400.poly")).unwrap();
-    let mut app = App::new(Document::new(b, None, Settings::default()).unwrap());
-    app.apply(Command::RunToEnd);
-    assert!(app.busy());
-    let mut h = harness(app);
+    let mut h = harness(App::new(
+        Document::new(b, None, Settings::default()).unwrap(),
+    ));
+    // A first frame draws the domain; the run starts after it.
+    h.run();
+    h.state_mut().apply(Command::RunToEnd);
+    assert!(h.state().busy());
     h.step();
     h.get_by_label("Cancel").click();
     h.step();

@@ -101,6 +101,24 @@ pub fn domain_triangles(b: &Boundary) -> Vec<[Point; 3]> {
         .collect()
 }
 
+/// The domain triangles of the boundary last drawn, recomputed when the
+/// boundary changes (an edit, undo, an opened file).
+#[derive(Default)]
+pub struct DomainCache {
+    boundary: Option<Boundary>,
+    triangles: Vec<[Point; 3]>,
+}
+
+impl DomainCache {
+    pub fn of(&mut self, b: &Boundary) -> &[[Point; 3]] {
+        if self.boundary.as_ref() != Some(b) {
+            self.triangles = domain_triangles(b);
+            self.boundary = Some(b.clone());
+        }
+        &self.triangles
+    }
+}
+
 /// Colour of a scaled Jacobian, on the scale of the SVG export (red at 0,
 /// yellow at 0.5, green at 1).
 pub fn quality_color(sj: f64) -> Color32 {

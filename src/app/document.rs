@@ -158,25 +158,6 @@ impl Document {
         }
     }
 
-    /// Up to `n` steps; returns how many were taken.
-    pub fn step_n(&mut self, n: usize) -> Result<usize, String> {
-        for k in 0..n {
-            if !self.step()? {
-                return Ok(k);
-            }
-        }
-        Ok(n)
-    }
-
-    /// Steps until the front is empty.
-    pub fn run_to_end(&mut self) -> Result<usize, String> {
-        let mut k = 0;
-        while self.step()? {
-            k += 1;
-        }
-        Ok(k)
-    }
-
     pub fn undo(&mut self) -> bool {
         self.last = None;
         self.mesher.undo()
@@ -193,27 +174,32 @@ impl Document {
         }
     }
 
-    /// Starts the mesh again with the current settings.
-    pub fn reset(&mut self) -> Result<(), String> {
-        self.mesher = Self::mesher(&self.boundary, &self.settings)?;
+    /// A fresh mesh: no steps, no last report, no refitted models.
+    fn restart(&mut self, mesher: Mesher) {
+        self.mesher = mesher;
         self.last = None;
         self.refits.clear();
+    }
+
+    /// Starts the mesh again with the current settings.
+    pub fn reset(&mut self) -> Result<(), String> {
+        let mesher = Self::mesher(&self.boundary, &self.settings)?;
+        self.restart(mesher);
         Ok(())
     }
 
     /// A new boundary (edited in the editor); the mesh starts again.
     pub fn set_boundary(&mut self, boundary: Boundary) -> Result<(), String> {
-        self.mesher = Self::mesher(&boundary, &self.settings)?;
+        let mesher = Self::mesher(&boundary, &self.settings)?;
         self.boundary = boundary;
-        self.last = None;
-        self.refits.clear();
+        self.restart(mesher);
         Ok(())
     }
 
     /// Changes the settings and starts again (unless only cleanup and
-    /// smoothing changed: they apply to the finished mesh); on failure
-    /// nothing changes.
-    pub fn set_settings(&mut self, settings: Settings) -> Result<(), String> {
+    /// smoothing changed: they apply to the finished mesh); returns whether
+    /// the mesh restarted. On failure nothing changes.
+    pub fn set_settings(&mut self, settings: Settings) -> Result<bool, String> {
         let finishing_only = Settings {
             smooth: self.settings.smooth,
             cleanup: self.settings.cleanup,
@@ -222,14 +208,12 @@ impl Document {
         if finishing_only {
             // Cleanup and smoothing act on the finished mesh only.
             self.settings = settings;
-            return Ok(());
+            return Ok(false);
         }
         let mesher = Self::mesher(&self.boundary, &settings)?;
         self.settings = settings;
-        self.mesher = mesher;
-        self.last = None;
-        self.refits.clear();
-        Ok(())
+        self.restart(mesher);
+        Ok(true)
     }
 
     /// Appends the sample of the last step (an element the user accepts).
@@ -350,15 +334,6 @@ impl Document {
         self.mesher
             .finish_with(&self.settings.cleanup, &self.settings.smooth)
             .map_err(|e| e.to_string())
-    }
-
-    /// Writes the finished mesh; the format follows the extension.
-    pub fn export(&self, path: &Path) -> Result<(), String> {
-        let fmt =
-            io::MeshFormat::from_path(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let mesh = self.finished()?;
-        io::write_atomic(path, fmt.render(&mesh).as_bytes())
-            .map_err(|e| format!("{}: {e}", path.display()))
     }
 }
 
@@ -509,7 +484,7 @@ impl Document {
 }
 
 /// True for a JSON file whose `format` is a project's.
-fn is_project(path: &Path) -> bool {
+pub fn is_project(path: &Path) -> bool {
     #[derive(Deserialize)]
     struct Format {
         format: Option<String>,

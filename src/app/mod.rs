@@ -145,8 +145,8 @@ pub struct App {
     job: Option<Job>,
     /// Animated run: steps owed to the animation.
     animating: Option<f64>,
-    /// Cached domain triangles of the boundary.
-    domain: Vec<[Point; 3]>,
+    /// Domain triangles of the boundary on the canvas.
+    domain: canvas::DomainCache,
     mesh_cache: MeshCache,
     stats: MeshStats,
     /// Bumped whenever the document changes.
@@ -167,7 +167,6 @@ pub struct App {
 impl App {
     /// The editor over `doc`.
     pub fn new(doc: Document) -> App {
-        let domain = canvas::domain_triangles(&doc.boundary);
         App {
             export_path: std::env::temp_dir()
                 .join("quadex_mesh.msh")
@@ -190,7 +189,7 @@ impl App {
             background: true,
             job: None,
             animating: None,
-            domain,
+            domain: canvas::DomainCache::default(),
             mesh_cache: MeshCache::default(),
             stats: MeshStats::default(),
             version: 0,
@@ -248,7 +247,7 @@ impl App {
 
     /// Remembers a file opened from a path the user gave.
     fn note_opened(&mut self, path: &Path) {
-        if path.extension().is_some_and(|e| e == "json") && document_is_project(&self.doc) {
+        if document::is_project(path) {
             self.project_path = Some(path.to_path_buf());
         }
         self.prefs.recent.push(path);
@@ -258,12 +257,6 @@ impl App {
     fn changed(&mut self) {
         self.version += 1;
         self.dirty = true;
-    }
-
-    /// A new document in place of the old (the boundary may differ).
-    fn replaced(&mut self) {
-        self.domain = canvas::domain_triangles(&self.doc.boundary);
-        self.changed();
     }
 
     /// Runs an edit that keeps the document as it was for undo; on failure
@@ -276,13 +269,8 @@ impl App {
         let before = self.doc.clone();
         match f(&mut self.doc) {
             Ok(msg) => {
-                let boundary_changed = before.boundary != self.doc.boundary;
                 self.history.edit(before, name);
-                if boundary_changed {
-                    self.replaced();
-                } else {
-                    self.changed();
-                }
+                self.changed();
                 Ok(msg)
             }
             Err(e) => {
@@ -312,17 +300,13 @@ impl App {
 
     fn run_command(&mut self, cmd: Command) -> Result<String, String> {
         match cmd {
-            Command::Step => {
-                let more = self.doc.step();
-                let more = more?;
-                if more {
-                    self.history.steps(1);
-                    self.changed();
-                    Ok(String::new())
+            Command::Step => self.step_sync(1).map(|k| {
+                if k == 1 {
+                    String::new()
                 } else {
-                    Ok("the mesh is complete".into())
+                    "the mesh is complete".into()
                 }
-            }
+            }),
             Command::StepN(n) if self.background && n > BACKGROUND_STEPS => {
                 self.start_job(n, "stepping");
                 Ok(format!("taking {n} steps…"))
@@ -351,12 +335,12 @@ impl App {
             }
             Command::Undo => {
                 let what = self.history.undo(&mut self.doc);
-                self.after_history();
+                self.changed();
                 Ok(what.map_or("nothing to undo".into(), |w| format!("undone: {w}")))
             }
             Command::Redo => {
                 let what = self.history.redo(&mut self.doc);
-                self.after_history();
+                self.changed();
                 Ok(what?.map_or("nothing to redo".into(), |w| format!("redone: {w}")))
             }
             Command::Reset => self.edit("reset", |d| d.reset().map(|_| "restarted".into())),
@@ -372,7 +356,6 @@ impl App {
                 })?;
                 self.project_path = None;
                 self.note_opened(&path);
-                self.replaced();
                 self.dirty = false;
                 self.view.fit_pending = true;
                 Ok(msg)
@@ -390,23 +373,17 @@ impl App {
                 Ok(String::new())
             }
             Command::Export(path) => {
-                let fmt = crate::io::MeshFormat::from_path(&path)
+                crate::io::MeshFormat::from_path(&path)
                     .map_err(|e| format!("{}: {e}", path.display()))?;
                 let mesh = self.finished_mesh()?;
-                crate::io::write_atomic(&path, fmt.render(&mesh).as_bytes())
+                crate::io::write_mesh(&mesh, &path)
                     .map_err(|e| format!("{}: {e}", path.display()))?;
                 Ok(format!("wrote {}", path.display()))
             }
             Command::SetSettings(s) => {
                 self.prefs.settings = s.clone();
                 self.edit("settings", |d| {
-                    let restart = d.settings.model != s.model
-                        || d.settings.strategy != s.strategy
-                        || d.settings.points != s.points
-                        || d.settings.pure_model != s.pure_model
-                        || d.settings.fill_after_layers != s.fill_after_layers;
-                    d.set_settings(s)?;
-                    Ok(if restart {
+                    Ok(if d.set_settings(s)? {
                         "settings changed; mesh restarted".into()
                     } else {
                         "cleanup and smoothing changed".into()
@@ -559,11 +536,6 @@ impl App {
         };
     }
 
-    /// After undo or redo: the document may be another one.
-    fn after_history(&mut self) {
-        self.replaced();
-    }
-
     fn save(&mut self, path: &Path) -> Result<String, String> {
         self.doc.save_project(path)?;
         self.project_path = Some(path.to_path_buf());
@@ -642,13 +614,7 @@ impl App {
             return;
         }
         if self.background {
-            let s = &self.doc.settings;
-            self.job = Some(Job::start(
-                self.doc.mesher.clone(),
-                0,
-                Some((s.cleanup, s.smooth)),
-                "cleanup and smoothing",
-            ));
+            self.start_job(0, "cleanup and smoothing");
         } else if self.finished_mesh().is_err() {
             self.finished_failed = Some(self.version);
         }
@@ -785,7 +751,7 @@ impl App {
                 let overlay = Overlay {
                     version: shown_version,
                     boundary: &self.doc.boundary,
-                    domain: &self.domain,
+                    domain: self.domain.of(&self.doc.boundary),
                     mesh,
                     qualities: &self.stats.per_quad,
                     front,
@@ -1081,14 +1047,6 @@ fn shown<'a>(
         Some(f) if f.version == version && doc.is_done() => (&f.mesh, true),
         _ => (doc.mesher.mesh(), false),
     }
-}
-
-/// True when the document came from a project file.
-fn document_is_project(doc: &Document) -> bool {
-    doc.source
-        .as_ref()
-        .is_some_and(|p| p.extension().is_some_and(|e| e == "json"))
-        && !doc.mesher.actions().is_empty()
 }
 
 /// The shipped example boundaries, sorted.

@@ -60,12 +60,20 @@ impl Metric {
     }
 }
 
+/// The histograms: range and bins of the minimum angle, then of the
+/// scaled Jacobian.
+const MIN_ANGLE_BINS: (f64, f64, usize) = (0.0, 90.0, 18);
+const SJ_BINS: (f64, f64, usize) = (0.0, 1.0, 20);
+
 /// Figures of the mesh on the canvas, recomputed when it changes.
 #[derive(Default)]
 pub struct MeshStats {
     key: Option<u64>,
     pub per_quad: Vec<QuadQuality>,
     pub summary: MeshQuality,
+    /// Histogram counts over [`MIN_ANGLE_BINS`] and [`SJ_BINS`].
+    min_angle_counts: Vec<usize>,
+    sj_counts: Vec<usize>,
 }
 
 impl MeshStats {
@@ -81,6 +89,12 @@ impl MeshStats {
             .map(|q| QuadQuality::of(mesh.corners(q)))
             .collect();
         self.summary = MeshQuality::of(mesh);
+        let counts = |f: fn(&QuadQuality) -> f64, (lo, hi, bins): (f64, f64, usize)| {
+            let v: Vec<f64> = self.per_quad.iter().map(f).collect();
+            bin_counts(&v, lo, hi, bins)
+        };
+        self.min_angle_counts = counts(QuadQuality::min_angle, MIN_ANGLE_BINS);
+        self.sj_counts = counts(|q| q.scaled_jacobian, SJ_BINS);
     }
 }
 
@@ -156,12 +170,15 @@ impl QualityPanel {
                     ui.end_row();
                 }
             });
-        let sj: Vec<f64> = stats.per_quad.iter().map(|q| q.scaled_jacobian).collect();
-        let angle: Vec<f64> = stats.per_quad.iter().map(|q| q.min_angle()).collect();
         ui.label("Minimum angle (degrees)");
-        histogram(ui, "hist_min_angle", &angle, 0.0, 90.0, 18);
+        histogram(
+            ui,
+            "hist_min_angle",
+            &stats.min_angle_counts,
+            MIN_ANGLE_BINS,
+        );
         ui.label("Scaled Jacobian");
-        histogram(ui, "hist_sj", &sj, 0.0, 1.0, 20);
+        histogram(ui, "hist_sj", &stats.sj_counts, SJ_BINS);
     }
 }
 
@@ -177,10 +194,11 @@ pub fn bin_counts(values: &[f64], lo: f64, hi: f64, bins: usize) -> Vec<usize> {
     c
 }
 
-fn histogram(ui: &mut Ui, id: &str, values: &[f64], lo: f64, hi: f64, bins: usize) {
+fn histogram(ui: &mut Ui, id: &str, counts: &[usize], (lo, hi, bins): (f64, f64, usize)) {
     let w = (hi - lo) / bins as f64;
-    let bars: Vec<Bar> = bin_counts(values, lo, hi, bins)
-        .into_iter()
+    let bars: Vec<Bar> = counts
+        .iter()
+        .copied()
         .enumerate()
         .map(|(k, n)| {
             let x = lo + (k as f64 + 0.5) * w;
