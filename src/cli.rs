@@ -12,6 +12,7 @@ use quadex::io::{self, MeshFormat};
 use quadex::model::Form;
 use quadex::model::{self, Model};
 use quadex::quality::MeshQuality;
+use quadex::remesh::RemeshParams;
 use quadex::samples::{self, CollectParams, TrainingSet};
 use quadex::smooth::SmoothParams;
 use serde::Serialize;
@@ -63,6 +64,10 @@ enum Command {
         /// swaps) of the finished mesh.
         #[arg(long)]
         no_cleanup: bool,
+        /// Remesh the regions around quads whose scaled Jacobian is still
+        /// below this after cleanup and smoothing (0: no remeshing).
+        #[arg(long, default_value_t = RemeshParams::DEFAULT.below)]
+        remesh_below: f64,
         /// Pure model: no remedies; a rejected prediction stops the run.
         #[arg(long)]
         pure_model: bool,
@@ -290,6 +295,7 @@ fn run(c: Command) -> Result<()> {
             points,
             smooth,
             no_cleanup,
+            remesh_below,
             pure_model,
             no_fill,
             layers,
@@ -318,6 +324,10 @@ fn run(c: Command) -> Result<()> {
                     CleanupParams::OFF
                 } else {
                     CleanupParams::DEFAULT
+                },
+                remesh: RemeshParams {
+                    below: remesh_below,
+                    ..RemeshParams::DEFAULT
                 },
                 pure_model,
                 fill: !no_fill,

@@ -41,12 +41,13 @@ pub mod model;
 pub mod normalize;
 pub mod quality;
 pub mod reference;
+pub mod remesh;
 pub mod samples;
 pub mod smooth;
 
 pub use boundary::{Boundary, BoundaryError};
 pub use extract::{
-    mesh_boundary, MeshError, MeshParams, Mesher, StepOutcome, StepReport, Strategy,
+    mesh_boundary, FinishParams, MeshError, MeshParams, Mesher, StepOutcome, StepReport, Strategy,
 };
 pub use geom::Point;
 pub use mesh::QuadMesh;

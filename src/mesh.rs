@@ -78,40 +78,7 @@ impl QuadMesh {
                 q.reverse();
             }
         }
-        // Boundary edges: directed edges without a reverse twin.
-        let mut directed: BTreeMap<(u32, u32), usize> = BTreeMap::new();
-        for q in &qs {
-            for k in 0..4 {
-                *directed.entry((q[k], q[(k + 1) % 4])).or_default() += 1;
-            }
-        }
-        let mut next: BTreeMap<u32, u32> = BTreeMap::new();
-        for &(a, b) in directed.keys() {
-            if !directed.contains_key(&(b, a)) && next.insert(a, b).is_some() {
-                return Err(InvariantError::Pinched { node: a });
-            }
-        }
-        let mut loops: Vec<Vec<u32>> = Vec::new();
-        let mut seen = std::collections::BTreeSet::new();
-        for &start in next.keys() {
-            if seen.contains(&start) {
-                continue;
-            }
-            let mut l = Vec::new();
-            let mut c = start;
-            while seen.insert(c) {
-                l.push(c);
-                c = *next
-                    .get(&c)
-                    .ok_or(InvariantError::OpenBoundary { node: c })?;
-            }
-            loops.push(l);
-        }
-        let area = |l: &Vec<u32>| polygon_area(l.iter().map(|&i| points[i as usize]));
-        let outer = (0..loops.len())
-            .max_by(|&a, &b| area(&loops[a]).total_cmp(&area(&loops[b])))
-            .ok_or(InvariantError::Empty)?;
-        loops.swap(0, outer);
+        let loops = boundary_loops(&points, &qs)?;
         // Renumber: boundary nodes first, then the others the quads use.
         let mut new_id = vec![u32::MAX; points.len()];
         let mut order = Vec::with_capacity(points.len());
@@ -265,4 +232,48 @@ impl QuadMesh {
         }
         Ok(())
     }
+}
+
+/// The boundary loops of counter-clockwise `quads` over `points`: chains of
+/// the directed edges that have no reverse twin, the loop of largest area
+/// first. A node with two such edges out of it is [`InvariantError::Pinched`].
+pub fn boundary_loops(
+    points: &[Point],
+    quads: &[[u32; 4]],
+) -> Result<Vec<Vec<u32>>, InvariantError> {
+    // Boundary edges: directed edges without a reverse twin.
+    let mut directed: BTreeMap<(u32, u32), usize> = BTreeMap::new();
+    for q in quads {
+        for k in 0..4 {
+            *directed.entry((q[k], q[(k + 1) % 4])).or_default() += 1;
+        }
+    }
+    let mut next: BTreeMap<u32, u32> = BTreeMap::new();
+    for &(a, b) in directed.keys() {
+        if !directed.contains_key(&(b, a)) && next.insert(a, b).is_some() {
+            return Err(InvariantError::Pinched { node: a });
+        }
+    }
+    let mut loops: Vec<Vec<u32>> = Vec::new();
+    let mut seen = std::collections::BTreeSet::new();
+    for &start in next.keys() {
+        if seen.contains(&start) {
+            continue;
+        }
+        let mut l = Vec::new();
+        let mut c = start;
+        while seen.insert(c) {
+            l.push(c);
+            c = *next
+                .get(&c)
+                .ok_or(InvariantError::OpenBoundary { node: c })?;
+        }
+        loops.push(l);
+    }
+    let area = |l: &Vec<u32>| polygon_area(l.iter().map(|&i| points[i as usize]));
+    let outer = (0..loops.len())
+        .max_by(|&a, &b| area(&loops[a]).total_cmp(&area(&loops[b])))
+        .ok_or(InvariantError::Empty)?;
+    loops.swap(0, outer);
+    Ok(loops)
 }

@@ -2,7 +2,8 @@
 //! the two largest disks are left to the benchmark) with default settings.
 //! Every mesh produced must tile its domain exactly (checked after
 //! smoothing), keep the boundary nodes and be all-quad, and every case must
-//! finish.
+//! finish. With the shipped default model (the command line's default) no
+//! quad may have a scaled Jacobian below 0.2.
 
 mod common;
 
@@ -22,10 +23,15 @@ fn benchmark_cases_mesh_validly() {
             }
             let b = quadex::io::read_boundary(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
             let area = b.area();
-            let mut m = Mesher::new(b, Arc::new(RulesModel::DEFAULT), MeshParams::DEFAULT);
+            let model = Arc::new(quadex::model::default_model().unwrap());
+            let mut m = Mesher::new(b, model, MeshParams::DEFAULT);
             match m.run(|_| {}) {
                 Ok(()) => {
                     let mesh = m.finish().unwrap();
+                    let worst = quadex::MeshQuality::of(&mesh).sj_min;
+                    if worst < 0.2 {
+                        failures.push((name.clone(), format!("scaled Jacobian {worst}")));
+                    }
                     mesh.check_finished()
                         .unwrap_or_else(|e| panic!("{name}: {e}"));
                     assert!(

@@ -122,6 +122,63 @@ fn a_bad_file_shows_an_error_and_keeps_the_document() {
 }
 
 #[test]
+fn a_mesh_file_opens_as_its_boundary_with_the_mesh_shown() {
+    // A mesh written by the command line's library, read back as a document.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("plate.msh");
+    let b = quadex::io::read_boundary(&bench().join("boundaries/plate_hole.poly")).unwrap();
+    let model = std::sync::Arc::new(quadex::model::RulesModel::DEFAULT);
+    let (mesh, _) = quadex::mesh_boundary(&b, model, &quadex::MeshParams::DEFAULT, |_| {}).unwrap();
+    quadex::io::write_mesh(&mesh, &path).unwrap();
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::Open(path.clone()));
+    h.run();
+    let s = h.state();
+    assert!(s.status.starts_with("opened"), "{}", s.status);
+    assert_eq!(s.doc.name(), "plate.msh");
+    assert_eq!(s.doc.boundary.node_count(), b.node_count());
+    let shown = s.doc.imported().expect("the file's mesh is shown");
+    assert_eq!(shown.quads.len(), mesh.quads.len());
+    assert!(s.doc.has_mesh() && !s.doc.is_done());
+    h.get_by_label_contains("showing the mesh read from plate.msh");
+    // Its quality, its samples and an export, as for a finished mesh.
+    h.get_by_label("Quality").click();
+    h.run();
+    h.get_by_label("The mesh read from the file.");
+    h.state_mut().apply(Command::CollectFromMesh);
+    assert!(!h.state().doc.training.is_empty(), "{}", h.state().status);
+    let out = dir.path().join("plate.vtk");
+    h.state_mut().apply(Command::Export(out.clone()));
+    assert!(
+        h.state().status.starts_with("wrote"),
+        "{}",
+        h.state().status
+    );
+    // Stepping meshes the same boundary with quadex; undo shows the file's
+    // mesh again.
+    h.state_mut().apply(Command::Step);
+    assert!(h.state().doc.imported().is_none());
+    h.state_mut().apply(Command::Undo);
+    assert!(h.state().doc.imported().is_some());
+    // A project keeps the file's mesh.
+    let project = dir.path().join("plate.quadex.json");
+    h.state_mut().apply(Command::SaveProject(project.clone()));
+    let reopened = Document::open(&project, Settings::default()).unwrap();
+    assert_eq!(reopened.imported(), h.state().doc.imported());
+    // A mesh file that is not one is refused and the document kept.
+    let bad = dir.path().join("bad.msh");
+    std::fs::write(&bad, "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n").unwrap();
+    h.state_mut().apply(Command::Open(bad));
+    assert!(
+        h.state().status.starts_with("error:"),
+        "{}",
+        h.state().status
+    );
+    assert_eq!(h.state().doc.name(), "plate.msh");
+}
+
+#[test]
 fn changing_the_model_restarts_the_mesh() {
     let mut h = harness(example());
     h.run();

@@ -6,7 +6,8 @@
 
 use crate::cleanup::CleanupParams;
 use crate::extract::{
-    Action, Correction, MeshParams, Mesher, StepKind, StepOutcome, StepReport, Strategy,
+    Action, Correction, FinishParams, MeshParams, Mesher, StepKind, StepOutcome, StepReport,
+    Strategy,
 };
 use crate::fit::{self, Figures, FitParams, TypeFigures};
 use crate::io;
@@ -15,6 +16,7 @@ use crate::mesh::QuadMesh;
 use crate::model;
 use crate::model::fitted::FittedModel;
 use crate::model::Form;
+use crate::remesh::RemeshParams;
 use crate::samples::CollectParams;
 use crate::samples::TrainingSet;
 use crate::smooth::SmoothParams;
@@ -39,6 +41,8 @@ pub struct Settings {
     pub smooth: SmoothParams,
     /// Topological cleanup of the finished mesh.
     pub cleanup: CleanupParams,
+    /// Local remeshing of the finished mesh's bad regions.
+    pub remesh: RemeshParams,
 }
 
 impl Default for Settings {
@@ -51,6 +55,7 @@ impl Default for Settings {
             fill_after_layers: MeshParams::DEFAULT.fill_after_layers,
             smooth: MeshParams::DEFAULT.smooth,
             cleanup: MeshParams::DEFAULT.cleanup,
+            remesh: MeshParams::DEFAULT.remesh,
         }
     }
 }
@@ -64,7 +69,17 @@ impl Settings {
             fill_after_layers: self.fill_after_layers,
             smooth: self.smooth,
             cleanup: self.cleanup,
+            remesh: self.remesh,
             ..MeshParams::DEFAULT
+        }
+    }
+
+    /// What finishing the mesh does.
+    pub fn finishing(&self) -> FinishParams {
+        FinishParams {
+            cleanup: self.cleanup,
+            remesh: self.remesh,
+            smooth: self.smooth,
         }
     }
 }
@@ -87,6 +102,10 @@ pub struct Document {
     /// The reference meshes' samples a refit starts from (loaded at the
     /// first refit).
     base: Option<Arc<TrainingSet>>,
+    /// A mesh read from a file (`.msh`), its boundary being the document's
+    /// boundary: shown, checked and exported as the document's mesh until
+    /// the boundary is stepped.
+    imported: Option<Arc<QuadMesh>>,
 }
 
 /// Figures of the model before and after a refit, on the same samples.
@@ -116,7 +135,42 @@ impl Document {
             last: None,
             refits: Vec::new(),
             base: None,
+            imported: None,
         })
+    }
+
+    /// A document over the boundary of a quad mesh, showing that mesh.
+    pub fn from_mesh(
+        mesh: QuadMesh,
+        source: Option<PathBuf>,
+        settings: Settings,
+    ) -> Result<Document, String> {
+        mesh.check_invariants(true).map_err(|e| e.to_string())?;
+        let nb = mesh.n_boundary();
+        let loops = mesh
+            .loops
+            .iter()
+            .map(|l| l.iter().map(|&v| v as usize).collect())
+            .collect();
+        let boundary = Boundary::new(mesh.nodes[..nb].to_vec(), loops, None)
+            .map_err(|e| format!("its boundary: {e}"))?;
+        let mut doc = Document::new(boundary, source, settings)?;
+        doc.imported = Some(Arc::new(mesh));
+        Ok(doc)
+    }
+
+    /// The mesh read from a file, while it is what the document shows (no
+    /// step taken on its boundary yet).
+    pub fn imported(&self) -> Option<&QuadMesh> {
+        self.imported
+            .as_deref()
+            .filter(|_| self.mesher.steps() == 0)
+    }
+
+    /// True when there is a complete mesh to show and export: the run is
+    /// complete, or a mesh read from a file is shown.
+    pub fn has_mesh(&self) -> bool {
+        self.is_done() || self.imported().is_some()
     }
 
     fn mesher(boundary: &Boundary, settings: &Settings) -> Result<Mesher, String> {
@@ -128,11 +182,17 @@ impl Document {
         ))
     }
 
-    /// Opens a boundary file (`.poly`, `.json`); the message names the file
-    /// and the problem.
+    /// Opens a boundary file (`.poly`, `.json`), a project, or a quad mesh
+    /// (`.msh`, `.msh22`: its boundary, with the mesh shown); the message
+    /// names the file and the problem.
     pub fn open(path: &Path, settings: Settings) -> Result<Document, String> {
         if is_project(path) {
             return Document::open_project(path);
+        }
+        if is_mesh_file(path) {
+            let m = io::read_mesh(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            return Document::from_mesh(m, Some(path.to_path_buf()), settings)
+                .map_err(|e| format!("{}: {e}", path.display()));
         }
         let b = io::read_boundary(path).map_err(|e| format!("{}: {e}", path.display()))?;
         Document::new(b, Some(path.to_path_buf()), settings)
@@ -203,6 +263,7 @@ impl Document {
         let finishing_only = Settings {
             smooth: self.settings.smooth,
             cleanup: self.settings.cleanup,
+            remesh: self.settings.remesh,
             ..settings.clone()
         } == self.settings;
         if finishing_only {
@@ -328,11 +389,14 @@ impl Document {
 
     /// The finished mesh (smoothed and checked), for export.
     pub fn finished(&self) -> Result<QuadMesh, String> {
+        if let Some(m) = self.imported() {
+            return Ok(m.clone());
+        }
         if !self.is_done() {
             return Err("the mesh is not finished: run to the end first".into());
         }
         self.mesher
-            .finish_with(&self.settings.cleanup, &self.settings.smooth)
+            .finish_with(&self.settings.finishing())
             .map_err(|e| e.to_string())
     }
 }
@@ -414,6 +478,9 @@ pub struct Project {
     pub training: TrainingSet,
     /// The mesh as stepped (not smoothed).
     pub mesh: QuadMesh,
+    /// A mesh read from a file over the same boundary.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub imported: Option<QuadMesh>,
 }
 
 /// The `format` field of a project file.
@@ -431,6 +498,7 @@ impl Document {
             refits: self.refits.clone(),
             training: self.training.clone(),
             mesh: self.mesher.mesh().clone(),
+            imported: self.imported.as_deref().cloned(),
         }
     }
 
@@ -465,6 +533,11 @@ impl Document {
             return Err("the project's mesh differs from its replayed steps".into());
         }
         doc.training = p.training;
+        if let Some(m) = p.imported {
+            m.check_invariants(true)
+                .map_err(|e| format!("the project's imported mesh: {e}"))?;
+            doc.imported = Some(Arc::new(m));
+        }
         Ok(doc)
     }
 
@@ -481,6 +554,14 @@ impl Document {
         Document::from_project(p, Some(path.to_path_buf()))
             .map_err(|e| format!("{}: {e}", path.display()))
     }
+}
+
+/// True for a file named as a quad mesh (`.msh`, `.msh22`, `.msh2`).
+pub fn is_mesh_file(path: &Path) -> bool {
+    matches!(
+        io::MeshFormat::from_path(path),
+        Ok(io::MeshFormat::Msh41 | io::MeshFormat::Msh22)
+    )
 }
 
 /// True for a JSON file whose `format` is a project's.

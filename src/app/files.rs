@@ -12,8 +12,11 @@ pub fn pick(d: Dialog, dir: Option<&Path>, name: &str) -> Option<PathBuf> {
     }
     match d {
         Dialog::Open => f
-            .set_title("Open a boundary or project")
-            .add_filter("boundary or project", &["poly", "json"])
+            .set_title("Open a boundary, project or quad mesh")
+            .add_filter(
+                "boundary, project or mesh",
+                &["poly", "json", "msh", "msh22"],
+            )
             .pick_file(),
         Dialog::SaveProjectAs => f
             .set_title("Save the project")

@@ -4,10 +4,8 @@
 //! shows and a Cancel that stops between steps. The steps taken before a
 //! Cancel are kept.
 
-use crate::cleanup::CleanupParams;
-use crate::extract::{Mesher, StepOutcome, StepReport};
+use crate::extract::{FinishParams, Mesher, StepOutcome, StepReport};
 use crate::mesh::QuadMesh;
-use crate::smooth::SmoothParams;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -44,7 +42,7 @@ impl Job {
     pub fn start(
         mut mesher: Mesher,
         max_steps: usize,
-        finish: Option<(CleanupParams, SmoothParams)>,
+        finish: Option<FinishParams>,
         what: &'static str,
     ) -> Job {
         let cancel = Arc::new(AtomicBool::new(false));
@@ -75,7 +73,7 @@ impl Job {
             }
             let finished = finish
                 .filter(|_| mesher.is_done() && !cancelled)
-                .map(|(c, sm)| mesher.finish_with(&c, &sm).map_err(|e| e.to_string()));
+                .map(|f| mesher.finish_with(&f).map_err(|e| e.to_string()));
             JobDone {
                 mesher,
                 last,

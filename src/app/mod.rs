@@ -486,7 +486,7 @@ impl App {
         self.job = Some(Job::start(
             self.doc.mesher.clone(),
             n,
-            Some((s.cleanup, s.smooth)),
+            Some(s.finishing()),
             what,
         ));
     }
@@ -609,11 +609,14 @@ impl App {
             .finished
             .as_ref()
             .is_some_and(|f| f.version == self.version);
-        if !self.doc.is_done() || fresh || self.busy() || self.finished_failed == Some(self.version)
+        if !self.doc.has_mesh()
+            || fresh
+            || self.busy()
+            || self.finished_failed == Some(self.version)
         {
             return;
         }
-        if self.background {
+        if self.background && self.doc.imported().is_none() {
             self.start_job(0, "cleanup and smoothing");
         } else if self.finished_mesh().is_err() {
             self.finished_failed = Some(self.version);
@@ -727,7 +730,12 @@ impl App {
                 });
                 ui.separator();
                 egui::ScrollArea::vertical().show(ui, |ui| match self.prefs.tab {
-                    Tab::Quality => self.prefs.quality.ui(ui, &self.stats, finished),
+                    Tab::Quality => self.prefs.quality.ui(
+                        ui,
+                        &self.stats,
+                        finished,
+                        self.doc.imported().is_some(),
+                    ),
                     Tab::Model => self.model_panel.ui(ui, &mut self.doc),
                     Tab::Samples => self.samples_panel.ui(ui, &self.doc, finished, &mut cmds),
                     Tab::Smoothing => self.smooth_panel.ui(
@@ -841,7 +849,7 @@ impl App {
                 cmds,
             );
             ui.separator();
-            let done = self.doc.is_done();
+            let done = self.doc.has_mesh();
             item(
                 ui,
                 "Export mesh…",
@@ -1044,7 +1052,7 @@ fn shown<'a>(
     doc: &'a Document,
 ) -> (&'a QuadMesh, bool) {
     match finished {
-        Some(f) if f.version == version && doc.is_done() => (&f.mesh, true),
+        Some(f) if f.version == version && doc.has_mesh() => (&f.mesh, true),
         _ => (doc.mesher.mesh(), false),
     }
 }

@@ -115,8 +115,12 @@ impl Default for QualityPanel {
 }
 
 impl QualityPanel {
-    pub fn ui(&mut self, ui: &mut Ui, stats: &MeshStats, finished: bool) {
-        ui.label(if finished {
+    /// `finished`: the mesh shown is complete; `imported`: it was read from
+    /// a file.
+    pub fn ui(&mut self, ui: &mut Ui, stats: &MeshStats, finished: bool, imported: bool) {
+        ui.label(if imported {
+            "The mesh read from the file."
+        } else if finished {
             "The finished mesh (cleaned up and smoothed)."
         } else {
             "The mesh so far (not smoothed); run to the end for the finished mesh."

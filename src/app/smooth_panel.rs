@@ -1,12 +1,13 @@
-//! The Smoothing panel: the cleanup (topological improvement) and the
-//! smoothing (constrained Laplacian, method §2 step 4, then optimisation)
-//! applied to the finished mesh, with the mesh's figures before and after.
+//! The Smoothing panel: the cleanup (topological improvement), the local
+//! remeshing of bad regions and the smoothing (constrained Laplacian,
+//! method §2 step 4, then optimisation) applied to the finished mesh, with the mesh's figures before and after.
 //! Changing them does not step again: the finished mesh is recomputed.
 
 use super::command::Command;
 use super::document::{Document, Settings};
 use crate::cleanup::CleanupParams;
 use crate::quality::MeshQuality;
+use crate::remesh::RemeshParams;
 use crate::smooth::SmoothParams;
 use egui::Ui;
 
@@ -89,16 +90,40 @@ impl SmoothPanel {
                 );
                 ui.end_row();
             });
+        ui.label(egui::RichText::new("Local remeshing").strong())
+            .on_hover_text("the regions around quads still bad after cleanup are meshed again");
+        let r = &mut s.remesh;
+        egui::Grid::new("remesh_params")
+            .num_columns(2)
+            .show(ui, |ui| {
+                ui.label("remesh around quads below SJ");
+                ui.add(
+                    egui::DragValue::new(&mut r.below)
+                        .range(0.0..=0.9)
+                        .speed(0.01),
+                );
+                ui.end_row();
+                ui.label("largest region (rings)");
+                ui.add(egui::DragValue::new(&mut r.rings).range(2..=8));
+                ui.end_row();
+                ui.label("at most regions");
+                ui.add(egui::DragValue::new(&mut r.max_regions).range(0..=10_000));
+                ui.end_row();
+            });
         ui.horizontal_wrapped(|ui| {
             if ui.button("Defaults").clicked() {
                 s.smooth = SmoothParams::DEFAULT;
                 s.cleanup = CleanupParams::DEFAULT;
+                s.remesh = RemeshParams::DEFAULT;
             }
             if ui.button("No smoothing").clicked() {
                 s.smooth = SmoothParams::OFF;
             }
             if ui.button("No cleanup").clicked() {
                 s.cleanup = CleanupParams::OFF;
+            }
+            if ui.button("No remeshing").clicked() {
+                s.remesh = RemeshParams::OFF;
             }
         });
         if s != doc.settings {

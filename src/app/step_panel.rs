@@ -132,6 +132,12 @@ impl StepPanel {
         ));
         if doc.is_done() {
             ui.colored_label(egui::Color32::LIGHT_GREEN, "mesh complete");
+        } else if let Some(m) = doc.imported() {
+            ui.label(format!(
+                "showing the mesh read from {} ({} quads); Step or Run meshes its boundary",
+                doc.name(),
+                m.quads.len()
+            ));
         }
         if doc.settings.pure_model {
             let (ok, all) = stats.model_valid();

@@ -24,7 +24,8 @@ use crate::geom::{ccw_angle, Point};
 use crate::mesh::QuadMesh;
 use crate::model::{rules, ElementType, Model, Prediction, RulesModel};
 use crate::normalize::{Frame, LeadingPoints};
-use crate::smooth::{unflatten, SmoothParams};
+use crate::remesh::{remesh_bad, RemeshParams};
+use crate::smooth::{optimize, smooth, unflatten, SmoothParams};
 use guard::{Corner, Limits, Scratch};
 use serde::{Deserialize, Serialize};
 use std::cmp::Ordering;
@@ -100,6 +101,9 @@ pub struct MeshParams {
     /// Topological cleanup of a complete mesh before smoothing
     /// ([`cleanup`](crate::cleanup)).
     pub cleanup: CleanupParams,
+    /// Local remeshing of the regions around quads that cleanup and
+    /// smoothing leave bad ([`remesh`](crate::remesh)), on a complete mesh.
+    pub remesh: RemeshParams,
     /// Pure model: the guard takes the model's element as predicted or
     /// rejects it (no snapping, no other type, no corrected Pn). A rejected
     /// prediction is counted ([`StepReport::rejected`],
@@ -126,8 +130,29 @@ impl MeshParams {
         fill_after_layers: Some(2),
         smooth: SmoothParams::DEFAULT,
         cleanup: CleanupParams::DEFAULT,
+        remesh: RemeshParams::DEFAULT,
         pure_model: false,
     };
+}
+
+/// What [`Mesher::finish_with`] does to a mesh after extraction: the parts
+/// of [`MeshParams`] that change the finished mesh without stepping again.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FinishParams {
+    pub cleanup: CleanupParams,
+    pub remesh: RemeshParams,
+    pub smooth: SmoothParams,
+}
+
+impl MeshParams {
+    /// The finishing parameters.
+    pub fn finishing(&self) -> FinishParams {
+        FinishParams {
+            cleanup: self.cleanup,
+            remesh: self.remesh,
+            smooth: self.smooth,
+        }
+    }
 }
 
 impl Default for MeshParams {
@@ -1935,25 +1960,34 @@ impl Mesher {
     }
 
     /// The finished mesh, cleaned up and smoothed as the parameters say
-    /// ([`improve`]; a mesh with front left is only smoothed), with corners flat
+    /// ([`improve`]; a mesh with front left is only smoothed), the regions
+    /// of quads still bad remeshed ([`remesh_bad`]), with corners flat
     /// to rounding moved off the line ([`unflatten`]), and checked
     /// ([`QuadMesh::check_invariants`], complete when the front is empty).
     /// Call after [`Mesher::run`]; an unfinished mesh is returned as it
     /// stands, checked as a partial mesh.
     pub fn finish(&self) -> Result<QuadMesh, MeshError> {
-        self.finish_with(&self.params.cleanup, &self.params.smooth)
+        self.finish_with(&self.params.finishing())
     }
 
-    /// [`Mesher::finish`] with other cleanup and smoothing parameters (the
-    /// editor's Smoothing panel changes them without stepping again).
-    pub fn finish_with(
-        &self,
-        cleanup: &CleanupParams,
-        smooth: &SmoothParams,
-    ) -> Result<QuadMesh, MeshError> {
+    /// [`Mesher::finish`] with other cleanup, remeshing and smoothing
+    /// parameters (the editor's Smoothing panel changes them without
+    /// stepping again).
+    pub fn finish_with(&self, f: &FinishParams) -> Result<QuadMesh, MeshError> {
         let mut mesh = self.mesh.clone();
         mesh.compact();
-        improve(&mut mesh, self.front.is_empty(), cleanup, smooth);
+        let complete = self.front.is_empty();
+        improve(&mut mesh, complete, &f.cleanup, &f.smooth);
+        let params = MeshParams {
+            cleanup: f.cleanup,
+            remesh: f.remesh,
+            smooth: f.smooth,
+            ..self.params.clone()
+        };
+        if complete && remesh_bad(&mut mesh, &self.model, &params) > 0 {
+            smooth(&mut mesh, &f.smooth);
+            optimize(&mut mesh, &f.smooth);
+        }
         unflatten(&mut mesh);
         let checked = if self.front.is_empty() {
             mesh.check_finished()

@@ -1,0 +1,427 @@
+//! Local remeshing of bad regions: a quad of a finished mesh whose scaled
+//! Jacobian stays below [`RemeshParams::below`] after cleanup and smoothing
+//! is cut out with the quads around it (a cavity of two to
+//! [`RemeshParams::rings`] rings of neighbours), and the cavity is meshed
+//! again by element extraction (thesis §5.1, method §2), with the same
+//! model, and cleaned up and smoothed with the cavity's nodes fixed as its
+//! boundary. The new patch replaces the old one when its worst quad is no
+//! worse and it has fewer quads below the bound, or as many and a better
+//! worst one. The default bound,
+//! 0.7, is about the thesis's element criterion (every angle in [45°,
+//! 135°], scaled Jacobian at least sin 45° ≈ 0.707, thesis §1.2).
+//!
+//! Such quads come from where extraction fronts met at a shallow angle or
+//! jammed into a narrow spike: a stack of flattened quads that no node
+//! placement and no single collapse repairs, but a fresh extraction over a
+//! slightly larger region does, because it sees the whole region at once.
+//! The patch keeps every node of the cavity's boundary, so the mesh around
+//! it is untouched and stays conforming; the caller smooths afterwards.
+//!
+//! Regions are taken worst quad first, in quad order among equals, and the
+//! candidates are tried in a fixed order, so the result is deterministic.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use crate::boundary::Boundary;
+use crate::cleanup::CleanupParams;
+use crate::extract::{MeshParams, Mesher, Strategy};
+use crate::geom::Point;
+use crate::mesh::{boundary_loops, QuadMesh};
+use crate::model::Model;
+use crate::quality::Shape;
+
+/// Local remeshing parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct RemeshParams {
+    /// Quads with a scaled Jacobian below this are remeshed with their
+    /// surroundings (default 0.7; 0 turns remeshing off).
+    pub below: f64,
+    /// Largest cavity, in rings of quads around the bad one (default 4;
+    /// cavities of 2 rings up to this are tried, the smallest that leaves
+    /// no bad quad wins).
+    pub rings: usize,
+    /// At most this many bad quads are tried per mesh (default 200), which
+    /// bounds the time remeshing can take on a large mesh.
+    pub max_regions: usize,
+}
+
+impl RemeshParams {
+    pub const DEFAULT: RemeshParams = RemeshParams {
+        below: 0.7,
+        rings: 4,
+        max_regions: 200,
+    };
+    /// No remeshing.
+    pub const OFF: RemeshParams = RemeshParams {
+        below: 0.0,
+        rings: 4,
+        max_regions: 200,
+    };
+}
+
+impl Default for RemeshParams {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// Scaled Jacobian of quad `q` of `mesh`.
+fn sj(mesh: &QuadMesh, q: &[u32; 4]) -> f64 {
+    Shape::of(mesh.corners(q)).scaled_jacobian
+}
+
+/// How many of `sjs` are below `bound`, and the worst of them: smaller is
+/// better (fewer bad quads first, then a higher worst one).
+fn badness(sjs: impl Iterator<Item = f64>, bound: f64) -> (usize, f64) {
+    sjs.fold((0, f64::INFINITY), |(n, m), s| {
+        (n + usize::from(s < bound), m.min(s))
+    })
+}
+
+fn better(a: (usize, f64), b: (usize, f64)) -> bool {
+    a.0 < b.0 || (a.0 == b.0 && a.1 > b.1)
+}
+
+/// A patch with `new` badness may replace a cavity with `old`: better, and
+/// its worst quad no worse.
+fn improves(new: (usize, f64), old: (usize, f64)) -> bool {
+    better(new, old) && new.1 >= old.1
+}
+
+/// The mesh being patched: live quads and each node's quads.
+struct Work<'a> {
+    mesh: &'a mut QuadMesh,
+    alive: Vec<bool>,
+    inc: Vec<Vec<u32>>,
+}
+
+/// A replacement for a cavity: its quads and the nodes it adds.
+struct Patch {
+    cavity: Vec<u32>,
+    nodes: Vec<Point>,
+    /// Quads over the cavity's boundary nodes (by mesh id) and the new
+    /// nodes (`u32::MAX - i` for new node `i`).
+    quads: Vec<[u32; 4]>,
+    badness: (usize, f64),
+}
+
+const NEW: u32 = u32::MAX;
+
+/// A patch may have at most this many quads per quad of its cavity (plus
+/// 16 steps of extraction, after which the run is cut short): a much finer
+/// patch than its surroundings is not an improvement.
+const MAX_QUADS: usize = 2;
+
+impl Work<'_> {
+    /// The live quads within `rings` rings of quad `k` (sharing a node),
+    /// sorted.
+    fn cavity(&self, k: u32, rings: usize) -> Vec<u32> {
+        let mut set = std::collections::BTreeSet::from([k]);
+        for _ in 0..rings {
+            let grown: Vec<u32> = set
+                .iter()
+                .flat_map(|&j| self.mesh.quads[j as usize])
+                .flat_map(|v| self.inc[v as usize].iter().copied())
+                .collect();
+            set.extend(grown);
+        }
+        set.into_iter().collect()
+    }
+
+    /// Meshes the cavity again with each candidate setting and returns the
+    /// best patch, if the cavity's boundary makes a valid boundary.
+    fn patch(
+        &self,
+        cavity: Vec<u32>,
+        model: &Arc<dyn Model>,
+        candidates: &[MeshParams],
+        bound: f64,
+    ) -> Option<Patch> {
+        let quads: Vec<[u32; 4]> = cavity
+            .iter()
+            .map(|&j| self.mesh.quads[j as usize])
+            .collect();
+        let loops = boundary_loops(&self.mesh.nodes, &quads).ok()?;
+        let mut ids: Vec<u32> = Vec::new();
+        let mut local: BTreeMap<u32, usize> = BTreeMap::new();
+        let sub_loops: Vec<Vec<usize>> = loops
+            .iter()
+            .map(|l| {
+                l.iter()
+                    .map(|&v| {
+                        *local.entry(v).or_insert_with(|| {
+                            ids.push(v);
+                            ids.len() - 1
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+        let points: Vec<Point> = ids.iter().map(|&v| self.mesh.nodes[v as usize]).collect();
+        let boundary = Boundary::new(points, sub_loops, None).ok()?;
+        let mut best: Option<Patch> = None;
+        // A patch of many more quads than the cavity is not wanted, and an
+        // extraction that would make one is cut short.
+        let limit = MAX_QUADS * cavity.len() + 16;
+        for params in candidates {
+            let params = MeshParams {
+                max_steps: Some(limit),
+                ..params.clone()
+            };
+            let mut mesher = Mesher::new(boundary.clone(), model.clone(), params);
+            if mesher.run(|_| {}).is_err() || mesher.mesh().quads.len() > MAX_QUADS * cavity.len() {
+                continue;
+            }
+            let Ok(sub) = mesher.finish() else {
+                continue;
+            };
+            if sub.check_finished().is_err() {
+                continue;
+            }
+            let b = badness(sub.quads.iter().map(|q| sj(&sub, q)), bound);
+            if best.as_ref().is_some_and(|p| !better(b, p.badness)) {
+                continue;
+            }
+            let nb = ids.len();
+            let map = |v: u32| {
+                let v = v as usize;
+                if v < nb {
+                    ids[v]
+                } else {
+                    NEW - (v - nb) as u32
+                }
+            };
+            best = Some(Patch {
+                cavity: cavity.clone(),
+                nodes: sub.nodes[nb..].to_vec(),
+                quads: sub.quads.iter().map(|q| q.map(map)).collect(),
+                badness: b,
+            });
+            if b.0 == 0 {
+                break;
+            }
+        }
+        best
+    }
+
+    /// Replaces the patch's cavity by its quads.
+    fn apply(&mut self, p: Patch) {
+        for &k in &p.cavity {
+            self.alive[k as usize] = false;
+            for v in self.mesh.quads[k as usize] {
+                self.inc[v as usize].retain(|&j| j != k);
+            }
+        }
+        let first = self.mesh.nodes.len() as u32;
+        self.mesh.nodes.extend(&p.nodes);
+        self.inc.resize(self.mesh.nodes.len(), Vec::new());
+        for q in p.quads {
+            let q = q.map(|v| {
+                if v > NEW - p.nodes.len() as u32 {
+                    first + (NEW - v)
+                } else {
+                    v
+                }
+            });
+            let k = self.mesh.quads.len() as u32;
+            self.mesh.quads.push(q);
+            self.alive.push(true);
+            for v in q {
+                self.inc[v as usize].push(k);
+            }
+        }
+    }
+}
+
+/// The settings a cavity is meshed with: the caller's, then the other
+/// strategy, then the other way to finish (extraction to the end when the
+/// caller fills after some layers, the fill after two layers when the caller
+/// extracts to the end); never remeshing again.
+fn candidates(params: &MeshParams) -> Vec<MeshParams> {
+    let base = MeshParams {
+        remesh: RemeshParams::OFF,
+        cleanup: CleanupParams {
+            sliver_sj: params.remesh.below.max(params.cleanup.sliver_sj),
+            ..params.cleanup
+        },
+        max_steps: None,
+        ..params.clone()
+    };
+    let other_strategy = MeshParams {
+        strategy: match base.strategy {
+            Strategy::A => Strategy::B,
+            Strategy::B => Strategy::A,
+        },
+        ..base.clone()
+    };
+    let other_finish = MeshParams {
+        fill_after_layers: match base.fill_after_layers {
+            Some(_) => None,
+            None => MeshParams::DEFAULT.fill_after_layers,
+        },
+        ..base.clone()
+    };
+    vec![base, other_strategy, other_finish]
+}
+
+/// Remeshes the regions around quads below `params.remesh.below` (see the
+/// module documentation) in a complete mesh and drops the nodes it
+/// removed. Returns the number of regions replaced.
+pub fn remesh_bad(mesh: &mut QuadMesh, model: &Arc<dyn Model>, params: &MeshParams) -> usize {
+    let rp = params.remesh;
+    if rp.below <= 0.0 || rp.max_regions == 0 {
+        return 0;
+    }
+    let bound = rp.below;
+    let cands = candidates(params);
+    let inc = mesh.node_quads();
+    let alive = vec![true; mesh.quads.len()];
+    let mut w = Work { mesh, alive, inc };
+    let mut replaced = 0;
+    let mut tried = 0;
+    let mut bad: Vec<(f64, u32)> = (0..w.mesh.quads.len() as u32)
+        .map(|k| (sj(w.mesh, &w.mesh.quads[k as usize]), k))
+        .filter(|&(s, _)| s < bound)
+        .collect();
+    bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    while let Some((_, k)) = (!bad.is_empty()).then(|| bad.remove(0)) {
+        if !w.alive[k as usize] || tried >= rp.max_regions {
+            continue;
+        }
+        tried += 1;
+        let mut chosen: Option<Patch> = None;
+        for rings in 2..=rp.rings.max(2) {
+            let cavity = w.cavity(k, rings);
+            let old = badness(
+                cavity
+                    .iter()
+                    .map(|&j| sj(w.mesh, &w.mesh.quads[j as usize])),
+                bound,
+            );
+            let Some(p) = w.patch(cavity, model, &cands, bound) else {
+                continue;
+            };
+            if !improves(p.badness, old) {
+                continue;
+            }
+            let clean = p.badness.0 == 0;
+            if chosen.as_ref().is_none_or(|c| better(p.badness, c.badness)) {
+                chosen = Some(p);
+            }
+            if clean {
+                break;
+            }
+        }
+        let Some(p) = chosen else {
+            continue;
+        };
+        let first_new = w.mesh.quads.len() as u32;
+        w.apply(p);
+        replaced += 1;
+        // Bad quads the patch made are taken in their turn.
+        for j in first_new..w.mesh.quads.len() as u32 {
+            let s = sj(w.mesh, &w.mesh.quads[j as usize]);
+            if s < bound {
+                let at = bad.partition_point(|&(t, i)| t < s || (t == s && i < j));
+                bad.insert(at, (s, j));
+            }
+        }
+    }
+    let Work { mesh, alive, .. } = w;
+    let mut k = 0;
+    mesh.quads.retain(|_| {
+        k += 1;
+        alive[k - 1]
+    });
+    mesh.compact();
+    replaced
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::RulesModel;
+
+    /// An n × n grid of unit squares; node (i, j) is `j * (n + 1) + i`.
+    fn grid(n: usize) -> QuadMesh {
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut pts = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                pts.push(Point::new(i as f64, j as f64));
+            }
+        }
+        let mut quads = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        QuadMesh::from_quads(pts, quads).unwrap()
+    }
+
+    fn worst(m: &QuadMesh) -> f64 {
+        m.quads
+            .iter()
+            .map(|q| sj(m, q))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    fn model() -> Arc<dyn Model> {
+        Arc::new(RulesModel::DEFAULT)
+    }
+
+    #[test]
+    fn a_good_mesh_is_left_alone() {
+        let mut m = grid(6);
+        let before = m.clone();
+        assert_eq!(remesh_bad(&mut m, &model(), &MeshParams::DEFAULT), 0);
+        assert_eq!(m, before);
+    }
+
+    #[test]
+    fn remeshes_a_flattened_region() {
+        // Two interior nodes of a 6 × 6 grid pushed towards each other:
+        // the quad between them is a needle and its neighbours are skewed.
+        let mut m = grid(6);
+        let inner = |m: &QuadMesh, x: f64, y: f64| {
+            (0..m.nodes.len())
+                .find(|&v| m.nodes[v] == Point::new(x, y))
+                .unwrap()
+        };
+        let (a, b) = (inner(&m, 3.0, 3.0), inner(&m, 4.0, 4.0));
+        m.nodes[a] = Point::new(3.45, 3.45);
+        m.nodes[b] = Point::new(3.55, 3.55);
+        m.check_invariants(true).unwrap();
+        assert!(worst(&m) < 0.2);
+        let boundary: Vec<Point> = m.nodes[..m.n_boundary()].to_vec();
+        let n = remesh_bad(&mut m, &model(), &MeshParams::DEFAULT);
+        assert!(n >= 1);
+        m.check_finished().unwrap();
+        assert_eq!(&m.nodes[..m.n_boundary()], &boundary[..]);
+        assert!(worst(&m) >= 0.7, "{}", worst(&m));
+        let area: f64 = m
+            .quads
+            .iter()
+            .map(|q| crate::geom::polygon_area(m.corners(q)))
+            .sum();
+        assert!((area - 36.0).abs() < 1e-9, "{area}");
+    }
+
+    #[test]
+    fn off_changes_nothing() {
+        let mut m = grid(6);
+        m.nodes[24] = Point::new(3.45, 3.45);
+        let before = m.clone();
+        let params = MeshParams {
+            remesh: RemeshParams::OFF,
+            ..MeshParams::DEFAULT
+        };
+        assert_eq!(remesh_bad(&mut m, &model(), &params), 0);
+        assert_eq!(m, before);
+    }
+}
