@@ -516,6 +516,20 @@ fn boundary_edits_on_the_canvas_are_validated_live() {
     assert_eq!(h.state().doc.boundary.node_count(), nodes);
     assert_eq!(h.state().doc.mesher.steps(), 3);
     assert_eq!(h.state().tools.draft.node_count(), nodes);
+    // An invalid draft's edits are undone first (Ctrl+Z), without touching
+    // the document's steps; redo takes the edit again.
+    let p = mid(&h, 0);
+    click_at(&mut h, p);
+    assert!(h.state().tools.problem.is_some());
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    h.run();
+    assert!(h.state().tools.problem.is_none(), "{}", h.state().status);
+    assert_eq!(h.state().tools.draft.node_count(), nodes);
+    assert_eq!(h.state().doc.mesher.steps(), 3);
+    h.state_mut().apply(Command::Redo);
+    assert_eq!(h.state().tools.draft.node_count(), nodes + 1);
+    assert!(h.state().tools.problem.is_some());
+    assert_eq!(h.state().doc.mesher.steps(), 3);
 }
 
 #[test]

@@ -5,7 +5,8 @@
 
 use super::quality_panel::Metric;
 use crate::extract::{Remedy, StepReport};
-use crate::geom::{point_in_polygon, Point};
+use crate::front::EdgeGrid;
+use crate::geom::{point_in_polygon, Aabb, Point};
 use crate::mesh::QuadMesh;
 use crate::quality::QuadQuality;
 use crate::Boundary;
@@ -225,6 +226,8 @@ pub struct Overlay<'a> {
     pub mesh: &'a QuadMesh,
     /// Figures of each quad of `mesh` (empty: not computed).
     pub qualities: &'a [QuadQuality],
+    /// `mesh`'s quads by place, for hovering.
+    pub index: &'a QuadIndex,
     /// Front loops as node ids.
     pub front: Vec<Vec<u32>>,
     pub last: Option<&'a StepReport>,
@@ -360,7 +363,7 @@ pub fn ui(ui: &mut Ui, view: &mut View, cache: &mut MeshCache, o: &Overlay) -> C
         draw_step(&painter, r, o.mesh, &to);
     }
     let world = hover.map(|h| view.to_world(rect, h));
-    let hovered_quad = world.and_then(|p| quad_at(o.mesh, p));
+    let hovered_quad = world.and_then(|p| o.index.quad_at(o.mesh, p));
     if let (Some(k), Some(q)) = (hovered_quad, hovered_quad.and_then(|k| o.qualities.get(k))) {
         let s = o.mesh.quads[k].map(|v| screen[v as usize]);
         painter.add(Shape::closed_line(
@@ -382,10 +385,43 @@ pub fn ui(ui: &mut Ui, view: &mut View, cache: &mut MeshCache, o: &Overlay) -> C
 }
 
 /// The quad of `mesh` containing `p` (a scan: called once per frame).
-fn quad_at(mesh: &QuadMesh, p: Point) -> Option<usize> {
-    mesh.quads
-        .iter()
-        .position(|q| point_in_polygon(p, &mesh.corners(q)))
+/// The quads of a mesh filed in a uniform grid by their bounding boxes, to
+/// find the quad under the pointer without a scan of the whole mesh.
+#[derive(Default)]
+pub struct QuadIndex {
+    grid: Option<EdgeGrid>,
+}
+
+impl QuadIndex {
+    /// Cells about two mean quads wide, at most four per quad.
+    pub fn of(mesh: &QuadMesh) -> QuadIndex {
+        let Some(bb) = Aabb::of(mesh.quads.iter().flatten().map(|&v| mesh.nodes[v as usize]))
+        else {
+            return QuadIndex::default();
+        };
+        let n = mesh.quads.len();
+        let size = bb.size();
+        let cell = 2.0 * (size.x * size.y / n as f64).sqrt();
+        let mut grid = EdgeGrid::new(bb, cell, 4 * n + 16);
+        for (k, q) in mesh.quads.iter().enumerate() {
+            if let Some(b) = Aabb::of(mesh.corners(q)) {
+                grid.insert(k as u32, b.min, b.max);
+            }
+        }
+        QuadIndex { grid: Some(grid) }
+    }
+
+    /// The quad of `mesh` (the mesh indexed) that holds `p`.
+    pub fn quad_at(&self, mesh: &QuadMesh, p: Point) -> Option<usize> {
+        let grid = self.grid.as_ref()?;
+        let mut near = Vec::new();
+        grid.query(p, p, &mut near);
+        near.into_iter().map(|k| k as usize).find(|&k| {
+            mesh.quads
+                .get(k)
+                .is_some_and(|q| point_in_polygon(p, &mesh.corners(q)))
+        })
+    }
 }
 
 /// The figures of one quad, shown while hovering it.
@@ -520,5 +556,45 @@ fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn 
             font,
             c,
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_quad_index_finds_what_a_scan_finds() {
+        let b = crate::io::read_boundary(
+            &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/annulus.poly"),
+        )
+        .unwrap();
+        let model = std::sync::Arc::new(crate::model::RulesModel::DEFAULT);
+        let (mesh, _) =
+            crate::mesh_boundary(&b, model, &crate::MeshParams::DEFAULT, |_| {}).unwrap();
+        let index = QuadIndex::of(&mesh);
+        let bb = b.bbox();
+        let mut hits = 0;
+        for i in 0..60 {
+            for j in 0..60 {
+                let p = bb.min
+                    + Point::new(
+                        (i as f64 + 0.37) / 60.0 * bb.size().x,
+                        (j as f64 + 0.61) / 60.0 * bb.size().y,
+                    );
+                let scan = mesh
+                    .quads
+                    .iter()
+                    .position(|q| point_in_polygon(p, &mesh.corners(q)));
+                let found = index.quad_at(&mesh, p);
+                assert_eq!(found.is_some(), scan.is_some(), "{p:?}");
+                if let Some(k) = found {
+                    assert!(point_in_polygon(p, &mesh.corners(&mesh.quads[k])));
+                    hits += 1;
+                }
+            }
+        }
+        assert!(hits > 1000, "{hits}");
+        assert_eq!(QuadIndex::default().quad_at(&mesh, bb.min), None);
     }
 }

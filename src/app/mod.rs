@@ -333,6 +333,8 @@ impl App {
                     None => Ok(String::new()),
                 }
             }
+            Command::Undo if self.tools.undo_draft() => Ok("undone: boundary draft edit".into()),
+            Command::Redo if self.tools.redo_draft() => Ok("redone: boundary draft edit".into()),
             Command::Undo => {
                 let what = self.history.undo(&mut self.doc);
                 self.changed();
@@ -762,6 +764,7 @@ impl App {
                     domain: self.domain.of(&self.doc.boundary),
                     mesh,
                     qualities: &self.stats.per_quad,
+                    index: &self.stats.index,
                     front,
                     // The finished mesh is renumbered: the last step's node
                     // ids belong to the mesher's own mesh.
@@ -881,16 +884,23 @@ impl App {
             ui.label("(or drop a .poly / .json file on the window)");
         });
         ui.menu_button("Edit", |ui| {
-            let undo = self
-                .history
-                .undo_name()
-                .map_or("Undo".into(), |n| format!("Undo {n}"));
-            let redo = self
-                .history
-                .redo_name()
-                .map_or("Redo".into(), |n| format!("Redo {n}"));
-            item(ui, &undo, Command::Undo, self.history.can_undo(), cmds);
-            item(ui, &redo, Command::Redo, self.history.can_redo(), cmds);
+            let (draft_undo, draft_redo) = self.tools.draft_edits();
+            let undo = if draft_undo {
+                Some("boundary draft edit")
+            } else {
+                self.history.undo_name()
+            };
+            let redo = if draft_redo {
+                Some("boundary draft edit")
+            } else {
+                self.history.redo_name()
+            };
+            let undo = undo.map_or("Undo".into(), |n| format!("Undo {n}"));
+            let redo = redo.map_or("Redo".into(), |n| format!("Redo {n}"));
+            let can_undo = draft_undo || self.history.can_undo();
+            let can_redo = draft_redo || self.history.can_redo();
+            item(ui, &undo, Command::Undo, can_undo, cmds);
+            item(ui, &redo, Command::Redo, can_redo, cmds);
             ui.separator();
             item(ui, "Restart the mesh", Command::Reset, true, cmds);
         });

@@ -2,6 +2,7 @@
 //! fields `judge.py` reports), histograms of the minimum angle and of the
 //! scaled Jacobian, and the metric the canvas colours quads by.
 
+use super::canvas::QuadIndex;
 use crate::mesh::QuadMesh;
 use crate::quality::{MeshQuality, QuadQuality};
 use egui::Ui;
@@ -74,6 +75,8 @@ pub struct MeshStats {
     /// Histogram counts over [`MIN_ANGLE_BINS`] and [`SJ_BINS`].
     min_angle_counts: Vec<usize>,
     sj_counts: Vec<usize>,
+    /// The mesh's quads by place.
+    pub index: QuadIndex,
 }
 
 impl MeshStats {
@@ -89,6 +92,7 @@ impl MeshStats {
             .map(|q| QuadQuality::of(mesh.corners(q)))
             .collect();
         self.summary = MeshQuality::of(mesh);
+        self.index = QuadIndex::of(mesh);
         let counts = |f: fn(&QuadQuality) -> f64, (lo, hi, bins): (f64, f64, usize)| {
             let v: Vec<f64> = self.per_quad.iter().map(f).collect();
             bin_counts(&v, lo, hi, bins)

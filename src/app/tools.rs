@@ -86,6 +86,11 @@ pub struct Tools {
     pub resample_loop: usize,
     /// The draft's problem, when it is not a valid boundary.
     pub problem: Option<BoundaryError>,
+    /// Drafts before each edit since the draft last was the document's
+    /// boundary, and drafts undone: an invalid draft is not yet in the
+    /// document's history, so its edits are undone here first.
+    undo: Vec<Draft>,
+    redo: Vec<Draft>,
 }
 
 impl Default for Tools {
@@ -100,6 +105,8 @@ impl Default for Tools {
             resample_h: 0.0,
             resample_loop: 0,
             problem: None,
+            undo: Vec::new(),
+            redo: Vec::new(),
         }
     }
 }
@@ -114,10 +121,47 @@ impl Tools {
             self.problem = None;
             self.drawing.clear();
             self.dragging = None;
+            self.undo.clear();
+            self.redo.clear();
             if self.resample_h <= 0.0 {
                 self.resample_h = doc.boundary.median_segment();
             }
         }
+    }
+
+    /// Keeps the draft before an edit, for [`Tools::undo_draft`].
+    fn before_edit(&mut self) {
+        self.undo.push(self.draft.clone());
+        self.redo.clear();
+    }
+
+    /// Whether a draft edit is there to undo and to redo.
+    pub fn draft_edits(&self) -> (bool, bool) {
+        (!self.undo.is_empty(), !self.redo.is_empty())
+    }
+
+    /// Undoes the last edit of a draft that is not (yet) a valid boundary;
+    /// false when there is none (the document's undo is next).
+    pub fn undo_draft(&mut self) -> bool {
+        self.step_draft(true)
+    }
+
+    /// Redoes a draft edit undone by [`Tools::undo_draft`].
+    pub fn redo_draft(&mut self) -> bool {
+        self.step_draft(false)
+    }
+
+    fn step_draft(&mut self, back: bool) -> bool {
+        let (from, to) = if back {
+            (&mut self.undo, &mut self.redo)
+        } else {
+            (&mut self.redo, &mut self.undo)
+        };
+        let Some(d) = from.pop() else { return false };
+        to.push(std::mem::replace(&mut self.draft, d));
+        self.problem = self.draft.to_boundary().err();
+        self.dragging = None;
+        true
     }
 
     /// After a change to the draft: a valid draft becomes the document's
@@ -185,6 +229,7 @@ impl Tools {
                     .range(1e-9..=f64::MAX),
             );
             if ui.button("Resample").clicked() {
+                self.before_edit();
                 self.draft.resample(self.resample_loop, self.resample_h);
                 self.commit(out);
             }
@@ -253,6 +298,7 @@ impl Tools {
                 if let Some(p) = c.clicked {
                     let closes = self.drawing.len() >= 3 && self.drawing[0].distance(p) <= r;
                     if closes {
+                        self.before_edit();
                         self.draft.loops.push(std::mem::take(&mut self.drawing));
                         self.commit(out);
                     } else {
@@ -264,6 +310,7 @@ impl Tools {
             Tool::Insert => {
                 if let Some(p) = c.clicked {
                     if let Some(s) = self.draft.nearest_segment(p, r) {
+                        self.before_edit();
                         self.draft.insert(s, p);
                         self.commit(out);
                     }
@@ -272,6 +319,7 @@ impl Tools {
             Tool::Delete => {
                 if let Some(p) = c.clicked {
                     if let Some(n) = self.draft.nearest_node(p, r) {
+                        self.before_edit();
                         self.draft.delete(n);
                         self.commit(out);
                     }
@@ -280,6 +328,7 @@ impl Tools {
             Tool::Split => {
                 if let Some(p) = c.clicked {
                     if let Some(s) = self.draft.nearest_segment(p, r) {
+                        self.before_edit();
                         self.draft.split(s, self.split_parts);
                         self.commit(out);
                     }
@@ -313,6 +362,9 @@ impl Tools {
             6.0,
             Stroke::new(2.0, Color32::from_rgb(80, 220, 255)),
         );
+        if resp.drag_started() {
+            self.before_edit();
+        }
         if resp.dragged() {
             self.dragging = Some(at);
             let d = resp.drag_delta();
