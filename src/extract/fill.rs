@@ -10,7 +10,9 @@
 //!
 //! **Quadrangulation** (shared by both constructions below). A constrained
 //! Delaunay triangulation (spade) of the region, refined inside with a 25°
-//! angle limit and a size taken from the front edges. Neighbouring triangles
+//! angle limit and a size taken from the front edges (triangles of up to
+//! four squared mean front edges, so that the quads are about as wide as
+//! the front's edges all through the region). Neighbouring triangles
 //! are paired into quads, best pair first, where the pair's scaled Jacobian
 //! is at least [`MIN_PAIR_SJ`]; every cell (pair or lone triangle) is then
 //! cut into quads through its centre and edge midpoints (a quad into four,
@@ -113,6 +115,12 @@ const MIN_AREA: f64 = 1e-7;
 /// Two triangles of the region's triangulation become one cell (split into
 /// four quads) when the quad they form has at least this scaled Jacobian.
 const MIN_PAIR_SJ: f64 = 0.5;
+
+/// Largest triangle of the refined triangulation, in squared front edge
+/// lengths. A triangle becomes three quads and a pair of triangles four, so
+/// the quads come out about one front edge wide, the size of the elements
+/// extraction cuts along the boundary, however large the region.
+const CELL_AREA: f64 = 4.0;
 
 /// Ring heights tried, as fractions of the room at a node: its shorter
 /// front edge (longer where the front angle is sharp) or its distance to the
@@ -393,16 +401,25 @@ fn quadrangulate(
     if conflict || cdt.num_vertices() != expected {
         return Err(FillError::Crossing);
     }
+    // Triangles of up to CELL_AREA size² make quads about `size` wide; the
+    // vertices refinement may add are bounded by twice what that area needs
+    // (and by the loops' size, for regions thin beside their edges).
+    let area: f64 = loops
+        .iter()
+        .map(|q| crate::geom::polygon_area(q.iter().map(|&v| b.at(v, nodes))))
+        .sum::<f64>()
+        .abs();
+    let budget = (2.0 * area / (CELL_AREA * size * size)).min(1e9) as usize + 4 * expected + 1000;
     let params = RefinementParameters::<f64>::new()
         .keep_constraint_edges()
         .exclude_outer_faces(true)
         .with_angle_limit(AngleLimit::from_deg(if refine { 25.0 } else { 0.0 }))
         .with_max_allowed_area(if refine {
-            2.0 * size * size
+            CELL_AREA * size * size
         } else {
             f64::INFINITY
         })
-        .with_max_additional_vertices(if refine { 4 * expected + 1000 } else { 0 });
+        .with_max_additional_vertices(if refine { budget } else { 0 });
     let result = cdt.refine(params);
     let outer: std::collections::BTreeSet<usize> =
         result.excluded_faces.iter().map(|f| f.index()).collect();
