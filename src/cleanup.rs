@@ -32,14 +32,14 @@
 //! quad and edge order, so the result is deterministic. Removed nodes are
 //! dropped with [`QuadMesh::compact`]; the caller smooths afterwards.
 
-use std::collections::BTreeSet;
-
 use serde::{Deserialize, Serialize};
 
 use crate::geom::{ccw_angle, is_measurably_convex, Point};
 use crate::mesh::QuadMesh;
 use crate::quality::{QuadQuality, Shape};
-use crate::smooth::{optimize, pattern_search, smooth, SmoothParams};
+use crate::smooth::{
+    after_change, optimize_only, pattern_search, smooth_only, SmoothParams, LOCAL_ABOVE,
+};
 
 /// Cleanup parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -108,8 +108,16 @@ struct Work<'a> {
     mesh: &'a mut QuadMesh,
     nb: usize,
     alive: Vec<bool>,
+    /// Quads made or moved by a change.
+    changed: Vec<bool>,
     inc: Vec<Vec<u32>>,
     ideal: Vec<i32>,
+    /// Ticks once per change.
+    clock: u32,
+    /// Per quad, the tick of the last change to anything an operation on
+    /// it looks at: its corners' quads, their nodes' positions and
+    /// valences.
+    stamp: Vec<u32>,
 }
 
 impl Work<'_> {
@@ -144,7 +152,25 @@ impl Work<'_> {
         })
     }
 
+    /// Records a change to quad `k` (made, removed or a corner moved; called
+    /// while it is in its nodes' quad lists): every quad with a corner that
+    /// shares a quad with a node of `k` is stamped with the next tick.
+    fn touch(&mut self, k: u32) {
+        self.clock += 1;
+        self.changed[k as usize] = true;
+        for x in self.mesh.quads[k as usize] {
+            for &m in &self.inc[x as usize] {
+                for c in self.mesh.quads[m as usize] {
+                    for &j in &self.inc[c as usize] {
+                        self.stamp[j as usize] = self.clock;
+                    }
+                }
+            }
+        }
+    }
+
     fn remove_quad(&mut self, k: u32) {
+        self.touch(k);
         self.alive[k as usize] = false;
         for v in self.mesh.quads[k as usize] {
             self.inc[v as usize].retain(|&j| j != k);
@@ -155,6 +181,7 @@ impl Work<'_> {
         self.remove_quad(k);
         self.mesh.quads[k as usize] = q;
         self.alive[k as usize] = true;
+        self.touch(k);
         for v in q {
             self.inc[v as usize].push(k);
             self.inc[v as usize].sort_unstable();
@@ -296,6 +323,9 @@ impl Work<'_> {
         for (&j, &r) in others.iter().zip(&renamed) {
             self.set_quad(j, r);
         }
+        for j in self.inc[v as usize].clone() {
+            self.touch(j);
+        }
         true
     }
 
@@ -320,7 +350,12 @@ impl Work<'_> {
         };
         // The hexagon around both quads, counter-clockwise from w.
         let h = [qa[1], qa[2], qa[3], qa[0], qb[2], qb[3]];
-        if h.iter().collect::<BTreeSet<_>>().len() != 6 {
+        if (0..6).any(|i| h[i + 1..].contains(&h[i])) {
+            return false;
+        }
+        // No split lowers a deviation sum that is already zero.
+        let old_cost: i32 = h.iter().map(|&v| self.dev(v, self.valence(v))).sum();
+        if old_cost == 0 {
             return false;
         }
         // A hexagon node's valence with `quads` in place of the two.
@@ -330,7 +365,6 @@ impl Work<'_> {
         };
         let cost =
             |quads: &[[u32; 4]]| -> i32 { h.iter().map(|&v| self.dev(v, count(v, quads))).sum() };
-        let old_cost = cost(&[qa, qb]);
         let old_min = self.sj(&qa).min(self.sj(&qb));
         let mut best: Option<(i32, f64, [[u32; 4]; 2])> = None;
         for s in [1, 2] {
@@ -384,35 +418,62 @@ fn ideal_valences(mesh: &QuadMesh) -> Vec<i32> {
 /// Cleans up a complete mesh in place (see the module documentation) and
 /// drops the nodes it removed.
 pub fn cleanup(mesh: &mut QuadMesh, params: &CleanupParams) -> CleanupReport {
+    cleanup_marking(mesh, params, false).0
+}
+
+/// [`cleanup`], also returning which quads of the result it made or moved.
+/// A pass tries an operation on a quad again only when something it looks
+/// at changed since it was last tried ([`Work::touch`]), unless `retry_all`:
+/// the result is the same either way.
+fn cleanup_marking(
+    mesh: &mut QuadMesh,
+    params: &CleanupParams,
+    retry_all: bool,
+) -> (CleanupReport, Vec<bool>) {
     let mut report = CleanupReport::default();
     if params.passes == 0 || mesh.quads.is_empty() {
-        return report;
+        return (report, vec![false; mesh.quads.len()]);
     }
     let nb = mesh.n_boundary();
     let alive = vec![true; mesh.quads.len()];
+    let changed = vec![false; mesh.quads.len()];
     let inc = mesh.node_quads();
     let ideal = ideal_valences(mesh);
+    let n_quads = mesh.quads.len();
     let mut w = Work {
         mesh,
         nb,
         alive,
+        changed,
         inc,
         ideal,
+        clock: 1,
+        stamp: vec![1; n_quads],
+    };
+    // Per operation and quad, the tick it was last tried at: a quad whose
+    // surroundings have not changed since is not tried again.
+    let mut seen = vec![[0u32; 3]; w.mesh.quads.len()];
+    let mut due = |w: &Work, k: u32, op: usize| -> bool {
+        let ok = w.alive[k as usize] && (retry_all || w.stamp[k as usize] > seen[k as usize][op]);
+        if ok {
+            seen[k as usize][op] = w.clock;
+        }
+        ok
     };
     for _ in 0..params.passes {
         let before = report.total();
         for k in 0..w.mesh.quads.len() as u32 {
-            if w.alive[k as usize] && w.collapse_sliver(k, params.sliver_sj) {
+            if due(&w, k, 0) && w.collapse_sliver(k, params.sliver_sj) {
                 report.slivers += 1;
             }
         }
         for k in 0..w.mesh.quads.len() as u32 {
-            if w.alive[k as usize] && w.collapse(k) {
+            if due(&w, k, 1) && w.collapse(k) {
                 report.collapses += 1;
             }
         }
         for k in 0..w.mesh.quads.len() as u32 {
-            if !w.alive[k as usize] {
+            if !due(&w, k, 2) {
                 continue;
             }
             for i in 0..4 {
@@ -430,27 +491,29 @@ pub fn cleanup(mesh: &mut QuadMesh, params: &CleanupParams) -> CleanupReport {
             break;
         }
     }
-    let Work { mesh, alive, .. } = w;
-    let mut k = 0;
-    mesh.quads.retain(|_| {
-        k += 1;
-        alive[k - 1]
-    });
-    mesh.compact();
-    report
+    let Work {
+        mesh,
+        alive,
+        changed,
+        ..
+    } = w;
+    let former = mesh.retain_quads(&alive);
+    let changed = former.iter().map(|&k| changed[k as usize]).collect();
+    (report, changed)
 }
 
-/// On a mesh of more than `LARGE_MESH` quads, [`improve`] stops after a
+/// On a mesh of more than [`LOCAL_ABOVE`] quads, [`improve`] stops after a
 /// round whose cleanup made less than 1/`LAST_ROUND_SHARE` of the first
-/// round's changes: there the last few changes do not pay for more
-/// smoothings of the whole.
-const LARGE_MESH: usize = 20_000;
+/// round's changes: there the last few changes do not pay for another
+/// cleanup of the whole.
 const LAST_ROUND_SHARE: usize = 20;
 
 /// Mesh improvement after extraction: smoothing ([`smooth`] then
 /// [`optimize`]), preceded on a `complete` mesh by [`cleanup`] and repeated
-/// while the cleanup finds changes, up to `cleanup.rounds` rounds. Returns
-/// the cleanup's changes over all rounds.
+/// while the cleanup finds changes, up to `cleanup.rounds` rounds; after the
+/// first round, on a large mesh, only near the changes ([`after_change`]:
+/// the rest was smoothed in the first round and has not changed since). Returns the
+/// cleanup's changes over all rounds.
 pub fn improve(
     mesh: &mut QuadMesh,
     complete: bool,
@@ -460,23 +523,28 @@ pub fn improve(
     let mut total = CleanupReport::default();
     let mut first = 0;
     for round in 0..cleanup_params.rounds.max(1) {
-        let changes = if complete && round < cleanup_params.rounds {
-            let r = cleanup(mesh, cleanup_params);
+        let (changes, changed) = if complete && round < cleanup_params.rounds {
+            let (r, changed) = cleanup_marking(mesh, cleanup_params, false);
             total.slivers += r.slivers;
             total.collapses += r.collapses;
             total.swaps += r.swaps;
-            r.total()
+            (r.total(), changed)
         } else {
-            0
+            (0, Vec::new())
         };
         if round == 0 {
             first = changes;
         } else if changes == 0 {
             break;
         }
-        smooth(mesh, smooth_params);
-        optimize(mesh, smooth_params);
-        if mesh.quads.len() > LARGE_MESH && changes * LAST_ROUND_SHARE < first {
+        let only = if round > 0 {
+            after_change(mesh, &changed)
+        } else {
+            None
+        };
+        smooth_only(mesh, smooth_params, only.as_deref());
+        optimize_only(mesh, smooth_params, only.as_deref());
+        if mesh.quads.len() > LOCAL_ABOVE && changes * LAST_ROUND_SHARE < first {
             break;
         }
     }
@@ -510,6 +578,60 @@ mod tests {
         let m = QuadMesh::from_quads(pts, quads).unwrap();
         m.check_invariants(true).unwrap();
         m
+    }
+
+    /// A mesh by extraction without cleanup, with work for one: a disk of
+    /// 56 segments around an off-centre square hole.
+    fn uncleaned() -> QuadMesh {
+        use crate::extract::{MeshParams, Mesher};
+        use crate::model::RulesModel;
+        let mut pts: Vec<Point> = (0..56)
+            .map(|i| {
+                let t = i as f64 / 56.0 * std::f64::consts::TAU;
+                Point::new(10.0 * t.cos(), 10.0 * t.sin())
+            })
+            .collect();
+        pts.extend(
+            [(2.0, -1.0), (2.0, 3.0), (6.0, 3.0), (6.0, -1.0)].map(|(x, y)| Point::new(x, y)),
+        );
+        let loops = vec![(0..56).collect(), (56..60).collect()];
+        let b = crate::Boundary::new(pts, loops, None).unwrap();
+        let params = MeshParams {
+            cleanup: CleanupParams::OFF,
+            remesh: crate::remesh::RemeshParams::OFF,
+            ..MeshParams::DEFAULT
+        };
+        let mut m = Mesher::new(b, std::sync::Arc::new(RulesModel::DEFAULT), params);
+        m.run(|_| {}).unwrap();
+        m.finish().unwrap()
+    }
+
+    #[test]
+    fn skipping_unchanged_quads_changes_nothing() {
+        let start = uncleaned();
+        let (mut a, mut b) = (start.clone(), start.clone());
+        let (ra, ca) = cleanup_marking(&mut a, &CleanupParams::DEFAULT, false);
+        let (rb, cb) = cleanup_marking(&mut b, &CleanupParams::DEFAULT, true);
+        assert!(ra.total() > 0, "the test mesh needs cleanup: {ra:?}");
+        assert_eq!(ra, rb);
+        assert_eq!(ca, cb);
+        assert_eq!((&a.nodes, &a.quads), (&b.nodes, &b.quads));
+        a.check_invariants(true).unwrap();
+        // Every quad not marked changed was in the mesh before, corner for
+        // corner (node ids are renumbered by the cleanup, positions are not).
+        let key = |m: &QuadMesh, q: &[u32; 4]| m.corners(q).map(|p| (p.x.to_bits(), p.y.to_bits()));
+        let old: std::collections::BTreeSet<_> =
+            start.quads.iter().map(|q| key(&start, q)).collect();
+        assert!(a
+            .quads
+            .iter()
+            .zip(&ca)
+            .any(|(q, &c)| c && !old.contains(&key(&a, q))));
+        assert!(a
+            .quads
+            .iter()
+            .zip(&ca)
+            .all(|(q, &c)| c || old.contains(&key(&a, q))));
     }
 
     fn interior_valences(m: &QuadMesh) -> Vec<usize> {

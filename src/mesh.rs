@@ -123,6 +123,24 @@ impl QuadMesh {
             .sum()
     }
 
+    /// Keeps the quads whose flag in `keep` is set, in order, and drops the
+    /// nodes left unused ([`QuadMesh::compact`]). Returns, for each quad
+    /// kept, its former index.
+    pub fn retain_quads(&mut self, keep: &[bool]) -> Vec<u32> {
+        let mut former = Vec::with_capacity(self.quads.len());
+        let mut k = 0;
+        self.quads.retain(|_| {
+            k += 1;
+            let kept = keep.get(k - 1).copied().unwrap_or(true);
+            if kept {
+                former.push(k as u32 - 1);
+            }
+            kept
+        });
+        self.compact();
+        former
+    }
+
     /// Drops interior nodes that no quad uses, renumbering the rest in
     /// order. Boundary nodes keep their ids.
     pub fn compact(&mut self) {
@@ -276,4 +294,26 @@ pub fn boundary_loops(
         .ok_or(InvariantError::Empty)?;
     loops.swap(0, outer);
     Ok(loops)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn retain_quads_keeps_the_order_and_drops_unused_nodes() {
+        // A 3 × 1 strip of unit squares; the middle one is dropped.
+        let pts: Vec<Point> = (0..8)
+            .map(|i| Point::new((i % 4) as f64, (i / 4) as f64))
+            .collect();
+        let quads = vec![[0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6]];
+        let mut m = QuadMesh::from_quads(pts, quads).unwrap();
+        let before: Vec<[Point; 4]> = m.quads.iter().map(|q| m.corners(q)).collect();
+        let former = m.retain_quads(&[true, false, true]);
+        assert_eq!(former, vec![0, 2]);
+        let after: Vec<[Point; 4]> = m.quads.iter().map(|q| m.corners(q)).collect();
+        assert_eq!(after, vec![before[0], before[2]]);
+        // Every node is a boundary node here, so none is dropped.
+        assert_eq!(m.nodes.len(), 8);
+    }
 }

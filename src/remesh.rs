@@ -15,7 +15,9 @@
 //! placement and no single collapse repairs, but a fresh extraction over a
 //! slightly larger region does, because it sees the whole region at once.
 //! The patch keeps every node of the cavity's boundary, so the mesh around
-//! it is untouched and stays conforming; the caller smooths afterwards.
+//! it is untouched and stays conforming. The mesh is smoothed at the end,
+//! a large one only around the patches
+//! ([`crate::smooth::after_change`]).
 //!
 //! Regions are taken worst quad first, in quad order among equals, and the
 //! candidates are tried in a fixed order, so the result is deterministic.
@@ -32,6 +34,7 @@ use crate::geom::Point;
 use crate::mesh::{boundary_loops, QuadMesh};
 use crate::model::Model;
 use crate::quality::Shape;
+use crate::smooth::{after_change, optimize_only, smooth_only};
 
 /// Local remeshing parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -278,8 +281,9 @@ pub fn remesh_bad(mesh: &mut QuadMesh, model: &Arc<dyn Model>, params: &MeshPara
     }
     let bound = rp.below;
     let cands = candidates(params);
+    let old = mesh.quads.len();
     let inc = mesh.node_quads();
-    let alive = vec![true; mesh.quads.len()];
+    let alive = vec![true; old];
     let mut w = Work { mesh, alive, inc };
     let mut replaced = 0;
     let mut tried = 0;
@@ -332,12 +336,13 @@ pub fn remesh_bad(mesh: &mut QuadMesh, model: &Arc<dyn Model>, params: &MeshPara
         }
     }
     let Work { mesh, alive, .. } = w;
-    let mut k = 0;
-    mesh.quads.retain(|_| {
-        k += 1;
-        alive[k - 1]
-    });
-    mesh.compact();
+    let former = mesh.retain_quads(&alive);
+    if replaced > 0 {
+        let patched: Vec<bool> = former.iter().map(|&k| k as usize >= old).collect();
+        let only = after_change(mesh, &patched);
+        smooth_only(mesh, &params.smooth, only.as_deref());
+        optimize_only(mesh, &params.smooth, only.as_deref());
+    }
     replaced
 }
 

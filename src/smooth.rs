@@ -170,21 +170,85 @@ pub fn unflatten(mesh: &mut QuadMesh) -> usize {
     bad.len()
 }
 
+/// The interior nodes of `mesh`, or those of them `only` marks, in id
+/// order.
+fn interior_nodes(mesh: &QuadMesh, only: Option<&[bool]>) -> Vec<usize> {
+    (mesh.n_boundary()..mesh.nodes.len())
+        .filter(|&v| only.is_none_or(|m| m.get(v).copied().unwrap_or(false)))
+        .collect()
+}
+
+/// Rings of quads around a local change of a mesh that are smoothed again
+/// after it ([`after_change`]).
+pub const LOCAL_RINGS: usize = 6;
+
+/// A mesh of more than this many quads is smoothed again only near a local
+/// change ([`after_change`]); a smaller one all over, where the extra sweeps
+/// cost little and still even out the mesh away from the change.
+pub const LOCAL_ABOVE: usize = 20_000;
+
+/// The interior nodes to smooth again after a change to the quads `changed`
+/// marks: all (`None`) on a mesh of up to [`LOCAL_ABOVE`] quads, else those
+/// within [`LOCAL_RINGS`] rings of the change ([`near`]).
+pub fn after_change(mesh: &QuadMesh, changed: &[bool]) -> Option<Vec<bool>> {
+    (mesh.quads.len() > LOCAL_ABOVE).then(|| near(mesh, changed, LOCAL_RINGS))
+}
+
+/// The nodes within `rings` rings (sharing a quad) of the quads `changed`
+/// marks, as a mask over the nodes: where [`smooth_only`] and
+/// [`optimize_only`] need to work after a local change of the mesh.
+pub fn near(mesh: &QuadMesh, changed: &[bool], rings: usize) -> Vec<bool> {
+    let mut mask = vec![false; mesh.nodes.len()];
+    let mut layer: Vec<u32> = Vec::new();
+    for (q, _) in mesh.quads.iter().zip(changed).filter(|(_, &c)| c) {
+        for &v in q {
+            if !mask[v as usize] {
+                mask[v as usize] = true;
+                layer.push(v);
+            }
+        }
+    }
+    if rings == 0 || layer.is_empty() {
+        return mask;
+    }
+    let inc = mesh.node_quads();
+    for _ in 0..rings {
+        let mut next = Vec::new();
+        for v in layer {
+            for &k in &inc[v as usize] {
+                for &u in &mesh.quads[k as usize] {
+                    if !mask[u as usize] {
+                        mask[u as usize] = true;
+                        next.push(u);
+                    }
+                }
+            }
+        }
+        layer = next;
+    }
+    mask
+}
+
 /// Smooths `mesh` in place; returns the number of accepted moves. A move is
 /// refused when one of the node's quads would stop being convex (measurably
 /// so, if it was), fall under `params.threshold` scaled Jacobian (or under
 /// its own), or stretch past [`MAX_STRETCH`] (or past its own).
 pub fn smooth(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
+    smooth_only(mesh, params, None)
+}
+
+/// [`smooth`] over the interior nodes `only` marks (all with `None`).
+pub fn smooth_only(mesh: &mut QuadMesh, params: &SmoothParams, only: Option<&[bool]>) -> usize {
     if params.iterations == 0 || mesh.quads.is_empty() {
         return 0;
     }
     let adj = Adjacency::new(mesh);
-    let nb = mesh.n_boundary();
+    let nodes = interior_nodes(mesh, only);
     let mut accepted = 0;
     let mut before = Vec::new();
     for _ in 0..params.iterations {
         let mut moved = 0;
-        for v in nb..mesh.nodes.len() {
+        for &v in &nodes {
             let (q0, q1) = (adj.quad_start[v] as usize, adj.quad_start[v + 1] as usize);
             if q0 == q1 {
                 continue;
@@ -363,11 +427,16 @@ pub(crate) fn pattern_search(
 /// [`QuadQuality::THIN_RS`] (or than it was), and never stretches one past
 /// [`MAX_STRETCH`] (or past its own). Returns the number of nodes moved.
 pub fn optimize(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
+    optimize_only(mesh, params, None)
+}
+
+/// [`optimize`] over the interior nodes `only` marks (all with `None`).
+pub fn optimize_only(mesh: &mut QuadMesh, params: &SmoothParams, only: Option<&[bool]>) -> usize {
     if params.optimize_sweeps == 0 || mesh.quads.is_empty() {
         return 0;
     }
     let adj = Adjacency::new(mesh);
-    let nb = mesh.n_boundary();
+    let nodes = interior_nodes(mesh, only);
     let floor: Vec<Floor> = mesh
         .quads
         .iter()
@@ -390,7 +459,7 @@ pub fn optimize(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
             .map(|q| quad_sj(mesh, q) < params.optimize_below)
             .collect();
         let mut moved_now = 0;
-        for v in nb..mesh.nodes.len() {
+        for &v in &nodes {
             let quads = &adj.quads[adj.quad_start[v] as usize..adj.quad_start[v + 1] as usize];
             if !quads.iter().any(|&k| poor[k as usize]) {
                 continue;
@@ -451,5 +520,72 @@ mod tests {
         m.nodes[c] = Point::new(0.8, 1.1);
         smooth(&mut m, &SmoothParams::DEFAULT);
         assert!((m.nodes[c] - Point::new(1.0, 1.0)).length() < 1e-12);
+    }
+
+    /// An n × n grid of unit squares with every interior node pushed off
+    /// its place by a fixed pattern.
+    fn jittered_grid(n: usize) -> QuadMesh {
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut pts = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let inside = i > 0 && j > 0 && i < n && j < n;
+                let d = if inside {
+                    0.2 * ((i * 7 + j * 3) % 5) as f64 / 4.0
+                } else {
+                    0.0
+                };
+                pts.push(Point::new(i as f64 + d, j as f64 - d));
+            }
+        }
+        let mut quads = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        QuadMesh::from_quads(pts, quads).unwrap()
+    }
+
+    /// The quad whose corners' mean is nearest `(x, y)`.
+    fn quad_at(m: &QuadMesh, x: f64, y: f64) -> usize {
+        let d = |q: &[u32; 4]| {
+            (m.corners(q).iter().copied().sum::<Point>() / 4.0).distance(Point::new(x, y))
+        };
+        (0..m.quads.len())
+            .min_by(|&a, &b| d(&m.quads[a]).total_cmp(&d(&m.quads[b])))
+            .unwrap()
+    }
+
+    #[test]
+    fn near_marks_the_rings_around_a_change() {
+        let m = jittered_grid(8);
+        let mut changed = vec![false; m.quads.len()];
+        changed[quad_at(&m, 4.5, 4.5)] = true;
+        let count = |rings| near(&m, &changed, rings).iter().filter(|&&b| b).count();
+        // The quad's corners, then squares of 4, 6 and 8 nodes a side.
+        assert_eq!([count(0), count(1), count(2), count(3)], [4, 16, 36, 64]);
+        assert!(
+            after_change(&m, &changed).is_none(),
+            "a small mesh is smoothed all over"
+        );
+    }
+
+    #[test]
+    fn smoothing_only_marked_nodes_leaves_the_rest() {
+        let start = jittered_grid(8);
+        let mut changed = vec![false; start.quads.len()];
+        changed[quad_at(&start, 4.5, 4.5)] = true;
+        let only = near(&start, &changed, 1);
+        let mut m = start.clone();
+        assert!(smooth_only(&mut m, &SmoothParams::DEFAULT, Some(&only)) > 0);
+        optimize_only(&mut m, &SmoothParams::DEFAULT, Some(&only));
+        for v in 0..m.nodes.len() {
+            if !only[v] {
+                assert_eq!(m.nodes[v], start.nodes[v], "node {v} is not marked");
+            }
+        }
+        assert!((0..m.nodes.len()).any(|v| m.nodes[v] != start.nodes[v]));
+        m.check_finished().unwrap();
     }
 }

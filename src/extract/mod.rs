@@ -25,7 +25,7 @@ use crate::mesh::QuadMesh;
 use crate::model::{rules, ElementType, Model, Prediction, RulesModel};
 use crate::normalize::{Frame, LeadingPoints};
 use crate::remesh::{remesh_bad, RemeshParams};
-use crate::smooth::{optimize, smooth, unflatten, SmoothParams};
+use crate::smooth::{unflatten, SmoothParams};
 use guard::{Corner, Limits, Scratch};
 use serde::{Deserialize, Serialize};
 use std::cmp::Ordering;
@@ -1984,9 +1984,8 @@ impl Mesher {
             smooth: f.smooth,
             ..self.params.clone()
         };
-        if complete && remesh_bad(&mut mesh, &self.model, &params) > 0 {
-            smooth(&mut mesh, &f.smooth);
-            optimize(&mut mesh, &f.smooth);
+        if complete {
+            remesh_bad(&mut mesh, &self.model, &params);
         }
         unflatten(&mut mesh);
         let checked = if self.front.is_empty() {
