@@ -580,8 +580,8 @@ mod tests {
         let mut m = start.clone();
         assert!(smooth_only(&mut m, &SmoothParams::DEFAULT, Some(&only)) > 0);
         optimize_only(&mut m, &SmoothParams::DEFAULT, Some(&only));
-        for v in 0..m.nodes.len() {
-            if !only[v] {
+        for (v, &marked) in only.iter().enumerate() {
+            if !marked {
                 assert_eq!(m.nodes[v], start.nodes[v], "node {v} is not marked");
             }
         }
