@@ -159,11 +159,17 @@ impl Work<'_> {
         self.clock += 1;
         self.changed[k as usize] = true;
         for x in self.mesh.quads[k as usize] {
-            for &m in &self.inc[x as usize] {
-                for c in self.mesh.quads[m as usize] {
-                    for &j in &self.inc[c as usize] {
-                        self.stamp[j as usize] = self.clock;
-                    }
+            self.stamp_around(x);
+        }
+    }
+
+    /// Stamps with the current tick every quad with a corner that shares a
+    /// quad with node `x`: what a change at `x` can make decide otherwise.
+    fn stamp_around(&mut self, x: u32) {
+        for &m in &self.inc[x as usize] {
+            for c in self.mesh.quads[m as usize] {
+                for &j in &self.inc[c as usize] {
+                    self.stamp[j as usize] = self.clock;
                 }
             }
         }
@@ -418,21 +424,47 @@ fn ideal_valences(mesh: &QuadMesh) -> Vec<i32> {
 /// Cleans up a complete mesh in place (see the module documentation) and
 /// drops the nodes it removed.
 pub fn cleanup(mesh: &mut QuadMesh, params: &CleanupParams) -> CleanupReport {
-    cleanup_marking(mesh, params, false).0
+    cleanup_marking(mesh, params, false, None).report
+}
+
+/// Where a cleanup after an earlier one must look: the quads the earlier
+/// one left to try again (it ran out of passes) and those around the nodes
+/// moved since. Elsewhere every operation was tried and refused, and would
+/// be again.
+struct Since {
+    /// Per quad.
+    pending: Vec<bool>,
+    /// Per node.
+    moved: Vec<bool>,
+}
+
+/// What [`cleanup_marking`] did: its report, and per quad of the result,
+/// whether it made or moved it and whether an operation on it is left to
+/// try again.
+struct Marked {
+    report: CleanupReport,
+    changed: Vec<bool>,
+    pending: Vec<bool>,
 }
 
 /// [`cleanup`], also returning which quads of the result it made or moved.
 /// A pass tries an operation on a quad again only when something it looks
-/// at changed since it was last tried ([`Work::touch`]), unless `retry_all`:
-/// the result is the same either way.
+/// at changed since it was last tried ([`Work::touch`]), unless `retry_all`;
+/// with `since`, the first pass tries only what [`Since`] says. The result
+/// is the same either way.
 fn cleanup_marking(
     mesh: &mut QuadMesh,
     params: &CleanupParams,
     retry_all: bool,
-) -> (CleanupReport, Vec<bool>) {
+    since: Option<&Since>,
+) -> Marked {
     let mut report = CleanupReport::default();
     if params.passes == 0 || mesh.quads.is_empty() {
-        return (report, vec![false; mesh.quads.len()]);
+        return Marked {
+            report,
+            changed: vec![false; mesh.quads.len()],
+            pending: vec![false; mesh.quads.len()],
+        };
     }
     let nb = mesh.n_boundary();
     let alive = vec![true; mesh.quads.len()];
@@ -448,8 +480,16 @@ fn cleanup_marking(
         inc,
         ideal,
         clock: 1,
-        stamp: vec![1; n_quads],
+        stamp: vec![u32::from(since.is_none()); n_quads],
     };
+    if let Some(since) = since {
+        for (k, _) in since.pending.iter().enumerate().filter(|(_, &p)| p) {
+            w.stamp[k] = 1;
+        }
+        for (x, _) in since.moved.iter().enumerate().filter(|(_, &m)| m) {
+            w.stamp_around(x as u32);
+        }
+    }
     // Per operation and quad, the tick it was last tried at: a quad whose
     // surroundings have not changed since is not tried again.
     let mut seen = vec![[0u32; 3]; w.mesh.quads.len()];
@@ -495,11 +535,18 @@ fn cleanup_marking(
         mesh,
         alive,
         changed,
+        stamp,
         ..
     } = w;
     let former = mesh.retain_quads(&alive);
-    let changed = former.iter().map(|&k| changed[k as usize]).collect();
-    (report, changed)
+    Marked {
+        report,
+        changed: former.iter().map(|&k| changed[k as usize]).collect(),
+        pending: former
+            .iter()
+            .map(|&k| seen[k as usize].iter().any(|&t| stamp[k as usize] > t))
+            .collect(),
+    }
 }
 
 /// On a mesh of more than [`LOCAL_ABOVE`] quads, [`improve`] stops after a
@@ -522,15 +569,16 @@ pub fn improve(
 ) -> CleanupReport {
     let mut total = CleanupReport::default();
     let mut first = 0;
+    let mut since: Option<Since> = None;
     for round in 0..cleanup_params.rounds.max(1) {
-        let (changes, changed) = if complete && round < cleanup_params.rounds {
-            let (r, changed) = cleanup_marking(mesh, cleanup_params, false);
-            total.slivers += r.slivers;
-            total.collapses += r.collapses;
-            total.swaps += r.swaps;
-            (r.total(), changed)
+        let (changes, changed, pending) = if complete && round < cleanup_params.rounds {
+            let m = cleanup_marking(mesh, cleanup_params, false, since.as_ref());
+            total.slivers += m.report.slivers;
+            total.collapses += m.report.collapses;
+            total.swaps += m.report.swaps;
+            (m.report.total(), m.changed, m.pending)
         } else {
-            (0, Vec::new())
+            (0, Vec::new(), Vec::new())
         };
         if round == 0 {
             first = changes;
@@ -542,8 +590,17 @@ pub fn improve(
         } else {
             None
         };
+        let before = mesh.nodes.clone();
         smooth_only(mesh, smooth_params, only.as_deref());
         optimize_only(mesh, smooth_params, only.as_deref());
+        since = Some(Since {
+            pending,
+            moved: before
+                .iter()
+                .zip(&mesh.nodes)
+                .map(|(a, b)| a != b)
+                .collect(),
+        });
         if mesh.quads.len() > LOCAL_ABOVE && changes * LAST_ROUND_SHARE < first {
             break;
         }
@@ -610,11 +667,16 @@ mod tests {
     fn skipping_unchanged_quads_changes_nothing() {
         let start = uncleaned();
         let (mut a, mut b) = (start.clone(), start.clone());
-        let (ra, ca) = cleanup_marking(&mut a, &CleanupParams::DEFAULT, false);
-        let (rb, cb) = cleanup_marking(&mut b, &CleanupParams::DEFAULT, true);
-        assert!(ra.total() > 0, "the test mesh needs cleanup: {ra:?}");
-        assert_eq!(ra, rb);
-        assert_eq!(ca, cb);
+        let ma = cleanup_marking(&mut a, &CleanupParams::DEFAULT, false, None);
+        let mb = cleanup_marking(&mut b, &CleanupParams::DEFAULT, true, None);
+        assert!(
+            ma.report.total() > 0,
+            "the test mesh needs cleanup: {:?}",
+            ma.report
+        );
+        assert_eq!(ma.report, mb.report);
+        assert_eq!(ma.changed, mb.changed);
+        let ca = ma.changed;
         assert_eq!((&a.nodes, &a.quads), (&b.nodes, &b.quads));
         a.check_invariants(true).unwrap();
         // Every quad not marked changed was in the mesh before, corner for
@@ -632,6 +694,34 @@ mod tests {
             .iter()
             .zip(&ca)
             .all(|(q, &c)| c || old.contains(&key(&a, q))));
+    }
+
+    #[test]
+    fn a_later_cleanup_looking_only_where_needed_changes_nothing() {
+        // One pass leaves work pending; smoothing then moves nodes.
+        let one_pass = CleanupParams {
+            passes: 1,
+            ..CleanupParams::DEFAULT
+        };
+        let mut m = uncleaned();
+        let first = cleanup_marking(&mut m, &one_pass, false, None);
+        assert!(
+            first.pending.iter().any(|&p| p),
+            "the first cleanup leaves work"
+        );
+        let before = m.nodes.clone();
+        smooth_only(&mut m, &SmoothParams::DEFAULT, None);
+        let since = Since {
+            pending: first.pending,
+            moved: before.iter().zip(&m.nodes).map(|(a, b)| a != b).collect(),
+        };
+        assert!(since.moved.iter().any(|&x| x) && !since.moved.iter().all(|&x| x));
+        let (mut a, mut b) = (m.clone(), m);
+        let ma = cleanup_marking(&mut a, &CleanupParams::DEFAULT, false, Some(&since));
+        let mb = cleanup_marking(&mut b, &CleanupParams::DEFAULT, true, None);
+        assert!(ma.report.total() > 0);
+        assert_eq!((ma.report, ma.changed), (mb.report, mb.changed));
+        assert_eq!((&a.nodes, &a.quads), (&b.nodes, &b.quads));
     }
 
     fn interior_valences(m: &QuadMesh) -> Vec<usize> {

@@ -200,7 +200,6 @@ impl QuadMesh {
     /// quad, every other edge of two, and the areas add up.
     pub fn check_invariants(&self, complete: bool) -> Result<(), InvariantError> {
         let n = self.nodes.len() as u32;
-        let mut directed: BTreeMap<(u32, u32), usize> = BTreeMap::new();
         let mut area = 0.0;
         for (k, q) in self.quads.iter().enumerate() {
             if let Some(&v) = q.iter().find(|&&v| v >= n) {
@@ -214,30 +213,28 @@ impl QuadMesh {
                         node: q[i],
                     });
                 }
-                *directed.entry((q[i], q[(i + 1) % 4])).or_default() += 1;
             }
             area += polygon_area(p);
         }
-        for (&(a, b), &c) in &directed {
-            if c > 1 {
-                return Err(InvariantError::EdgeOveruse { a, b, count: c });
-            }
+        let directed = DirectedEdges::new(&self.quads);
+        if let Some(((a, b), count)) = directed.iter().find(|&(_, c)| c > 1) {
+            return Err(InvariantError::EdgeOveruse { a, b, count });
         }
         if !complete {
             return Ok(());
         }
-        let mut boundary: BTreeMap<(u32, u32), ()> = BTreeMap::new();
+        let mut boundary = std::collections::BTreeSet::new();
         for l in &self.loops {
             for k in 0..l.len() {
                 let (a, b) = (l[k], l[(k + 1) % l.len()]);
-                boundary.insert((a, b), ());
-                if !directed.contains_key(&(a, b)) || directed.contains_key(&(b, a)) {
+                boundary.insert((a, b));
+                if !directed.contains(a, b) || directed.contains(b, a) {
                     return Err(InvariantError::BoundaryEdge { a, b });
                 }
             }
         }
-        for &(a, b) in directed.keys() {
-            if !directed.contains_key(&(b, a)) && !boundary.contains_key(&(a, b)) {
+        for ((a, b), _) in directed.iter() {
+            if !directed.contains(b, a) && !boundary.contains(&(a, b)) {
                 return Err(InvariantError::OpenEdge { a, b });
             }
         }
@@ -252,6 +249,64 @@ impl QuadMesh {
     }
 }
 
+/// The directed edges of quads (corner i to corner i + 1), grouped by their
+/// first node and sorted: counts and reverse-twin lookups without a map
+/// over all edges (a mesh of millions of quads is checked in linear time).
+struct DirectedEdges {
+    start: Vec<usize>,
+    to: Vec<u32>,
+}
+
+impl DirectedEdges {
+    fn new(quads: &[[u32; 4]]) -> DirectedEdges {
+        let n = quads.iter().flatten().max().map_or(0, |&v| v as usize + 1);
+        let mut start = vec![0usize; n + 1];
+        for q in quads {
+            for &v in q {
+                start[v as usize + 1] += 1;
+            }
+        }
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut to = vec![0u32; 4 * quads.len()];
+        for q in quads {
+            for k in 0..4 {
+                let a = q[k] as usize;
+                to[fill[a]] = q[(k + 1) % 4];
+                fill[a] += 1;
+            }
+        }
+        for a in 0..n {
+            to[start[a]..start[a + 1]].sort_unstable();
+        }
+        DirectedEdges { start, to }
+    }
+
+    fn out(&self, a: u32) -> &[u32] {
+        let a = a as usize;
+        if a + 1 < self.start.len() {
+            &self.to[self.start[a]..self.start[a + 1]]
+        } else {
+            &[]
+        }
+    }
+
+    fn contains(&self, a: u32, b: u32) -> bool {
+        self.out(a).contains(&b)
+    }
+
+    /// Every edge once, in `(a, b)` order, with how many quads use it.
+    fn iter(&self) -> impl Iterator<Item = ((u32, u32), usize)> + '_ {
+        (0..self.start.len().saturating_sub(1) as u32).flat_map(move |a| {
+            self.out(a)
+                .chunk_by(|x, y| x == y)
+                .map(move |run| ((a, run[0]), run.len()))
+        })
+    }
+}
+
 /// The boundary loops of counter-clockwise `quads` over `points`: chains of
 /// the directed edges that have no reverse twin, the loop of largest area
 /// first. A node with two such edges out of it is [`InvariantError::Pinched`].
@@ -260,15 +315,10 @@ pub fn boundary_loops(
     quads: &[[u32; 4]],
 ) -> Result<Vec<Vec<u32>>, InvariantError> {
     // Boundary edges: directed edges without a reverse twin.
-    let mut directed: BTreeMap<(u32, u32), usize> = BTreeMap::new();
-    for q in quads {
-        for k in 0..4 {
-            *directed.entry((q[k], q[(k + 1) % 4])).or_default() += 1;
-        }
-    }
+    let directed = DirectedEdges::new(quads);
     let mut next: BTreeMap<u32, u32> = BTreeMap::new();
-    for &(a, b) in directed.keys() {
-        if !directed.contains_key(&(b, a)) && next.insert(a, b).is_some() {
+    for ((a, b), _) in directed.iter() {
+        if !directed.contains(b, a) && next.insert(a, b).is_some() {
             return Err(InvariantError::Pinched { node: a });
         }
     }

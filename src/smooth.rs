@@ -244,8 +244,20 @@ pub fn smooth_only(mesh: &mut QuadMesh, params: &SmoothParams, only: Option<&[bo
     }
     let adj = Adjacency::new(mesh);
     let nodes = interior_nodes(mesh, only);
+    // Per quad, what a move may not go past where it is now: its scaled
+    // Jacobian, whether it is measurably convex, its stretch bound. Filled
+    // when first needed and kept up to date as its corners move.
+    let mut now: Vec<Option<(f64, bool, f64)>> = vec![None; mesh.quads.len()];
+    let limits = |p: [Point; 4]| {
+        let shape = Shape::of(p);
+        (
+            shape.scaled_jacobian,
+            is_measurably_convex(p),
+            shape.stretch().max(MAX_STRETCH),
+        )
+    };
     let mut accepted = 0;
-    let mut before = Vec::new();
+    let mut after = Vec::new();
     for _ in 0..params.iterations {
         let mut moved = 0;
         for &v in &nodes {
@@ -264,31 +276,33 @@ pub fn smooth_only(mesh: &mut QuadMesh, params: &SmoothParams, only: Option<&[bo
             if (target - old).length_squared() == 0.0 {
                 continue;
             }
-            before.clear();
             for &k in &adj.quads[q0..q1] {
-                let p = mesh.corners(&mesh.quads[k as usize]);
-                let shape = Shape::of(p);
-                before.push((
-                    shape.scaled_jacobian,
-                    is_measurably_convex(p),
-                    shape.stretch().max(MAX_STRETCH),
-                ));
+                if now[k as usize].is_none() {
+                    now[k as usize] = Some(limits(mesh.corners(&mesh.quads[k as usize])));
+                }
             }
             mesh.nodes[v] = target;
             // A quad stays convex, and measurably so if it was.
-            let ok = adj.quads[q0..q1]
-                .iter()
-                .zip(&before)
-                .all(|(&k, &(b, m, st))| {
-                    let p = mesh.corners(&mesh.quads[k as usize]);
-                    let convex = is_strictly_convex(p) && (!m || is_measurably_convex(p));
-                    let shape = Shape::of(p);
-                    convex
-                        && shape.scaled_jacobian >= b.min(params.threshold)
-                        && shape.stretch() <= st
-                });
+            after.clear();
+            let ok = adj.quads[q0..q1].iter().all(|&k| {
+                let Some((b, m, st)) = now[k as usize] else {
+                    return false;
+                };
+                let p = mesh.corners(&mesh.quads[k as usize]);
+                if !is_strictly_convex(p) {
+                    return false;
+                }
+                // (Stretch bounds are at least MAX_STRETCH, so comparing
+                // them is comparing the stretch itself.)
+                let l = limits(p);
+                after.push(l);
+                (!m || l.1) && l.0 >= b.min(params.threshold) && l.2 <= st
+            });
             if ok {
                 moved += 1;
+                for (&k, &l) in adj.quads[q0..q1].iter().zip(&after) {
+                    now[k as usize] = Some(l);
+                }
             } else {
                 mesh.nodes[v] = old;
             }
