@@ -37,9 +37,7 @@ use serde::{Deserialize, Serialize};
 use crate::geom::{ccw_angle, is_measurably_convex, Point};
 use crate::mesh::QuadMesh;
 use crate::quality::{QuadQuality, Shape};
-use crate::smooth::{
-    after_change, optimize_only, pattern_search, smooth_only, SmoothParams, LOCAL_ABOVE,
-};
+use crate::smooth::{after_change, pattern_search, smooth_and_optimize, SmoothParams, LOCAL_ABOVE};
 
 /// Cleanup parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -486,8 +484,22 @@ fn cleanup_marking(
         for (k, _) in since.pending.iter().enumerate().filter(|(_, &p)| p) {
             w.stamp[k] = 1;
         }
-        for (x, _) in since.moved.iter().enumerate().filter(|(_, &m)| m) {
-            w.stamp_around(x as u32);
+        // Quads with a corner that shares a quad with a moved node (what
+        // [`Work::stamp_around`] marks, in three passes over the quads).
+        let mut near = vec![false; w.mesh.nodes.len()];
+        for q in &w.mesh.quads {
+            if q.iter()
+                .any(|&v| since.moved.get(v as usize) == Some(&true))
+            {
+                for &v in q {
+                    near[v as usize] = true;
+                }
+            }
+        }
+        for (k, q) in w.mesh.quads.iter().enumerate() {
+            if q.iter().any(|&v| near[v as usize]) {
+                w.stamp[k] = 1;
+            }
         }
     }
     // Per operation and quad, the tick it was last tried at: a quad whose
@@ -591,8 +603,7 @@ pub fn improve(
             None
         };
         let before = mesh.nodes.clone();
-        smooth_only(mesh, smooth_params, only.as_deref());
-        optimize_only(mesh, smooth_params, only.as_deref());
+        smooth_and_optimize(mesh, smooth_params, only.as_deref());
         since = Some(Since {
             pending,
             moved: before
@@ -611,6 +622,7 @@ pub fn improve(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::smooth::smooth_only;
 
     /// An n × n grid of unit squares as raw points and quads; node (i, j)
     /// is `j * (n + 1) + i`.

@@ -34,7 +34,7 @@ use crate::geom::Point;
 use crate::mesh::{boundary_loops, QuadMesh};
 use crate::model::Model;
 use crate::quality::Shape;
-use crate::smooth::{after_change, optimize_only, smooth_only};
+use crate::smooth::{after_change, smooth_and_optimize};
 
 /// Local remeshing parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -340,8 +340,7 @@ pub fn remesh_bad(mesh: &mut QuadMesh, model: &Arc<dyn Model>, params: &MeshPara
     if replaced > 0 {
         let patched: Vec<bool> = former.iter().map(|&k| k as usize >= old).collect();
         let only = after_change(mesh, &patched);
-        smooth_only(mesh, &params.smooth, only.as_deref());
-        optimize_only(mesh, &params.smooth, only.as_deref());
+        smooth_and_optimize(mesh, &params.smooth, only.as_deref());
     }
     replaced
 }

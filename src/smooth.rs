@@ -244,6 +244,47 @@ pub fn smooth_only(mesh: &mut QuadMesh, params: &SmoothParams, only: Option<&[bo
     }
     let adj = Adjacency::new(mesh);
     let nodes = interior_nodes(mesh, only);
+    smooth_with(mesh, params, &adj, &nodes)
+}
+
+/// [`smooth_only`] then [`optimize_only`] over the same nodes, sharing the
+/// mesh's adjacency. Returns the moves of each.
+pub fn smooth_and_optimize(
+    mesh: &mut QuadMesh,
+    params: &SmoothParams,
+    only: Option<&[bool]>,
+) -> (usize, usize) {
+    if mesh.quads.is_empty() || (params.iterations == 0 && params.optimize_sweeps == 0) {
+        return (0, 0);
+    }
+    let adj = Adjacency::new(mesh);
+    let nodes = interior_nodes(mesh, only);
+    (
+        smooth_with(mesh, params, &adj, &nodes),
+        optimize_with(mesh, params, &adj, &nodes),
+    )
+}
+
+/// The quads of `nodes`, each once, in id order.
+fn quads_of(adj: &Adjacency, nodes: &[usize], n_quads: usize) -> Vec<u32> {
+    let mut mark = vec![false; n_quads];
+    for &v in nodes {
+        for &k in &adj.quads[adj.quad_start[v] as usize..adj.quad_start[v + 1] as usize] {
+            mark[k as usize] = true;
+        }
+    }
+    (0..n_quads as u32).filter(|&k| mark[k as usize]).collect()
+}
+
+fn smooth_with(
+    mesh: &mut QuadMesh,
+    params: &SmoothParams,
+    adj: &Adjacency,
+    nodes: &[usize],
+) -> usize {
+    if params.iterations == 0 {
+        return 0;
+    }
     // Per quad, what a move may not go past where it is now: its scaled
     // Jacobian, whether it is measurably convex, its stretch bound. Filled
     // when first needed and kept up to date as its corners move.
@@ -260,7 +301,7 @@ pub fn smooth_only(mesh: &mut QuadMesh, params: &SmoothParams, only: Option<&[bo
     let mut after = Vec::new();
     for _ in 0..params.iterations {
         let mut moved = 0;
-        for &v in &nodes {
+        for &v in nodes {
             let (q0, q1) = (adj.quad_start[v] as usize, adj.quad_start[v + 1] as usize);
             if q0 == q1 {
                 continue;
@@ -322,11 +363,22 @@ pub const MAX_STRETCH: f64 = 4.0;
 
 /// What optimisation may not go past, per quad: its area, Rs and
 /// [`Shape::stretch`] bounds, and whether it must stay measurably convex.
+#[derive(Clone)]
 struct Floor {
     area: f64,
     rs: f64,
     convex: bool,
     stretch: f64,
+}
+
+impl Floor {
+    /// For a quad optimisation does not look at.
+    const NONE: Floor = Floor {
+        area: 0.0,
+        rs: 0.0,
+        convex: false,
+        stretch: f64::INFINITY,
+    };
 }
 
 /// A quad may shrink to this fraction of its area before optimisation: the
@@ -451,29 +503,39 @@ pub fn optimize_only(mesh: &mut QuadMesh, params: &SmoothParams, only: Option<&[
     }
     let adj = Adjacency::new(mesh);
     let nodes = interior_nodes(mesh, only);
-    let floor: Vec<Floor> = mesh
-        .quads
-        .iter()
-        .map(|q| {
-            let p = mesh.corners(q);
-            let s = Shape::of(p);
-            Floor {
-                area: MIN_AREA_RATIO * s.area,
-                rs: s.rs.min(QuadQuality::THIN_RS),
-                convex: is_measurably_convex(p),
-                stretch: s.stretch().max(MAX_STRETCH),
-            }
-        })
-        .collect();
+    optimize_with(mesh, params, &adj, &nodes)
+}
+
+fn optimize_with(
+    mesh: &mut QuadMesh,
+    params: &SmoothParams,
+    adj: &Adjacency,
+    nodes: &[usize],
+) -> usize {
+    if params.optimize_sweeps == 0 {
+        return 0;
+    }
+    // Only the quads of the nodes optimised are looked at.
+    let quads = quads_of(adj, nodes, mesh.quads.len());
+    let mut floor = vec![Floor::NONE; mesh.quads.len()];
+    for &k in &quads {
+        let p = mesh.corners(&mesh.quads[k as usize]);
+        let s = Shape::of(p);
+        floor[k as usize] = Floor {
+            area: MIN_AREA_RATIO * s.area,
+            rs: s.rs.min(QuadQuality::THIN_RS),
+            convex: is_measurably_convex(p),
+            stretch: s.stretch().max(MAX_STRETCH),
+        };
+    }
     let mut moved = 0;
+    let mut poor = vec![false; mesh.quads.len()];
     for _ in 0..params.optimize_sweeps {
-        let poor: Vec<bool> = mesh
-            .quads
-            .iter()
-            .map(|q| quad_sj(mesh, q) < params.optimize_below)
-            .collect();
+        for &k in &quads {
+            poor[k as usize] = quad_sj(mesh, &mesh.quads[k as usize]) < params.optimize_below;
+        }
         let mut moved_now = 0;
-        for &v in &nodes {
+        for &v in nodes {
             let quads = &adj.quads[adj.quad_start[v] as usize..adj.quad_start[v + 1] as usize];
             if !quads.iter().any(|&k| poor[k as usize]) {
                 continue;

@@ -1959,7 +1959,8 @@ impl Mesher {
         self.model = model;
     }
 
-    /// The finished mesh, cleaned up and smoothed as the parameters say
+    /// The finished mesh (a large one renumbered for memory locality,
+    /// [`QuadMesh::sort_spatially`]), cleaned up and smoothed as the parameters say
     /// ([`improve`]; a mesh with front left is only smoothed), the regions
     /// of quads still bad remeshed ([`remesh_bad`]), with corners flat
     /// to rounding moved off the line ([`unflatten`]), and checked
@@ -1976,6 +1977,9 @@ impl Mesher {
     pub fn finish_with(&self, f: &FinishParams) -> Result<QuadMesh, MeshError> {
         let mut mesh = self.mesh.clone();
         mesh.compact();
+        if mesh.quads.len() > crate::smooth::LOCAL_ABOVE {
+            mesh.sort_spatially();
+        }
         let complete = self.front.is_empty();
         improve(&mut mesh, complete, &f.cleanup, &f.smooth);
         let params = MeshParams {
