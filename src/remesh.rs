@@ -6,7 +6,8 @@
 //! model, and cleaned up and smoothed with the cavity's nodes fixed as its
 //! boundary. The new patch replaces the old one when its worst quad is no
 //! worse and it has fewer quads below the bound, or as many and a better
-//! worst one. The default bound,
+//! worst one, and it stretches no quad (longest over shortest edge) past
+//! [`MAX_STRETCH`] or past the cavity's worst. The default bound,
 //! 0.7, is about the thesis's element criterion (every angle in [45°,
 //! 135°], scaled Jacobian at least sin 45° ≈ 0.707, thesis §1.2).
 //!
@@ -34,7 +35,7 @@ use crate::geom::Point;
 use crate::mesh::{boundary_loops, QuadMesh};
 use crate::model::Model;
 use crate::quality::Shape;
-use crate::smooth::{after_change, smooth_and_optimize};
+use crate::smooth::{after_change, smooth_and_optimize, MAX_STRETCH};
 
 /// Local remeshing parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -165,6 +166,14 @@ impl Work<'_> {
             })
             .collect();
         let points: Vec<Point> = ids.iter().map(|&v| self.mesh.nodes[v as usize]).collect();
+        // A patch may not stretch a quad more than smoothing would
+        // (MAX_STRETCH) or than the cavity already does.
+        let stretch = |m: &QuadMesh, qs: &[[u32; 4]]| {
+            qs.iter()
+                .map(|q| Shape::of(m.corners(q)).stretch())
+                .fold(MAX_STRETCH, f64::max)
+        };
+        let max_stretch = stretch(self.mesh, &quads);
         let boundary = Boundary::new(points, sub_loops, None).ok()?;
         let mut best: Option<Patch> = None;
         // A patch of many more quads than the cavity is not wanted, and an
@@ -182,7 +191,7 @@ impl Work<'_> {
             let Ok(sub) = mesher.finish() else {
                 continue;
             };
-            if sub.check_finished().is_err() {
+            if sub.check_finished().is_err() || stretch(&sub, &sub.quads) > max_stretch {
                 continue;
             }
             let b = badness(sub.quads.iter().map(|q| sj(&sub, q)), bound);
