@@ -3,9 +3,9 @@
 //! prints the time per element from 1k to 1M elements.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use quadex::extract::MeshParams;
 use quadex::model::RulesModel;
 use quadex::Boundary;
+use quadex::Params;
 use std::sync::Arc;
 
 fn bench(c: &mut Criterion) {
@@ -15,13 +15,8 @@ fn bench(c: &mut Criterion) {
         let b = Boundary::unit_square(n);
         g.bench_with_input(BenchmarkId::new("square", n * n), &b, |bch, b| {
             bch.iter(|| {
-                quadex::mesh_boundary(
-                    b,
-                    Arc::new(RulesModel::DEFAULT),
-                    &MeshParams::DEFAULT,
-                    |_| {},
-                )
-                .unwrap()
+                quadex::mesh_boundary(b, Arc::new(RulesModel::DEFAULT), &Params::DEFAULT, |_| {})
+                    .unwrap()
             })
         });
     }
@@ -31,12 +26,7 @@ fn bench(c: &mut Criterion) {
         let b = quadex::io::read_boundary(&bench_dir.join(format!("{name}.poly"))).unwrap();
         g.bench_function(name, |bch| {
             bch.iter(|| {
-                quadex::mesh_boundary(
-                    &b,
-                    Arc::new(RulesModel::DEFAULT),
-                    &MeshParams::DEFAULT,
-                    |_| {},
-                )
+                quadex::mesh_boundary(&b, Arc::new(RulesModel::DEFAULT), &Params::DEFAULT, |_| {})
             })
         });
     }

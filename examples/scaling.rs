@@ -19,7 +19,7 @@ fn time(b: &Boundary, model: &Arc<dyn Model>) -> Result<(usize, f64, f64), Strin
         let mut m = Mesher::new(b.clone(), model.clone(), MeshParams::DEFAULT);
         m.run(|_| {}).map_err(|e| e.to_string())?;
         let t1 = Instant::now();
-        let mesh = m.finish().expect("finish");
+        let mesh = quadex::pipeline::finish(&m, &quadex::FinishParams::DEFAULT).expect("finish");
         let t2 = Instant::now();
         quads = mesh.quads.len();
         runs.push((t2 - t0).as_secs_f64());

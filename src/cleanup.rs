@@ -665,14 +665,18 @@ mod tests {
         );
         let loops = vec![(0..56).collect(), (56..60).collect()];
         let b = crate::Boundary::new(pts, loops, None).unwrap();
-        let params = MeshParams {
+        let finish = crate::pipeline::FinishParams {
             cleanup: CleanupParams::OFF,
             remesh: crate::remesh::RemeshParams::OFF,
-            ..MeshParams::DEFAULT
+            ..crate::pipeline::FinishParams::DEFAULT
         };
-        let mut m = Mesher::new(b, std::sync::Arc::new(RulesModel::DEFAULT), params);
+        let mut m = Mesher::new(
+            b,
+            std::sync::Arc::new(RulesModel::DEFAULT),
+            MeshParams::DEFAULT,
+        );
         m.run(|_| {}).unwrap();
-        m.finish().unwrap()
+        crate::pipeline::finish(&m, &finish).unwrap()
     }
 
     #[test]

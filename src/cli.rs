@@ -11,6 +11,7 @@ use quadex::fit::{self, FitParams};
 use quadex::io::{self, MeshFormat};
 use quadex::model::Form;
 use quadex::model::{self, Model};
+use quadex::pipeline::{self, FinishParams};
 use quadex::quality::MeshQuality;
 use quadex::remesh::RemeshParams;
 use quadex::samples::{self, CollectParams, TrainingSet};
@@ -312,6 +313,12 @@ fn run(c: Command) -> Result<()> {
                     StrategyArg::B => Strategy::B,
                 },
                 leading_points: (points - 1) / 2,
+                pure_model,
+                fill: !no_fill,
+                fill_after_layers: layers.map_or(MeshParams::DEFAULT.fill_after_layers, |l| l.0),
+                ..MeshParams::DEFAULT
+            };
+            let finish = FinishParams {
                 smooth: if smooth == 0 {
                     SmoothParams::OFF
                 } else {
@@ -329,10 +336,6 @@ fn run(c: Command) -> Result<()> {
                     below: remesh_below,
                     ..RemeshParams::DEFAULT
                 },
-                pure_model,
-                fill: !no_fill,
-                fill_after_layers: layers.map_or(MeshParams::DEFAULT.fill_after_layers, |l| l.0),
-                ..MeshParams::DEFAULT
             };
             let t0 = Instant::now();
             let name = model.name().to_string();
@@ -346,8 +349,7 @@ fn run(c: Command) -> Result<()> {
                     }
                 })
                 .with_context(|| format!("{}", input.display()))?;
-            let mesh = mesher
-                .finish()
+            let mesh = pipeline::finish(&mesher, &finish)
                 .with_context(|| format!("{}", input.display()))?;
             if let Some(b) = bar {
                 b.finish_and_clear();

@@ -8,10 +8,10 @@
 //!
 //! ```no_run
 //! use std::sync::Arc;
-//! use quadex::{io, extract::{mesh_boundary, MeshParams}, model::RulesModel};
+//! use quadex::{io, pipeline::{mesh_boundary, Params}, model::RulesModel};
 //! let boundary = io::read_boundary("square.poly".as_ref()).unwrap();
 //! let (mesh, _stats) =
-//!     mesh_boundary(&boundary, Arc::new(RulesModel::DEFAULT), &MeshParams::DEFAULT, |_| {}).unwrap();
+//!     mesh_boundary(&boundary, Arc::new(RulesModel::DEFAULT), &Params::DEFAULT, |_| {}).unwrap();
 //! io::write_mesh(&mesh, "square.msh".as_ref()).unwrap();
 //! ```
 //!
@@ -39,6 +39,7 @@ pub mod mapped;
 pub mod mesh;
 pub mod model;
 pub mod normalize;
+pub mod pipeline;
 pub mod quality;
 pub mod reference;
 pub mod remesh;
@@ -46,10 +47,9 @@ pub mod samples;
 pub mod smooth;
 
 pub use boundary::{Boundary, BoundaryError};
-pub use extract::{
-    mesh_boundary, FinishParams, MeshError, MeshParams, Mesher, StepOutcome, StepReport, Strategy,
-};
+pub use extract::{MeshError, MeshParams, Mesher, StepOutcome, StepReport, Strategy};
 pub use geom::Point;
 pub use mesh::QuadMesh;
 pub use model::{ElementType, Model, Prediction};
+pub use pipeline::{mesh_boundary, FinishParams, Params};
 pub use quality::{MeshQuality, QuadQuality};

@@ -6,7 +6,7 @@
 //! writes them to `assets/reference/` and the tests check that the shipped
 //! files are what the generator makes.
 
-use crate::extract::{mesh_boundary, MeshError, MeshParams};
+use crate::extract::{MeshError, MeshParams};
 use crate::fit::{fit_model, FitError, FitParams};
 use crate::geom::Point;
 use crate::io::poly::parse_poly;
@@ -15,6 +15,7 @@ use crate::mapped::{graded, map_grid, merge, Block};
 use crate::mesh::{InvariantError, QuadMesh};
 use crate::model::RulesModel;
 use crate::model::{Form, ModelFile};
+use crate::pipeline::{mesh_boundary, Params};
 use crate::samples::{CollectParams, TrainingSet};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::Arc;
@@ -163,9 +164,12 @@ pub fn build(name: &'static str) -> Result<QuadMesh, ReferenceError> {
                 &b,
                 Arc::new(RulesModel::DEFAULT),
                 // Extraction throughout: its quads are extraction's patterns.
-                &MeshParams {
-                    fill_after_layers: None,
-                    ..MeshParams::DEFAULT
+                &Params {
+                    extract: MeshParams {
+                        fill_after_layers: None,
+                        ..MeshParams::DEFAULT
+                    },
+                    ..Params::DEFAULT
                 },
                 |_| {},
             )

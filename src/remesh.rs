@@ -29,13 +29,14 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use crate::boundary::Boundary;
-use crate::cleanup::CleanupParams;
+use crate::cleanup::{improve, CleanupParams};
 use crate::extract::{MeshParams, Mesher, Strategy};
 use crate::geom::Point;
 use crate::mesh::{boundary_loops, QuadMesh};
 use crate::model::Model;
+use crate::pipeline::FinishParams;
 use crate::quality::Shape;
-use crate::smooth::{after_change, smooth_and_optimize, MAX_STRETCH};
+use crate::smooth::{after_change, smooth_and_optimize, unflatten, MAX_STRETCH};
 
 /// Local remeshing parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -143,6 +144,7 @@ impl Work<'_> {
         cavity: Vec<u32>,
         model: &Arc<dyn Model>,
         candidates: &[MeshParams],
+        finish: &FinishParams,
         bound: f64,
     ) -> Option<Patch> {
         let quads: Vec<[u32; 4]> = cavity
@@ -188,9 +190,10 @@ impl Work<'_> {
             if mesher.run(|_| {}).is_err() || mesher.mesh().quads.len() > MAX_QUADS * cavity.len() {
                 continue;
             }
-            let Ok(sub) = mesher.finish() else {
-                continue;
-            };
+            let mut sub = mesher.mesh().clone();
+            sub.compact();
+            improve(&mut sub, true, &finish.cleanup, &finish.smooth);
+            unflatten(&mut sub);
             if sub.check_finished().is_err() || stretch(&sub, &sub.quads) > max_stretch {
                 continue;
             }
@@ -249,17 +252,12 @@ impl Work<'_> {
     }
 }
 
-/// The settings a cavity is meshed with: the caller's, then the other
-/// strategy, then the other way to finish (extraction to the end when the
-/// caller fills after some layers, the fill after two layers when the caller
-/// extracts to the end); never remeshing again.
+/// The extraction settings a cavity is meshed with: the caller's, then the
+/// other strategy, then the other way to finish (extraction to the end when
+/// the caller fills after some layers, the fill after two layers when the
+/// caller extracts to the end).
 fn candidates(params: &MeshParams) -> Vec<MeshParams> {
     let base = MeshParams {
-        remesh: RemeshParams::OFF,
-        cleanup: CleanupParams {
-            sliver_sj: params.remesh.below.max(params.cleanup.sliver_sj),
-            ..params.cleanup
-        },
         max_steps: None,
         ..params.clone()
     };
@@ -280,16 +278,32 @@ fn candidates(params: &MeshParams) -> Vec<MeshParams> {
     vec![base, other_strategy, other_finish]
 }
 
-/// Remeshes the regions around quads below `params.remesh.below` (see the
-/// module documentation) in a complete mesh and drops the nodes it
-/// removed. Returns the number of regions replaced.
-pub fn remesh_bad(mesh: &mut QuadMesh, model: &Arc<dyn Model>, params: &MeshParams) -> usize {
-    let rp = params.remesh;
+/// Remeshes the regions around quads below `finish.remesh.below` (see the
+/// module documentation) in a complete mesh, extracting with `model` and
+/// `params`, and drops the nodes it removed. A patch is cleaned up (with
+/// the sliver bound raised to the remeshing bound) and smoothed with
+/// `finish`'s parameters, never remeshed again. Returns the number of
+/// regions replaced.
+pub fn remesh_bad(
+    mesh: &mut QuadMesh,
+    model: &Arc<dyn Model>,
+    params: &MeshParams,
+    finish: &FinishParams,
+) -> usize {
+    let rp = finish.remesh;
     if rp.below <= 0.0 || rp.max_regions == 0 {
         return 0;
     }
     let bound = rp.below;
     let cands = candidates(params);
+    let patch_finish = FinishParams {
+        remesh: RemeshParams::OFF,
+        cleanup: CleanupParams {
+            sliver_sj: rp.below.max(finish.cleanup.sliver_sj),
+            ..finish.cleanup
+        },
+        smooth: finish.smooth,
+    };
     let old = mesh.quads.len();
     let inc = mesh.node_quads();
     let alive = vec![true; old];
@@ -315,7 +329,7 @@ pub fn remesh_bad(mesh: &mut QuadMesh, model: &Arc<dyn Model>, params: &MeshPara
                     .map(|&j| sj(w.mesh, &w.mesh.quads[j as usize])),
                 bound,
             );
-            let Some(p) = w.patch(cavity, model, &cands, bound) else {
+            let Some(p) = w.patch(cavity, model, &cands, &patch_finish, bound) else {
                 continue;
             };
             if !improves(p.badness, old) {
@@ -349,7 +363,7 @@ pub fn remesh_bad(mesh: &mut QuadMesh, model: &Arc<dyn Model>, params: &MeshPara
     if replaced > 0 {
         let patched: Vec<bool> = former.iter().map(|&k| k as usize >= old).collect();
         let only = after_change(mesh, &patched);
-        smooth_and_optimize(mesh, &params.smooth, only.as_deref());
+        smooth_and_optimize(mesh, &finish.smooth, only.as_deref());
     }
     replaced
 }
@@ -392,7 +406,15 @@ mod tests {
     fn a_good_mesh_is_left_alone() {
         let mut m = grid(6);
         let before = m.clone();
-        assert_eq!(remesh_bad(&mut m, &model(), &MeshParams::DEFAULT), 0);
+        assert_eq!(
+            remesh_bad(
+                &mut m,
+                &model(),
+                &MeshParams::DEFAULT,
+                &FinishParams::DEFAULT
+            ),
+            0
+        );
         assert_eq!(m, before);
     }
 
@@ -412,7 +434,12 @@ mod tests {
         m.check_invariants(true).unwrap();
         assert!(worst(&m) < 0.2);
         let boundary: Vec<Point> = m.nodes[..m.n_boundary()].to_vec();
-        let n = remesh_bad(&mut m, &model(), &MeshParams::DEFAULT);
+        let n = remesh_bad(
+            &mut m,
+            &model(),
+            &MeshParams::DEFAULT,
+            &FinishParams::DEFAULT,
+        );
         assert!(n >= 1);
         m.check_finished().unwrap();
         assert_eq!(&m.nodes[..m.n_boundary()], &boundary[..]);
@@ -430,11 +457,14 @@ mod tests {
         let mut m = grid(6);
         m.nodes[24] = Point::new(3.45, 3.45);
         let before = m.clone();
-        let params = MeshParams {
+        let finish = FinishParams {
             remesh: RemeshParams::OFF,
-            ..MeshParams::DEFAULT
+            ..FinishParams::DEFAULT
         };
-        assert_eq!(remesh_bad(&mut m, &model(), &params), 0);
+        assert_eq!(
+            remesh_bad(&mut m, &model(), &MeshParams::DEFAULT, &finish),
+            0
+        );
         assert_eq!(m, before);
     }
 }

@@ -27,7 +27,8 @@ fn benchmark_cases_mesh_validly() {
             let mut m = Mesher::new(b, model, MeshParams::DEFAULT);
             match m.run(|_| {}) {
                 Ok(()) => {
-                    let mesh = m.finish().unwrap();
+                    let mesh =
+                        quadex::pipeline::finish(&m, &quadex::FinishParams::DEFAULT).unwrap();
                     let worst = quadex::MeshQuality::of(&mesh).sj_min;
                     if worst < 0.2 {
                         failures.push((name.clone(), format!("scaled Jacobian {worst}")));
@@ -83,7 +84,10 @@ fn invariants_hold_after_every_step() {
             });
         }
         assert!(m.is_done());
-        m.finish().unwrap().check_finished().unwrap();
+        quadex::pipeline::finish(&m, &quadex::FinishParams::DEFAULT)
+            .unwrap()
+            .check_finished()
+            .unwrap();
     }
 }
 
@@ -150,7 +154,7 @@ fn output_is_deterministic() {
         let (mesh, _) = quadex::mesh_boundary(
             &b,
             Arc::new(RulesModel::DEFAULT),
-            &MeshParams::DEFAULT,
+            &quadex::Params::DEFAULT,
             |_| {},
         )
         .unwrap();

@@ -128,7 +128,7 @@ fn a_mesh_file_opens_as_its_boundary_with_the_mesh_shown() {
     let path = dir.path().join("plate.msh");
     let b = quadex::io::read_boundary(&bench().join("boundaries/plate_hole.poly")).unwrap();
     let model = std::sync::Arc::new(quadex::model::RulesModel::DEFAULT);
-    let (mesh, _) = quadex::mesh_boundary(&b, model, &quadex::MeshParams::DEFAULT, |_| {}).unwrap();
+    let (mesh, _) = quadex::mesh_boundary(&b, model, &quadex::Params::DEFAULT, |_| {}).unwrap();
     quadex::io::write_mesh(&mesh, &path).unwrap();
     let mut h = harness(example());
     h.run();

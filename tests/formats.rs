@@ -3,7 +3,6 @@
 
 mod common;
 
-use quadex::extract::MeshParams;
 use quadex::io::{msh, write_mesh, MeshFormat};
 use quadex::model::RulesModel;
 use std::sync::Arc;
@@ -14,7 +13,7 @@ fn mesh(name: &str) -> quadex::QuadMesh {
     quadex::mesh_boundary(
         &b,
         Arc::new(RulesModel::DEFAULT),
-        &MeshParams::DEFAULT,
+        &quadex::Params::DEFAULT,
         |_| {},
     )
     .unwrap()

@@ -1,11 +1,12 @@
 //! The learning loop end to end: reference meshes → samples → fit → model
 //! file → meshing with the fitted model.
 
-use quadex::extract::{mesh_boundary, MeshParams, Mesher, StepOutcome};
+use quadex::extract::{MeshParams, Mesher, StepOutcome};
 use quadex::fit::{fit_model, FitParams};
 use quadex::io::msh::write_msh41;
 use quadex::model::fitted::Coefficients;
 use quadex::model::{self, ElementType, Form, Model, ModelFile};
+use quadex::pipeline::{mesh_boundary, Params};
 use quadex::reference;
 use quadex::samples::{collect, CollectParams, Source, TrainingSet};
 use quadex::{Point, QuadMesh};
@@ -212,10 +213,10 @@ fn default_model_meshes_benchmark_cases_with_invariants_after_every_step() {
         while let StepOutcome::Stepped(_) = m.step().unwrap() {
             m.check_invariants().unwrap();
         }
-        let mesh = m.finish().unwrap();
+        let mesh = quadex::pipeline::finish(&m, &quadex::FinishParams::DEFAULT).unwrap();
         mesh.check_finished().unwrap();
         // Same input, same mesh.
-        let (again, _) = mesh_boundary(&b, model.clone(), &MeshParams::DEFAULT, |_| {}).unwrap();
+        let (again, _) = mesh_boundary(&b, model.clone(), &Params::DEFAULT, |_| {}).unwrap();
         assert_eq!(again, mesh, "{case}");
     }
 }
@@ -224,9 +225,12 @@ fn default_model_meshes_benchmark_cases_with_invariants_after_every_step() {
 fn pure_model_counts_rejected_predictions() {
     let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
     let b = quadex::io::read_boundary(&bench.join("lshape.poly")).unwrap();
-    let params = MeshParams {
-        pure_model: true,
-        ..MeshParams::DEFAULT
+    let params = Params {
+        extract: MeshParams {
+            pure_model: true,
+            ..MeshParams::DEFAULT
+        },
+        ..Params::DEFAULT
     };
     let thesis: Arc<dyn Model> = Arc::from(model::builtin("thesis").unwrap());
     let (_, stats) = mesh_boundary(&b, thesis, &params, |_| {}).unwrap();

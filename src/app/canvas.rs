@@ -570,8 +570,7 @@ mod tests {
         )
         .unwrap();
         let model = std::sync::Arc::new(crate::model::RulesModel::DEFAULT);
-        let (mesh, _) =
-            crate::mesh_boundary(&b, model, &crate::MeshParams::DEFAULT, |_| {}).unwrap();
+        let (mesh, _) = crate::mesh_boundary(&b, model, &crate::Params::DEFAULT, |_| {}).unwrap();
         let index = QuadIndex::of(&mesh);
         let bb = b.bbox();
         let mut hits = 0;

@@ -6,8 +6,7 @@
 
 use crate::cleanup::CleanupParams;
 use crate::extract::{
-    Action, Correction, FinishParams, MeshParams, Mesher, StepKind, StepOutcome, StepReport,
-    Strategy,
+    Action, Correction, MeshParams, Mesher, StepKind, StepOutcome, StepReport, Strategy,
 };
 use crate::fit::{self, Figures, FitParams, TypeFigures};
 use crate::io;
@@ -16,6 +15,7 @@ use crate::mesh::QuadMesh;
 use crate::model;
 use crate::model::fitted::FittedModel;
 use crate::model::Form;
+use crate::pipeline::FinishParams;
 use crate::remesh::RemeshParams;
 use crate::samples::CollectParams;
 use crate::samples::TrainingSet;
@@ -53,9 +53,9 @@ impl Default for Settings {
             points: 7,
             pure_model: false,
             fill_after_layers: MeshParams::DEFAULT.fill_after_layers,
-            smooth: MeshParams::DEFAULT.smooth,
-            cleanup: MeshParams::DEFAULT.cleanup,
-            remesh: MeshParams::DEFAULT.remesh,
+            smooth: FinishParams::DEFAULT.smooth,
+            cleanup: FinishParams::DEFAULT.cleanup,
+            remesh: FinishParams::DEFAULT.remesh,
         }
     }
 }
@@ -67,9 +67,6 @@ impl Settings {
             leading_points: (self.points - 1) / 2,
             pure_model: self.pure_model,
             fill_after_layers: self.fill_after_layers,
-            smooth: self.smooth,
-            cleanup: self.cleanup,
-            remesh: self.remesh,
             ..MeshParams::DEFAULT
         }
     }
@@ -395,9 +392,7 @@ impl Document {
         if !self.is_done() {
             return Err("the mesh is not finished: run to the end first".into());
         }
-        self.mesher
-            .finish_with(&self.settings.finishing())
-            .map_err(|e| e.to_string())
+        crate::pipeline::finish(&self.mesher, &self.settings.finishing()).map_err(|e| e.to_string())
     }
 }
 

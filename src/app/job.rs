@@ -4,8 +4,9 @@
 //! shows and a Cancel that stops between steps. The steps taken before a
 //! Cancel are kept.
 
-use crate::extract::{FinishParams, Mesher, StepOutcome, StepReport};
+use crate::extract::{Mesher, StepOutcome, StepReport};
 use crate::mesh::QuadMesh;
+use crate::pipeline::{self, FinishParams};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -73,7 +74,7 @@ impl Job {
             }
             let finished = finish
                 .filter(|_| mesher.is_done() && !cancelled)
-                .map(|f| mesher.finish_with(&f).map_err(|e| e.to_string()));
+                .map(|f| pipeline::finish(&mesher, &f).map_err(|e| e.to_string()));
             JobDone {
                 mesher,
                 last,

@@ -10,6 +10,9 @@
 //! chosen over all rotations as the valid one of best minimum scaled
 //! Jacobian.
 
+use super::report::{StepKind, StepReport};
+use super::session::Mesher;
+use crate::front::SlotId;
 use crate::geom::{is_measurably_convex, Point};
 use crate::quality::Shape;
 
@@ -91,6 +94,88 @@ pub fn fill_six(pts: &[Point; 6]) -> Option<Fill> {
         }
     }
     best
+}
+
+impl Mesher {
+    /// Closes a loop of 4 or 6 slots, if a valid closure exists.
+    pub(super) fn close_small(&mut self, lid: u32) -> Option<StepReport> {
+        let slots = self.front.loop_slots(lid);
+        let nodes: Vec<u32> = slots.iter().map(|&s| self.front.node(s)).collect();
+        let pts: Vec<Point> = nodes.iter().map(|&v| self.mesh.nodes[v as usize]).collect();
+        let mut uniq = nodes.clone();
+        uniq.sort_unstable();
+        uniq.dedup();
+        if uniq.len() != nodes.len() {
+            return None; // a pinched loop: leave it to extraction
+        }
+        match slots.len() {
+            4 => {
+                let q = [pts[0], pts[1], pts[2], pts[3]];
+                let ids = [nodes[0], nodes[1], nodes[2], nodes[3]].map(Some);
+                if !crate::geom::is_strictly_convex(q) || !self.pinned_corners_turn(q, ids) {
+                    return None;
+                }
+                if !self.loop_is_clear(&slots, &pts) {
+                    return None;
+                }
+                let mut r = self.report(StepKind::Close4);
+                let quad = [nodes[0], nodes[1], nodes[2], nodes[3]];
+                self.push_quad(quad);
+                self.front.remove_loop(lid, &self.mesh.nodes);
+                r.quads.push(quad);
+                Some(r)
+            }
+            6 => {
+                let p6: [Point; 6] = std::array::from_fn(|k| pts[k]);
+                let fill = fill_six(&p6)?;
+                if !self.loop_is_clear(&slots, &pts) {
+                    return None;
+                }
+                if let Some(c) = fill.interior {
+                    if !crate::geom::point_in_polygon(c, &pts) {
+                        return None;
+                    }
+                }
+                let mut r = self.report(StepKind::Close6);
+                r.pattern = Some(fill.pattern);
+                let centre = fill.interior.map(|c| self.add_node(c));
+                if let Some(c) = centre {
+                    r.new_nodes.push(c);
+                }
+                for q in &fill.quads {
+                    let quad = q.map(|i| {
+                        if i == 6 {
+                            centre.unwrap_or(0)
+                        } else {
+                            nodes[i]
+                        }
+                    });
+                    self.push_quad(quad);
+                    r.quads.push(quad);
+                }
+                self.front.remove_loop(lid, &self.mesh.nodes);
+                Some(r)
+            }
+            _ => None,
+        }
+    }
+
+    /// No other front edge or node lies inside the loop `slots` (e.g. a hole
+    /// not yet joined).
+    pub(super) fn loop_is_clear(&mut self, slots: &[SlotId], pts: &[Point]) -> bool {
+        let lo = pts
+            .iter()
+            .fold(Point::splat(f64::INFINITY), |a, &b| a.min(b));
+        let hi = pts
+            .iter()
+            .fold(Point::splat(f64::NEG_INFINITY), |a, &b| a.max(b));
+        self.front.edges_near(lo, hi, &mut self.scratch.near);
+        let lid = self.front.slot(slots[0]).loop_id;
+        self.scratch.near.iter().all(|&e| {
+            self.front.slot(e).loop_id == lid
+                || !crate::geom::point_in_polygon(self.mesh.nodes[self.front.node(e) as usize], pts)
+        })
+    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,205 @@
+//! The step ladder: what one automatic step tries, in order (method §2,
+//! thesis §5.1): a first row on a loop without reference points, closing
+//! small loops, the fill inside the first layers, the reference points in
+//! queue order, seams, chord splits, a square cut, a relaxed rule-based
+//! element, relaxation, rip-up, and the fill as the last resort.
+
+use super::candidate::Chosen;
+use super::guard::Limits;
+use super::report::{MeshError, Remedy, StepReport};
+use super::session::Mesher;
+use crate::front::SlotId;
+use std::f64::consts::PI;
+
+/// Loops up to this many nodes are split along a chord before a square is
+/// cut on them.
+const SMALL_LOOP: usize = 48;
+
+impl Mesher {
+    pub(super) fn auto_step(&mut self) -> Result<StepReport, MeshError> {
+        if self.params.fill && self.history.len() >= self.fill_after {
+            if let Some(r) = self.fill_rest() {
+                return Ok(r);
+            }
+            if !self.replaying {
+                return Err(MeshError::StepLimit {
+                    limit: self.fill_after,
+                    remaining: self.front.len(),
+                });
+            }
+        }
+        let limits = self.limits();
+        // 0. A loop with no reference point starts a row with a square.
+        while let Some(lid) = self.row_start.pop() {
+            if self.front.loops[lid as usize].alive
+                && self.front.loops[lid as usize].len > 6
+                && !self.loop_has_reference(lid)
+            {
+                if let Some(r) = self.square_cut(Some(lid), limits) {
+                    return Ok(r);
+                }
+            }
+        }
+        // 1. Small loops close first.
+        let small: Vec<u32> = self
+            .front
+            .live_loops()
+            .filter(|&l| self.front.loops[l as usize].len <= 6)
+            .collect();
+        for lid in small {
+            if let Some(r) = self.close_small(lid) {
+                return Ok(r);
+            }
+        }
+        // 2. The region inside the first layers is filled directly.
+        if let Some(k) = self.params.fill_after_layers {
+            if self.params.fill && self.queue_layer().is_some_and(|l| l >= k) {
+                if let Some(r) = self.fill_rest() {
+                    return Ok(r);
+                }
+            }
+        }
+        // 3. Reference points in queue order; poor elements wait while a
+        //    better reference point exists (the "next reference point" remedy).
+        let mut skipped = 0;
+        let mut deferred: Vec<SlotId> = Vec::new();
+        let mut best: Option<Chosen> = None;
+        let mut chosen = None;
+        while let Some(e) = self.queue.pop() {
+            let i = e.slot as usize;
+            if !self.front.slot(e.slot).alive || self.version[i] != e.version {
+                continue;
+            }
+            if e.class == 0
+                && self.front.angle(e.slot, &self.mesh.nodes) < self.params.seam_angle.to_radians()
+            {
+                if let Some(mut r) = self.try_seam(e.slot) {
+                    r.skipped = skipped;
+                    for s in deferred {
+                        self.push(s);
+                    }
+                    return Ok(r);
+                }
+            }
+            match self.evaluate(e.slot, limits, false)? {
+                Some(c) if c.score >= self.params.defer_score => {
+                    chosen = Some(c);
+                    break;
+                }
+                Some(c) => c.keep_if_best(&mut best),
+                None => {}
+            }
+            deferred.push(e.slot);
+            skipped += 1;
+        }
+        if let Some(c) = chosen.or(best) {
+            let mut r = self.commit_chosen(c);
+            r.skipped = skipped;
+            for s in deferred {
+                self.push(s);
+            }
+            return Ok(r);
+        }
+        // 4. A seam at any sharp corner.
+        let sharp: Vec<SlotId> = self
+            .front
+            .live_loops()
+            .flat_map(|l| self.front.loop_slots(l))
+            .filter(|&s| {
+                self.front.angle(s, &self.mesh.nodes) < self.params.reference_angle[0].to_radians()
+            })
+            .collect();
+        for s in sharp {
+            if let Some(r) = self.try_seam(s) {
+                return Ok(r);
+            }
+        }
+        // 5. A small loop without a usable reference point is split along
+        //    its best chord (a ring becomes two halves with square corners).
+        let mut loops: Vec<u32> = self.front.live_loops().collect();
+        loops.sort_by_key(|&l| self.front.loops[l as usize].len);
+        for &lid in &loops {
+            if self.front.loops[lid as usize].len <= SMALL_LOOP {
+                if let Some(r) = self.chord_split(lid) {
+                    return Ok(r);
+                }
+            }
+        }
+        // 6. No reference point: a square on the shortest front edge.
+        if let Some(mut r) = self.square_cut(None, limits) {
+            r.skipped = skipped;
+            return Ok(r);
+        }
+        // 7. The best rule-based element with relaxed limits, anywhere.
+        let relaxed = Limits {
+            min_corner: 10f64.to_radians(),
+            max_corner: 170f64.to_radians(),
+            min_front: 5f64.to_radians(),
+        };
+        let all: Vec<SlotId> = self
+            .front
+            .live_loops()
+            .flat_map(|l| self.front.loop_slots(l))
+            .collect();
+        let mut best: Option<Chosen> = None;
+        for &s in &all {
+            if self.front.angle(s, &self.mesh.nodes) >= PI {
+                continue;
+            }
+            if let Some(c) = self.evaluate(s, relaxed, true)? {
+                c.keep_if_best(&mut best);
+            }
+        }
+        if let Some(c) = best {
+            let mut r = self.commit_chosen(c);
+            r.remedy = Remedy::RuleBased;
+            r.skipped = skipped;
+            return Ok(r);
+        }
+        // 8. Split a loop along a chord.
+        for &lid in &loops {
+            if let Some(r) = self.chord_split(lid) {
+                return Ok(r);
+            }
+        }
+        // 9. Straighten the smallest stuck loop, moving its interior nodes.
+        if let Some(&lid) = loops.first() {
+            if self.relaxes < 400 && self.relax_streak < 3 {
+                if let Some(r) = self.relax_loop(lid) {
+                    self.relaxes += 1;
+                    self.relax_streak += 1;
+                    return Ok(r);
+                }
+            }
+        }
+        // 10. Give the smallest stuck loop room: remove the elements around it.
+        if let Some(&lid) = loops.first() {
+            if self.rip_ups < 64 {
+                let r = self.rip_up(lid, 1 + self.rip_ups % 4);
+                self.rip_ups += 1;
+                return Ok(r);
+            }
+        }
+        // 11. Fill the region left.
+        if self.params.fill {
+            if let Some(r) = self.fill_rest() {
+                return Ok(r);
+            }
+        }
+        let lid = self.front.live_loops().next().unwrap_or(0);
+        let head = self.front.loops[lid as usize].head;
+        Err(MeshError::Stuck {
+            loop_index: lid,
+            node: self.front.node(head),
+        })
+    }
+
+    /// True when some slot of the loop is a reference point or sharp corner.
+    pub(super) fn loop_has_reference(&self, lid: u32) -> bool {
+        let hi = self.params.reference_angle[1].to_radians();
+        self.front
+            .loop_slots(lid)
+            .into_iter()
+            .any(|s| self.front.angle(s, &self.mesh.nodes) <= hi)
+    }
+}

@@ -1,0 +1,94 @@
+//! Parameters of element extraction (method §2): the reference-point
+//! strategy and window, the guard's angle limits, snapping, the scores at
+//! which an element is taken or waits, and when the region fill takes over.
+//! Finishing (cleanup, smoothing, remeshing) has its own parameters in
+//! [`crate::pipeline`].
+
+use serde::{Deserialize, Serialize};
+
+/// Order in which reference points are taken (thesis §5.1, Figure 40).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Strategy {
+    /// Next valid reference point beside the current one on the new front.
+    A,
+    /// Every valid reference point of the current layer first, then the
+    /// next layer (fewer bad elements).
+    B,
+}
+
+/// Parameters of the extraction loop. Angles in degrees.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct MeshParams {
+    /// Reference point order (default B).
+    pub strategy: Strategy,
+    /// Leading points per side, `N` (default 3: 7 input points). A model
+    /// that needs a fixed `N` overrides it.
+    pub leading_points: usize,
+    /// Window of front angles that make a reference point (default
+    /// [45, 135]); smaller angles are sharp corners, taken first.
+    pub reference_angle: [f64; 2],
+    /// Smallest new quad corner the guard accepts (default 30).
+    pub min_corner: f64,
+    /// Largest new quad corner the guard accepts (default 150).
+    pub max_corner: f64,
+    /// Smallest angle a step may leave on the front (default 20).
+    pub min_front_angle: f64,
+    /// A predicted Pn within this fraction of the local edge length of a
+    /// front node is snapped to it first (default 0.5).
+    pub snap_radius: f64,
+    /// An element whose score (guard's quality in [0, 1]) reaches this is
+    /// taken at once; the model's own element first (default 0.5).
+    pub accept_score: f64,
+    /// Below this score a reference point waits while others do better
+    /// (default 0.25).
+    pub defer_score: f64,
+    /// A sharp front corner below this angle is closed by a seam when the
+    /// merge keeps the mesh valid (default 30).
+    pub seam_angle: f64,
+    /// Stop with [`MeshError::StepLimit`] after this many steps (`None`:
+    /// a bound derived from the boundary's area and shortest segment).
+    pub max_steps: Option<usize>,
+    /// Fill the region left with [`fill::fill_region`] when extraction
+    /// cannot go on or has used its step budget (default true). Off, such a
+    /// run ends with [`MeshError::Stuck`] or [`MeshError::StepLimit`].
+    pub fill: bool,
+    /// With `Some(k)`, once every reference point left lies on layer `k`
+    /// or deeper (strategy B's layers: the boundary is layer 0), the region
+    /// left is filled with [`fill::fill_region`] instead of being extracted
+    /// further; a fill that fails is retried later while extraction goes on
+    /// (default `Some(2)`). `None`: extraction to the end.
+    pub fill_after_layers: Option<u32>,
+    /// Pure model: the guard takes the model's element as predicted or
+    /// rejects it (no snapping, no other type, no corrected Pn). A rejected
+    /// prediction is counted ([`StepReport::rejected`],
+    /// [`StepStats::rejected_predictions`]) and the next reference point is
+    /// tried; the rule-based element, closure and fill still finish the
+    /// mesh, and their steps are counted apart (default false).
+    pub pure_model: bool,
+}
+
+impl MeshParams {
+    pub const DEFAULT: MeshParams = MeshParams {
+        strategy: Strategy::B,
+        leading_points: 3,
+        reference_angle: [45.0, 135.0],
+        min_corner: 30.0,
+        max_corner: 150.0,
+        min_front_angle: 20.0,
+        snap_radius: 0.5,
+        accept_score: 0.5,
+        defer_score: 0.25,
+        seam_angle: 30.0,
+        max_steps: None,
+        fill: true,
+        fill_after_layers: Some(2),
+        pure_model: false,
+    };
+}
+
+impl Default for MeshParams {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}

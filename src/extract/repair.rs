@@ -1,0 +1,411 @@
+//! Steps that reshape the front when no element can be cut: seams at sharp
+//! corners (paving's seam), a square cut to start a row, chord splits of a
+//! loop into two even loops (the extension of TP, thesis §1.3.2),
+//! relaxation of a stuck loop and rip-up of the elements around it.
+
+use super::guard::{self, Corner, Limits};
+use super::report::{StepKind, StepReport};
+use super::session::Mesher;
+use crate::front::{Front, SlotId};
+use crate::geom::{ccw_angle, Point};
+use std::f64::consts::PI;
+
+impl Mesher {
+    /// Removes every quad within `rings` element rings of loop `lid` and
+    /// rebuilds the front around the enlarged hole in the mesh.
+    pub(super) fn rip_up(&mut self, lid: u32, rings: usize) -> StepReport {
+        let mut r = self.report(StepKind::RipUp);
+        let mut mark = vec![false; self.mesh.nodes.len()];
+        for s in self.front.loop_slots(lid) {
+            mark[self.front.node(s) as usize] = true;
+        }
+        r.reference = Some(self.front.node(self.front.loops[lid as usize].head));
+        for _ in 0..rings {
+            let hit: Vec<usize> = (0..self.mesh.quads.len())
+                .filter(|&k| self.mesh.quads[k].iter().any(|&v| mark[v as usize]))
+                .collect();
+            for &k in &hit {
+                for &v in &self.mesh.quads[k] {
+                    mark[v as usize] = true;
+                }
+            }
+            let before = self.mesh.quads.len();
+            let mut k = 0;
+            self.mesh.quads.retain(|_| {
+                let keep = hit.binary_search(&k).is_err();
+                k += 1;
+                keep
+            });
+            r.removed += before - self.mesh.quads.len();
+        }
+        self.rebuild_incidence();
+        let loops = Front::loops_of_unmeshed(&self.mesh);
+        self.front = Front::new(
+            &loops,
+            &self.mesh.nodes,
+            2.0 * self.boundary.median_segment(),
+        );
+        self.queue.clear();
+        self.version.clear();
+        for s in 0..self.front.slots.len() as SlotId {
+            self.push(s);
+        }
+        // The enlarged loop is split next: a chord across the wider region.
+        let target = self.front.live_loops().max_by_key(|&l| {
+            self.front
+                .loop_slots(l)
+                .iter()
+                .filter(|&&s| mark[self.front.node(s) as usize])
+                .count()
+        });
+        if let Some(t) = target {
+            if let Some(split) = self.chord_split(t) {
+                r.quads = split.quads;
+                r.new_nodes = split.new_nodes;
+            }
+        }
+        self.row_start = self.front.live_loops().collect();
+        r
+    }
+
+    /// Seam at sharp slot `s`: merges P_l1 and P_r1 (at their midpoint, or
+    /// onto the one on the boundary) so the sharp corner closes. Kept only
+    /// if every quad around the merged node stays strictly convex with a
+    /// scaled Jacobian of at least 0.2 and the new front edges cross nothing.
+    pub(super) fn try_seam(&mut self, s: SlotId) -> Option<StepReport> {
+        let f = &self.front;
+        if f.loop_len(s) < 6 {
+            return None;
+        }
+        let (l, r) = (f.prev(s), f.next(s));
+        let (l2, r2) = (f.prev(l), f.next(r));
+        let (nl, nr) = (f.node(l), f.node(r));
+        if nl == nr || f.node(l2) == nr || f.node(r2) == nl {
+            return None;
+        }
+        let nb = self.mesh.n_boundary() as u32;
+        let (pl, pr) = (self.mesh.nodes[nl as usize], self.mesh.nodes[nr as usize]);
+        let (keep, gone, pos) = match (nl < nb, nr < nb) {
+            (true, true) => return None,
+            (true, false) => (nl, nr, pl),
+            (false, true) => (nr, nl, pr),
+            (false, false) => (nl, nr, pl.lerp(pr, 0.5)),
+        };
+        // Both nodes must stand on the front only here.
+        let probe = Point::splat(1e-12 * (1.0 + pos.abs().max_element()));
+        for (v, pv) in [(nl, pl), (nr, pr)] {
+            self.front
+                .edges_near(pv - probe, pv + probe, &mut self.scratch.near);
+            if self
+                .scratch
+                .near
+                .iter()
+                .any(|&e| self.front.node(e) == v && e != l && e != r)
+            {
+                return None;
+            }
+        }
+        let sub = |v: u32| if v == gone { keep } else { v };
+        let mut quads: Vec<u32> = self.incident[nl as usize].clone();
+        quads.extend_from_slice(&self.incident[nr as usize]);
+        let at = |v: u32| {
+            if v == keep || v == gone {
+                pos
+            } else {
+                self.mesh.nodes[v as usize]
+            }
+        };
+        for &k in &quads {
+            let q = self.mesh.quads[k as usize].map(sub);
+            let p = q.map(at);
+            if !crate::geom::is_strictly_convex(p) {
+                return None;
+            }
+            if crate::quality::Shape::of(p).scaled_jacobian < 0.2 {
+                return None;
+            }
+        }
+        // New front edges l2 → X → r2 and the moved mesh edges at X.
+        let mut ends: Vec<u32> = vec![self.front.node(l2), self.front.node(r2)];
+        for &k in &quads {
+            let q = self.mesh.quads[k as usize].map(sub);
+            for i in 0..4 {
+                if q[i] == keep {
+                    ends.push(q[(i + 1) % 4]);
+                    ends.push(q[(i + 3) % 4]);
+                }
+            }
+        }
+        ends.sort_unstable();
+        ends.dedup();
+        let tip = self.front.node(s);
+        for &w in &ends {
+            let pw = self.mesh.nodes[w as usize];
+            if self.crosses_front(pos, pw, &[w, nl, nr, tip]) {
+                return None;
+            }
+        }
+        let mut rep = self.report(StepKind::Seam);
+        rep.reference = Some(self.front.node(s));
+        self.front.remove_pair(s, &self.mesh.nodes);
+        self.front.unfile_edges_at(l, &self.mesh.nodes);
+        self.mesh.nodes[keep as usize] = pos;
+        self.front.refile_edges_at(l, keep, &self.mesh.nodes);
+        let moved = std::mem::take(&mut self.incident[gone as usize]);
+        for &k in &moved {
+            let q = &mut self.mesh.quads[k as usize];
+            *q = q.map(sub);
+        }
+        self.incident[keep as usize].extend(moved);
+        for t in [l, l2, r2] {
+            self.push(t);
+        }
+        Some(rep)
+    }
+
+    /// Moves each interior (non-boundary) node of loop `lid` half-way to
+    /// the midpoint of its front neighbours when every quad around it stays
+    /// strictly convex with a scaled Jacobian of at least
+    /// `min(former, 0.3)` and its front edges cross nothing.
+    pub(super) fn relax_loop(&mut self, lid: u32) -> Option<StepReport> {
+        let nb = self.mesh.n_boundary() as u32;
+        let slots = self.front.loop_slots(lid);
+        let mut count: std::collections::BTreeMap<u32, usize> = Default::default();
+        for l in self.front.live_loops() {
+            for t in self.front.loop_slots(l) {
+                *count.entry(self.front.node(t)).or_default() += 1;
+            }
+        }
+        let mut moved = 0;
+        for &s in &slots {
+            let v = self.front.node(s);
+            if v < nb || count[&v] > 1 {
+                continue;
+            }
+            let (pp, pn) = (
+                self.world(self.front.prev(s)),
+                self.world(self.front.next(s)),
+            );
+            let old = self.mesh.nodes[v as usize];
+            let new = old.lerp(pp.lerp(pn, 0.5), 0.5);
+            if (new - old).length() < 1e-9 * pp.distance(pn) {
+                continue;
+            }
+            let quads = self.incident[v as usize].clone();
+            let before: Vec<f64> = quads
+                .iter()
+                .map(|&k| {
+                    crate::quality::Shape::of(self.mesh.corners(&self.mesh.quads[k as usize]))
+                        .scaled_jacobian
+                })
+                .collect();
+            self.front.unfile_edges_at(s, &self.mesh.nodes);
+            self.mesh.nodes[v as usize] = new;
+            let mut ok = quads.iter().zip(&before).all(|(&k, &b)| {
+                let p = self.mesh.corners(&self.mesh.quads[k as usize]);
+                crate::geom::is_strictly_convex(p)
+                    && crate::quality::Shape::of(p).scaled_jacobian >= b.min(0.3)
+            });
+            if ok {
+                let prev_node = self.front.node(self.front.prev(s));
+                let next_node = self.front.node(self.front.next(s));
+                for w in [prev_node, next_node] {
+                    let pw = self.mesh.nodes[w as usize];
+                    if self.crosses_front(new, pw, &[v, w]) {
+                        ok = false;
+                        break;
+                    }
+                }
+            }
+            if !ok {
+                self.mesh.nodes[v as usize] = old;
+            } else {
+                moved += 1;
+            }
+            self.front.refile_edges_at(s, v, &self.mesh.nodes);
+        }
+        if moved == 0 {
+            return None;
+        }
+        for &s in &slots {
+            self.push(s);
+        }
+        let mut r = self.report(StepKind::Relax);
+        r.reference = Some(self.front.node(slots[0]));
+        Some(r)
+    }
+
+    /// A square element on the shortest front edge whose square fits
+    /// (thesis §5.1: no front node qualifies as a reference point).
+    pub(super) fn square_cut(&mut self, only: Option<u32>, limits: Limits) -> Option<StepReport> {
+        let mut edges: Vec<(f64, SlotId)> = self
+            .front
+            .live_loops()
+            .filter(|&l| only.is_none_or(|o| o == l) && self.front.loops[l as usize].len >= 16)
+            .flat_map(|l| self.front.loop_slots(l))
+            .map(|s| (self.world(s).distance(self.world(self.front.next(s))), s))
+            .collect();
+        edges.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for &(len, s) in edges.iter().take(64) {
+            let t = self.front.next(s);
+            let (a, b) = (self.world(s), self.world(t));
+            let up = (b - a).perp() / len;
+            for height in [1.0, 0.7, 0.5] {
+                let (a2, b2) = (a + up * len * height, b + up * len * height);
+                let corners = [
+                    Corner::Partial(s),
+                    Corner::Partial(t),
+                    Corner::New(b2),
+                    Corner::New(a2),
+                ];
+                if guard::check(
+                    &self.front,
+                    &self.mesh.nodes,
+                    corners,
+                    &[s],
+                    limits,
+                    &mut self.scratch,
+                )
+                .is_some()
+                {
+                    let mut r = self.report(StepKind::Square);
+                    let layer = self.front.slot(s).layer.max(self.front.slot(t).layer) + 1;
+                    let va = self.add_node(a2);
+                    let vb = self.add_node(b2);
+                    let quad = [self.front.node(s), self.front.node(t), vb, va];
+                    self.push_quad(quad);
+                    let ids = self
+                        .front
+                        .insert_after(s, &[va, vb], layer, &self.mesh.nodes);
+                    r.quads.push(quad);
+                    r.new_nodes = vec![va, vb];
+                    r.reference = Some(self.front.node(s));
+                    for x in [s, ids[0], ids[1], t] {
+                        self.push(x);
+                    }
+                    return Some(r);
+                }
+            }
+        }
+        None
+    }
+
+    /// Splits a loop along an interior chord into two even loops (the
+    /// splitting-line rule of the extension of TP, thesis §1.3.2): both
+    /// ends' angles split as close to 90° as possible, the chord visible
+    /// and inside, with new nodes spaced like the front.
+    pub(super) fn chord_split(&mut self, lid: u32) -> Option<StepReport> {
+        let slots = self.front.loop_slots(lid);
+        let n = slots.len();
+        if n < 8 {
+            return None;
+        }
+        let min_part = 40f64.to_radians();
+        let mut best: Option<(f64, SlotId, SlotId, usize)> = None;
+        let stride = (n / 200).max(1);
+        for i in (0..n).step_by(stride) {
+            for j in (i + 2..n).step_by(stride) {
+                if i == 0 && j == n - 1 {
+                    continue;
+                }
+                let (a, b) = (slots[i], slots[j]);
+                if self.front.node(a) == self.front.node(b) {
+                    continue;
+                }
+                let (pa, pb) = (self.world(a), self.world(b));
+                let mut score = 0.0;
+                let mut ok = true;
+                for (s, other) in [(a, pb), (b, pa)] {
+                    let p = self.world(s);
+                    let wedge = self.front.angle(s, &self.mesh.nodes);
+                    let part1 = ccw_angle(p, self.world(self.front.next(s)), other);
+                    let part2 = wedge - part1;
+                    if part1 < min_part || part2 < min_part {
+                        ok = false;
+                        break;
+                    }
+                    score += (part1 - PI / 2.0).abs() + (part2 - PI / 2.0).abs();
+                }
+                if !ok {
+                    continue;
+                }
+                let len = pa.distance(pb);
+                let h = 0.25
+                    * (pa.distance(self.world(self.front.next(a)))
+                        + pa.distance(self.world(self.front.prev(a)))
+                        + pb.distance(self.world(self.front.next(b)))
+                        + pb.distance(self.world(self.front.prev(b))));
+                let d = j - i;
+                let mut k = ((len / h).round() as usize).saturating_sub(1);
+                if (d + 1 + k) % 2 == 1 {
+                    k += 1;
+                }
+                if k == 0 && (d + 1 < 4 || n - d + 1 < 4) {
+                    k = 2;
+                }
+                let spacing = (len / (k + 1) as f64) / h;
+                if !(0.4..=2.5).contains(&spacing) {
+                    continue;
+                }
+                score += 0.5 * (spacing - 1.0).abs();
+                if best.is_some_and(|(bs, ..)| score >= bs) {
+                    continue;
+                }
+                if !self.chord_clear(a, b) {
+                    continue;
+                }
+                best = Some((score, a, b, k));
+            }
+        }
+        let (_, a, b, k) = best?;
+        let (pa, pb) = (self.world(a), self.world(b));
+        let (na, nb) = (self.front.node(a), self.front.node(b));
+        let layer = self.front.slot(a).layer.max(self.front.slot(b).layer) + 1;
+        let mut r = self.report(StepKind::Split);
+        r.reference = Some(na);
+        let chord: Vec<u32> = (1..=k)
+            .map(|t| self.add_node(pa.lerp(pb, t as f64 / (k + 1) as f64)))
+            .collect();
+        r.new_nodes = chord.clone();
+        let mut seq = chord.clone();
+        seq.push(nb);
+        seq.extend(chord.iter().rev());
+        seq.push(na);
+        let ids = self.front.insert_after(a, &seq, layer, &self.mesh.nodes);
+        let b_star = ids[k];
+        self.front.exchange_successors(b_star, b, &self.mesh.nodes);
+        self.row_start.push(self.front.slot(a).loop_id);
+        self.row_start.push(self.front.slot(b).loop_id);
+        let mut touched = vec![a, b, b_star, ids[ids.len() - 1]];
+        touched.extend(ids.iter().copied());
+        for s in touched {
+            self.push(s);
+        }
+        Some(r)
+    }
+
+    /// The open segment between slots `a` and `b` meets no front edge.
+    pub(super) fn chord_clear(&mut self, a: SlotId, b: SlotId) -> bool {
+        let (pa, pb) = (self.world(a), self.world(b));
+        let skip = [self.front.node(a), self.front.node(b)];
+        !self.crosses_front(pa, pb, &skip)
+    }
+
+    /// True when segment `pa–pb` meets a front edge that has none of the
+    /// nodes `skip` as an end.
+    pub(super) fn crosses_front(&mut self, pa: Point, pb: Point, skip: &[u32]) -> bool {
+        self.front
+            .edges_near(pa.min(pb), pa.max(pb), &mut self.scratch.near);
+        self.scratch.near.iter().any(|&e| {
+            let (c, d) = (self.front.node(e), self.front.node(self.front.next(e)));
+            !skip.contains(&c)
+                && !skip.contains(&d)
+                && crate::geom::segments_intersect(
+                    pa,
+                    pb,
+                    self.mesh.nodes[c as usize],
+                    self.mesh.nodes[d as usize],
+                )
+        })
+    }
+}

@@ -1,0 +1,183 @@
+//! What a step did and why meshing stopped: step kinds and remedies, the
+//! report of one step, step counts, the user's corrections and the actions
+//! a run records (replayed by undo and by project files).
+
+use crate::geom::Point;
+use crate::model::{ElementType, Prediction};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use thiserror::Error;
+
+/// Why meshing stopped.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum MeshError {
+    #[error("front loop {loop_index} (at node {node}) cannot be reduced: no valid element, closure or chord split")]
+    Stuck { loop_index: u32, node: u32 },
+    #[error("step limit of {limit} reached with {remaining} front nodes left")]
+    StepLimit { limit: usize, remaining: usize },
+    #[error("the correction at node {node} is not a valid element")]
+    InvalidCorrection { node: u32 },
+    #[error("node {node} is not on the front")]
+    NotOnFront { node: u32 },
+    #[error("the finished mesh is not valid: {problem}")]
+    Final {
+        problem: crate::mesh::InvariantError,
+    },
+}
+
+/// What the guard had to do to the model's prediction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum Remedy {
+    /// The model's element was accepted as predicted.
+    None,
+    /// Pn was snapped onto a nearby front node.
+    Snapped,
+    /// Another element type was used.
+    OtherType,
+    /// Pn was replaced by the rule-based position.
+    CorrectedPn,
+    /// The rule-based element with relaxed limits.
+    RuleBased,
+    /// Not a model step (square cut, closure, chord split, correction).
+    NotApplicable,
+}
+
+/// The kind of a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum StepKind {
+    /// One element of type 0, 1 or 2 (or a snapped type 0).
+    Element,
+    /// A square cut on the shortest front edge (no reference point).
+    Square,
+    /// A 4-node loop closed by one quad.
+    Close4,
+    /// A 6-node loop closed by a final pattern.
+    Close6,
+    /// The interior front nodes of a stuck loop were moved to straighten it.
+    Relax,
+    /// A sharp front corner closed by merging its two neighbours (the
+    /// seam of paving).
+    Seam,
+    /// A loop split along a chord.
+    Split,
+    /// Elements around a loop that could not be reduced were removed to
+    /// give it room.
+    RipUp,
+    /// The region left was filled by a ring and a split triangulation.
+    Fill,
+    /// An element given by the user.
+    Correction,
+}
+
+/// What one step did.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StepReport {
+    pub index: usize,
+    pub kind: StepKind,
+    /// Reference point P0 (node id).
+    pub reference: Option<u32>,
+    /// Leading points as node ids, thesis order `l_N..l1, P0, r1..r_N`.
+    pub leading: Vec<u32>,
+    /// The model's raw output (normalised frame).
+    pub prediction: Option<Prediction>,
+    /// The model's Pn in world coordinates.
+    pub predicted_pn: Option<Point>,
+    /// The type of the element committed.
+    pub element_type: Option<ElementType>,
+    pub remedy: Remedy,
+    /// Reference points passed over before this one succeeded.
+    pub skipped: usize,
+    /// Closure pattern ('a', 'b', 'c') for 6-node loops.
+    pub pattern: Option<char>,
+    pub quads: Vec<[u32; 4]>,
+    pub new_nodes: Vec<u32>,
+    /// Quads removed (rip-up steps, and a fill after rewinding).
+    pub removed: usize,
+    /// Pure-model mode: the model's predictions the guard rejected before
+    /// this step.
+    pub rejected: usize,
+}
+
+impl StepReport {
+    /// The element's Pn as a node: the corner of its (first) quad opposite
+    /// the reference point; for types 1 and 2 that is P_r2 or P_l2.
+    pub fn pn_node(&self) -> Option<u32> {
+        let p0 = self.reference?;
+        let q = self.quads.first()?;
+        let k = q.iter().position(|&v| v == p0)?;
+        Some(q[(k + 2) % 4])
+    }
+}
+
+/// Step counts by kind, type and remedy.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct StepStats {
+    pub steps: usize,
+    pub by_kind: BTreeMap<StepKind, usize>,
+    pub by_type: [usize; 3],
+    /// Element steps by what the guard did to the model's element.
+    pub by_remedy: BTreeMap<Remedy, usize>,
+    pub skipped_references: usize,
+    /// Pure-model mode: predictions the guard rejected.
+    pub rejected_predictions: usize,
+}
+
+impl StepStats {
+    /// Pure-model mode: the model's elements the guard accepted as
+    /// predicted, and all the model's predictions (accepted + rejected).
+    pub fn model_valid(&self) -> (usize, usize) {
+        let ok = self.by_remedy.get(&Remedy::None).copied().unwrap_or(0);
+        (ok, ok + self.rejected_predictions)
+    }
+
+    /// Steps of kind `k`.
+    pub fn count(&self, k: StepKind) -> usize {
+        self.by_kind.get(&k).copied().unwrap_or(0)
+    }
+
+    pub(super) fn record(&mut self, r: &StepReport) {
+        self.steps += 1;
+        *self.by_kind.entry(r.kind).or_default() += 1;
+        if let Some(t) = r.element_type {
+            self.by_type[t as usize] += 1;
+        }
+        if r.kind == StepKind::Element {
+            *self.by_remedy.entry(r.remedy).or_default() += 1;
+        }
+        self.skipped_references += r.skipped;
+        self.rejected_predictions += r.rejected;
+    }
+}
+
+/// An element forced by the user at a reference node.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Correction {
+    /// Reference point P0 (node id on the front).
+    pub reference: u32,
+    pub element_type: ElementType,
+    /// Pn (world) for type 0.
+    pub pn: Option<Point>,
+    /// Close type 0 onto this front node instead of a new one.
+    pub snap_to: Option<u32>,
+}
+
+/// One recorded step, as [`Mesher::actions`] lists them: replaying the
+/// actions of a run with [`Mesher::take`] rebuilds it (steps are
+/// deterministic), which is how undo works and how a project file keeps a
+/// mesh that can be stepped on.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Action {
+    /// A step chosen by the mesher.
+    Auto,
+    /// An element given by the user.
+    Correction(Correction),
+    /// A fill taken after rewinding (see [`Mesher::rewind_and_fill`]).
+    Fill,
+}
+
+/// Result of [`Mesher::step`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepOutcome {
+    Stepped(Box<StepReport>),
+    Done,
+}

@@ -1,0 +1,533 @@
+//! The [`Mesher`] session: the extraction state over one boundary (mesh,
+//! front, reference queue), its public step API, and its history: every
+//! action is recorded, so undo replays the others, redo takes undone ones
+//! again, a project file rebuilds a run, and a model set mid-run is
+//! switched at the same point on replay.
+
+use super::candidate::Cand;
+use super::fill;
+use super::guard::{Limits, Scratch};
+use super::params::MeshParams;
+use super::queue::Entry;
+use super::report::{
+    Action, Correction, MeshError, Remedy, StepKind, StepOutcome, StepReport, StepStats,
+};
+use crate::boundary::Boundary;
+use crate::front::{Front, SlotId};
+use crate::geom::Point;
+use crate::mesh::QuadMesh;
+use crate::model::{ElementType, Model, RulesModel};
+use std::collections::BinaryHeap;
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+/// Steps allowed before the region left is filled, per element a uniform
+/// mesh at the median boundary segment would have (plus one per boundary
+/// node and 200).
+const FILL_BUDGET: f64 = 2.0;
+
+/// The element extraction loop over one boundary.
+#[derive(Clone)]
+pub struct Mesher {
+    /// The model the run started with (replays start from it).
+    pub(super) initial_model: Arc<dyn Model>,
+    /// Models set with [`Mesher::set_model`], each with the number of
+    /// actions taken before it.
+    pub(super) model_changes: Vec<(usize, Arc<dyn Model>)>,
+    pub(super) boundary: Boundary,
+    pub(super) params: MeshParams,
+    pub(super) model: Arc<dyn Model>,
+    pub(super) mesh: QuadMesh,
+    pub(super) front: Front,
+    pub(super) queue: BinaryHeap<Entry>,
+    pub(super) version: Vec<u32>,
+    pub(super) seq: u64,
+    pub(super) history: Vec<Action>,
+    /// Actions undone, the most recent last: what [`Mesher::redo`] takes
+    /// again. A new step or correction clears it.
+    pub(super) undone: Vec<Action>,
+    pub(super) stats: StepStats,
+    pub(super) scratch: Scratch,
+    pub(super) step_limit: usize,
+    pub(super) rules: RulesModel,
+    /// Loops to check for a first row (no reference point on them).
+    pub(super) row_start: Vec<u32>,
+    pub(super) rip_ups: usize,
+    /// Quads incident to each node.
+    pub(super) incident: Vec<Vec<u32>>,
+    pub(super) relaxes: usize,
+    /// Relaxations since the last other step.
+    pub(super) relax_streak: usize,
+    /// Steps after which the region left is filled.
+    pub(super) fill_after: usize,
+    /// No fill is tried before this step (set after a fill fails).
+    pub(super) fill_retry_at: usize,
+    /// Set while history is being replayed (no rewinding then).
+    pub(super) replaying: bool,
+    /// A rewind has been tried.
+    pub(super) rewound: bool,
+    /// Pure-model rejections since the last step.
+    pub(super) rejected: usize,
+    /// Pure-model: the leading points (node ids) of every rejected
+    /// prediction, so a prediction met again is counted once.
+    pub(super) rejected_inputs: std::collections::BTreeSet<Vec<u32>>,
+}
+
+impl Mesher {
+    /// A mesher over `boundary` with `model` and `params`.
+    pub fn new(boundary: Boundary, model: Arc<dyn Model>, params: MeshParams) -> Mesher {
+        let mesh = QuadMesh::from_boundary(&boundary);
+        let h = boundary.median_segment();
+        let front = Front::new(&mesh.loops, &mesh.nodes, 2.0 * h);
+        let mut min_seg = f64::INFINITY;
+        for (a, b) in boundary.segments() {
+            min_seg = min_seg.min(boundary.points[a].distance(boundary.points[b]));
+        }
+        let est = (boundary.area() / (min_seg * min_seg)).min(1e9) as usize;
+        let work = est.max(boundary.node_count());
+        let step_limit = params.max_steps.unwrap_or(8 * work + 10_000);
+        let mut m = Mesher {
+            step_limit,
+            fill_after: (FILL_BUDGET * (boundary.area() / (h * h)).min(1e9)) as usize
+                + boundary.node_count()
+                + 200,
+            fill_retry_at: 0,
+            replaying: false,
+            rewound: false,
+            rejected: 0,
+            rejected_inputs: Default::default(),
+            boundary,
+            params,
+            initial_model: model.clone(),
+            model_changes: Vec::new(),
+            model,
+            mesh,
+            front,
+            queue: BinaryHeap::new(),
+            version: Vec::new(),
+            seq: 0,
+            history: Vec::new(),
+            undone: Vec::new(),
+            stats: StepStats::default(),
+            scratch: Scratch::default(),
+            rules: RulesModel::DEFAULT,
+            row_start: Vec::new(),
+            rip_ups: 0,
+            incident: Vec::new(),
+            relaxes: 0,
+            relax_streak: 0,
+        };
+        m.row_start = m.front.live_loops().collect();
+        m.incident = vec![Vec::new(); m.mesh.nodes.len()];
+        for s in 0..m.front.slots.len() as SlotId {
+            m.push(s);
+        }
+        m
+    }
+
+    /// The mesh so far (unsmoothed).
+    pub fn mesh(&self) -> &QuadMesh {
+        &self.mesh
+    }
+
+    /// The front.
+    pub fn front(&self) -> &Front {
+        &self.front
+    }
+
+    pub fn boundary(&self) -> &Boundary {
+        &self.boundary
+    }
+
+    pub fn params(&self) -> &MeshParams {
+        &self.params
+    }
+
+    pub fn model(&self) -> &Arc<dyn Model> {
+        &self.model
+    }
+
+    pub fn stats(&self) -> &StepStats {
+        &self.stats
+    }
+
+    /// Steps taken so far.
+    pub fn steps(&self) -> usize {
+        self.history.len()
+    }
+
+    /// Quads that use node `v`.
+    pub fn quads_at(&self, v: u32) -> &[u32] {
+        self.incident
+            .get(v as usize)
+            .map(Vec::as_slice)
+            .unwrap_or(&[])
+    }
+
+    /// True when the front is empty.
+    pub fn is_done(&self) -> bool {
+        self.front.is_empty()
+    }
+
+    /// Checks the front and the partial mesh.
+    pub fn check_invariants(&self) -> Result<(), crate::mesh::InvariantError> {
+        self.front
+            .check_invariants(&self.mesh.nodes)
+            .map_err(crate::mesh::InvariantError::Front)?;
+        for (k, q) in self.mesh.quads.iter().enumerate() {
+            for &v in q {
+                if !self.quads_at(v).contains(&(k as u32)) {
+                    return Err(crate::mesh::InvariantError::Front(format!(
+                        "quad {k} is missing from node {v}'s incidence"
+                    )));
+                }
+            }
+        }
+        // Quads and the region the front still bounds tile the domain.
+        let meshed: f64 = self
+            .mesh
+            .quads
+            .iter()
+            .map(|q| crate::geom::polygon_area(self.mesh.corners(q)))
+            .sum();
+        let open: f64 = self
+            .front
+            .live_loops()
+            .map(|l| {
+                crate::geom::polygon_area(
+                    self.front
+                        .loop_slots(l)
+                        .iter()
+                        .map(|&s| self.mesh.nodes[self.front.node(s) as usize]),
+                )
+            })
+            .sum();
+        let domain = self.boundary.area();
+        if (meshed + open - domain).abs() > 1e-9 * domain.abs() {
+            return Err(crate::mesh::InvariantError::Area {
+                covered: meshed + open,
+                domain,
+            });
+        }
+        self.mesh.check_invariants(self.is_done())
+    }
+
+    /// Takes one step: closes a small loop, or cuts one element, or (when no
+    /// reference point works) cuts a square, splits a loop, or fails.
+    pub fn step(&mut self) -> Result<StepOutcome, MeshError> {
+        if self.front.is_empty() {
+            return Ok(StepOutcome::Done);
+        }
+        if self.history.len() >= self.step_limit {
+            return Err(MeshError::StepLimit {
+                limit: self.step_limit,
+                remaining: self.front.len(),
+            });
+        }
+        let mut r = match self.auto_step() {
+            Ok(r) => r,
+            Err(e) => {
+                if self.params.fill && !self.replaying {
+                    if let Some(r) = self.rewind_and_fill() {
+                        return Ok(StepOutcome::Stepped(Box::new(r)));
+                    }
+                }
+                return Err(e);
+            }
+        };
+        r.rejected = std::mem::take(&mut self.rejected);
+        if r.kind != StepKind::Relax {
+            self.relax_streak = 0;
+        }
+        self.history.push(Action::Auto);
+        self.undone.clear();
+        self.stats.record(&r);
+        Ok(StepOutcome::Stepped(Box::new(r)))
+    }
+
+    pub(super) fn report(&self, kind: StepKind) -> StepReport {
+        StepReport {
+            index: self.history.len(),
+            kind,
+            reference: None,
+            leading: Vec::new(),
+            prediction: None,
+            predicted_pn: None,
+            element_type: None,
+            remedy: Remedy::NotApplicable,
+            skipped: 0,
+            rejected: 0,
+            pattern: None,
+            quads: Vec::new(),
+            new_nodes: Vec::new(),
+            removed: 0,
+        }
+    }
+
+    /// When extraction has led the front into a state no fill can take, the
+    /// run goes back to an earlier step (3/4, 1/2, 1/4 of the way, then the
+    /// start) and fills the region left there. The history then holds the
+    /// steps kept and the fill, so undo goes back to the step rewound to.
+    pub(super) fn rewind_and_fill(&mut self) -> Option<StepReport> {
+        if self.rewound {
+            return None;
+        }
+        self.rewound = true;
+        let n = self.history.len();
+        for k in [3 * n / 4, n / 2, n / 4, 0] {
+            let mut fresh = self.replayed(&self.history[..k]);
+            let kept = fresh.mesh.quads.len();
+            if let Some(mut r) = fresh.commit_fill() {
+                r.removed = self.mesh.quads.len().saturating_sub(kept);
+                fresh.rewound = true;
+                *self = fresh;
+                return Some(r);
+            }
+        }
+        None
+    }
+
+    /// Replays one recorded action.
+    pub(super) fn replay(&mut self, a: &Action) -> bool {
+        match a {
+            Action::Auto => self.step().is_ok(),
+            Action::Correction(c) => self.correct(c).is_ok(),
+            Action::Fill => self.commit_fill().is_some(),
+        }
+    }
+
+    /// A fill taken as a step of its own (after rewinding, or replayed).
+    pub(super) fn commit_fill(&mut self) -> Option<StepReport> {
+        self.fill_retry_at = 0;
+        let r = self.fill_rest()?;
+        self.history.push(Action::Fill);
+        self.undone.clear();
+        self.stats.record(&r);
+        Some(r)
+    }
+
+    /// Fills the whole region left with [`fill::fill_region`] and empties
+    /// the front.
+    pub(super) fn fill_rest(&mut self) -> Option<StepReport> {
+        let step = self.history.len();
+        if step < self.fill_retry_at {
+            return None;
+        }
+        let ids: Vec<u32> = self.front.live_loops().collect();
+        let loops: Vec<Vec<u32>> = ids.iter().map(|&l| self.front.loop_nodes(l)).collect();
+        let Ok(f) = fill::fill_region(&loops, &self.mesh.nodes) else {
+            self.fill_retry_at = step + (step / 4).max(50);
+            return None;
+        };
+        let mut r = self.report(StepKind::Fill);
+        for p in f.points {
+            let v = self.add_node(p);
+            r.new_nodes.push(v);
+        }
+        for q in f.quads {
+            self.push_quad(q);
+            r.quads.push(q);
+        }
+        for l in ids {
+            self.front.remove_loop(l, &self.mesh.nodes);
+        }
+        Some(r)
+    }
+
+    /// Commits an element chosen by the user at reference node `c.reference`.
+    pub fn correct(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
+        let r = self.apply_correction(c)?;
+        self.history.push(Action::Correction(c.clone()));
+        self.undone.clear();
+        self.stats.record(&r);
+        Ok(r)
+    }
+
+    pub(super) fn apply_correction(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
+        let s = self
+            .front
+            .live_loops()
+            .flat_map(|l| self.front.loop_slots(l))
+            .find(|&s| self.front.node(s) == c.reference)
+            .ok_or(MeshError::NotOnFront { node: c.reference })?;
+        let cand = match (c.element_type, c.snap_to, c.pn) {
+            (ElementType::Right, ..) => Cand::Right { s },
+            (ElementType::Left, ..) => Cand::Left { s },
+            (ElementType::New, Some(x), _) => {
+                let q = self
+                    .front
+                    .live_loops()
+                    .flat_map(|l| self.front.loop_slots(l))
+                    .find(|&q| self.front.node(q) == x)
+                    .ok_or(MeshError::NotOnFront { node: x })?;
+                Cand::Snap { s, q }
+            }
+            (ElementType::New, None, Some(pn)) => Cand::New { s, pn },
+            (ElementType::New, None, None) => {
+                return Err(MeshError::InvalidCorrection { node: c.reference })
+            }
+        };
+        let relaxed = Limits {
+            min_corner: 1e-6,
+            max_corner: PI - 1e-6,
+            min_front: 1e-6,
+        };
+        if self.check(cand, relaxed).is_none() {
+            return Err(MeshError::InvalidCorrection { node: c.reference });
+        }
+        let leading: Vec<u32> = self
+            .leading_slots(s, self.leading_n())
+            .iter()
+            .map(|&t| self.front.node(t))
+            .collect();
+        let mut r = self.commit(cand, StepKind::Correction);
+        r.reference = Some(c.reference);
+        r.leading = leading;
+        Ok(r)
+    }
+
+    /// The training sample of an element step or a correction (method §3):
+    /// the real front around P0 as it was before the step (the report's
+    /// leading points, which never move while meshing) and the element
+    /// committed. `None` for other steps. The editor appends these to the
+    /// training set when the user accepts or corrects an element.
+    pub fn sample_of(&self, r: &StepReport) -> Option<crate::samples::Sample> {
+        if !matches!(r.kind, StepKind::Element | StepKind::Correction) {
+            return None;
+        }
+        let t = r.element_type?;
+        let n = r.leading.len() / 2;
+        let p0 = *r.leading.get(n)?;
+        let pn = r.pn_node()?;
+        let pos = |v: u32| self.mesh.nodes.get(v as usize).copied();
+        let left: Option<Vec<Point>> = (1..=n).map(|i| pos(r.leading[n - i])).collect();
+        let right: Option<Vec<Point>> = (1..=n).map(|i| pos(r.leading[n + i])).collect();
+        crate::samples::Sample::from_front(
+            &left?,
+            pos(p0)?,
+            &right?,
+            t,
+            pos(pn)?,
+            crate::samples::Source::Correction,
+        )
+    }
+
+    /// Runs to the end; `progress` is called after every step with the
+    /// number of front nodes left.
+    pub fn run(&mut self, mut progress: impl FnMut(usize)) -> Result<(), MeshError> {
+        while let StepOutcome::Stepped(_) = self.step()? {
+            progress(self.front.len());
+        }
+        Ok(())
+    }
+
+    /// Undoes the last step by replaying all the others from the start
+    /// (steps are deterministic). Returns false when there is nothing to undo.
+    pub fn undo(&mut self) -> bool {
+        let Some(a) = self.history.pop() else {
+            return false;
+        };
+        let mut fresh = self.replayed(&self.history);
+        fresh.rewound = self.rewound;
+        fresh.undone = std::mem::take(&mut self.undone);
+        fresh.undone.push(a);
+        *self = fresh;
+        true
+    }
+
+    /// The actions taken so far, in order.
+    pub fn actions(&self) -> &[Action] {
+        &self.history
+    }
+
+    /// Takes one recorded action: an automatic step, a correction or a
+    /// fill. `Ok(None)` when the mesh is complete or the fill does not go.
+    pub fn take(&mut self, a: &Action) -> Result<Option<StepReport>, MeshError> {
+        match a {
+            Action::Auto => self.step().map(|o| match o {
+                StepOutcome::Stepped(r) => Some(*r),
+                StepOutcome::Done => None,
+            }),
+            Action::Correction(c) => self.correct(c).map(Some),
+            Action::Fill => Ok(self.commit_fill()),
+        }
+    }
+
+    /// Steps that [`Mesher::undo`] took back and [`Mesher::redo`] can take
+    /// again.
+    pub fn redo_len(&self) -> usize {
+        self.undone.len()
+    }
+
+    /// Takes the most recently undone step again (the same action: an
+    /// automatic step, the user's correction, or a fill) and returns its
+    /// report; `Ok(None)` when nothing was undone.
+    pub fn redo(&mut self) -> Result<Option<StepReport>, MeshError> {
+        let Some(a) = self.undone.pop() else {
+            return Ok(None);
+        };
+        let rest = std::mem::take(&mut self.undone);
+        let r = self.take(&a);
+        self.undone = rest;
+        if r.is_err() {
+            self.undone.push(a);
+        }
+        r
+    }
+
+    /// A new mesher over the same input with `actions` replayed, switching
+    /// models where [`Mesher::set_model`] did; a model set after the last
+    /// replayed action stays in force.
+    pub(super) fn replayed(&self, actions: &[Action]) -> Mesher {
+        let mut fresh = Mesher::new(
+            self.boundary.clone(),
+            self.initial_model.clone(),
+            self.params.clone(),
+        );
+        fresh.replaying = true;
+        let mut changes = self.model_changes.iter().peekable();
+        for (i, a) in actions.iter().enumerate() {
+            while let Some((_, m)) = changes.next_if(|(at, _)| *at <= i) {
+                fresh.set_model(m.clone());
+            }
+            let ok = fresh.replay(a);
+            debug_assert!(ok, "replay diverged");
+        }
+        if let Some((_, m)) = changes.last() {
+            fresh.set_model(m.clone());
+        }
+        fresh.replaying = false;
+        fresh
+    }
+
+    /// Meshes the rest with `model` (the editor's refit). Steps already
+    /// taken stay as they are; undo and replay switch models at the same
+    /// point.
+    pub fn set_model(&mut self, model: Arc<dyn Model>) {
+        self.model_changes.push((self.history.len(), model.clone()));
+        self.model = model;
+    }
+
+    pub(super) fn add_node(&mut self, p: Point) -> u32 {
+        self.mesh.nodes.push(p);
+        self.incident.push(Vec::new());
+        (self.mesh.nodes.len() - 1) as u32
+    }
+
+    pub(super) fn push_quad(&mut self, q: [u32; 4]) {
+        let k = self.mesh.quads.len() as u32;
+        for &v in &q {
+            self.incident[v as usize].push(k);
+        }
+        self.mesh.quads.push(q);
+    }
+
+    pub(super) fn rebuild_incidence(&mut self) {
+        self.incident = vec![Vec::new(); self.mesh.nodes.len()];
+        for (k, q) in self.mesh.quads.iter().enumerate() {
+            for &v in q {
+                self.incident[v as usize].push(k as u32);
+            }
+        }
+    }
+}

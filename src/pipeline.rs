@@ -1,0 +1,103 @@
+//! The meshing pipeline: element extraction ([`crate::extract`], method §2)
+//! and then finishing the mesh it made: topological cleanup and smoothing
+//! ([`improve`], thesis §5.1 "de-noise"), local remeshing of the regions
+//! still bad ([`remesh_bad`]), corners flat to rounding moved off the line
+//! ([`unflatten`]), and the final check. The command line, the editor and
+//! the tests all mesh through here, so a mesh is finished the same way
+//! wherever it is made.
+
+use crate::boundary::Boundary;
+use crate::cleanup::{improve, CleanupParams};
+use crate::extract::{MeshError, MeshParams, Mesher, StepStats};
+use crate::mesh::QuadMesh;
+use crate::model::Model;
+use crate::remesh::{remesh_bad, RemeshParams};
+use crate::smooth::{unflatten, SmoothParams, LOCAL_ABOVE};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// What finishing does to the mesh extraction made.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct FinishParams {
+    /// Topological cleanup of a complete mesh before smoothing
+    /// ([`crate::cleanup`]).
+    pub cleanup: CleanupParams,
+    /// Local remeshing of the regions around quads that cleanup and
+    /// smoothing leave bad ([`crate::remesh`]), on a complete mesh.
+    pub remesh: RemeshParams,
+    /// Laplacian smoothing and optimisation ([`crate::smooth`]).
+    pub smooth: SmoothParams,
+}
+
+impl FinishParams {
+    pub const DEFAULT: FinishParams = FinishParams {
+        cleanup: CleanupParams::DEFAULT,
+        remesh: RemeshParams::DEFAULT,
+        smooth: SmoothParams::DEFAULT,
+    };
+}
+
+impl Default for FinishParams {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// Extraction and finishing parameters together.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Params {
+    pub extract: MeshParams,
+    pub finish: FinishParams,
+}
+
+impl Params {
+    pub const DEFAULT: Params = Params {
+        extract: MeshParams::DEFAULT,
+        finish: FinishParams::DEFAULT,
+    };
+}
+
+/// The finished mesh of `mesher`'s run (a large one renumbered for memory
+/// locality, [`QuadMesh::sort_spatially`]): cleaned up and smoothed
+/// ([`improve`]; a mesh with front left is only smoothed), the regions of
+/// quads still bad remeshed with the mesher's model and extraction
+/// parameters ([`remesh_bad`]), corners flat to rounding moved off the line
+/// ([`unflatten`]), and checked ([`QuadMesh::check_finished`], or
+/// [`QuadMesh::check_invariants`] for a partial mesh). Call after
+/// [`Mesher::run`]; an unfinished mesh is returned as it stands.
+pub fn finish(mesher: &Mesher, f: &FinishParams) -> Result<QuadMesh, MeshError> {
+    let mut mesh = mesher.mesh().clone();
+    mesh.compact();
+    if mesh.quads.len() > LOCAL_ABOVE {
+        mesh.sort_spatially();
+    }
+    let complete = mesher.is_done();
+    improve(&mut mesh, complete, &f.cleanup, &f.smooth);
+    if complete {
+        remesh_bad(&mut mesh, mesher.model(), mesher.params(), f);
+    }
+    unflatten(&mut mesh);
+    let checked = if complete {
+        mesh.check_finished()
+    } else {
+        mesh.check_invariants(false)
+    };
+    checked.map_err(|problem| MeshError::Final { problem })?;
+    Ok(mesh)
+}
+
+/// Meshes a boundary to the end with `model` and `params`: extraction, then
+/// finishing. Returns the mesh and the step counts; `progress` is called
+/// after every step with the number of front nodes left.
+pub fn mesh_boundary(
+    boundary: &Boundary,
+    model: Arc<dyn Model>,
+    params: &Params,
+    progress: impl FnMut(usize),
+) -> Result<(QuadMesh, StepStats), MeshError> {
+    let mut m = Mesher::new(boundary.clone(), model, params.extract.clone());
+    m.run(progress)?;
+    Ok((finish(&m, &params.finish)?, m.stats().clone()))
+}
