@@ -1,31 +1,45 @@
-//! Meshes a boundary step by step and, when the run stops (finished or
-//! not), writes an SVG of the mesh so far with the front drawn in blue.
+//! Meshes a boundary step by step and, when the run stops (finished, stuck
+//! or after `--steps N`), writes an SVG of the mesh so far with the front
+//! drawn in blue, and prints the steps by kind. Extraction runs to the end
+//! with no fill unless `--layers K` or `--fill` say otherwise.
 //!
-//! `cargo run --release --example partial -- IN.poly OUT.svg [MAX_STEPS]`
+//! `cargo run --release --example partial -- IN.poly OUT.svg [--steps N]
+//! [--model default|rules|thesis|FILE] [--layers K] [--fill] [--trace]`
+//!
+//! `--trace` prints every step.
 
 use quadex::extract::{MeshParams, Mesher, StepOutcome};
 use quadex::io::svg::{write_svg, SvgOptions};
-use quadex::model::RulesModel;
 use std::sync::Arc;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let (input, output) = (&args[1], &args[2]);
-    let max: usize = args
-        .get(3)
+    let opt = |name: &str| {
+        args.iter()
+            .position(|a| a == name)
+            .and_then(|k| args.get(k + 1))
+            .cloned()
+    };
+    let flag = |name: &str| args.iter().any(|a| a == name);
+    let max: usize = opt("--steps")
         .and_then(|s| s.parse().ok())
         .unwrap_or(usize::MAX);
+    let model: Arc<dyn quadex::Model> =
+        Arc::from(quadex::model::load(&opt("--model").unwrap_or("default".into())).expect("model"));
+    let params = MeshParams {
+        fill_after_layers: opt("--layers").and_then(|s| s.parse().ok()),
+        fill: flag("--fill"),
+        ..MeshParams::DEFAULT
+    };
     let b = quadex::io::read_boundary(input.as_ref()).expect("boundary");
-    let mut m = Mesher::new(b, Arc::new(RulesModel::DEFAULT), MeshParams::DEFAULT);
+    let mut m = Mesher::new(b, model, params);
     let mut steps = 0;
-    loop {
-        if steps >= max {
-            break;
-        }
+    while steps < max {
         match m.step() {
             Ok(StepOutcome::Stepped(r)) => {
                 steps += 1;
-                if std::env::var_os("QUADEX_TRACE").is_some() {
+                if flag("--trace") {
                     eprintln!(
                         "{steps} {:?} ref={:?} remedy={:?} type={:?} removed={} front={}",
                         r.kind,
@@ -75,5 +89,11 @@ fn main() {
     extra.push_str("</g>\n</svg>\n");
     svg = svg.replace("</svg>\n", &extra);
     std::fs::write(output, svg).expect("write");
-    eprintln!("{} quads, {} front nodes", mesh.quads.len(), f.len());
+    eprintln!(
+        "{} quads, {} front nodes in {} loops; steps {:?}",
+        mesh.quads.len(),
+        f.len(),
+        f.live_loops().count(),
+        m.stats().by_kind
+    );
 }

@@ -67,6 +67,27 @@ pub fn is_measurably_convex(p: [Point; 4]) -> bool {
     (0..4).all(|k| turns_left(p[(k + 3) % 4], p[k], p[(k + 1) % 4]))
 }
 
+/// Where the ray from `from` along `dir` first meets the closed segment
+/// `a–b`: the ray parameter (a distance when `dir` is a unit vector), or
+/// `None` when it misses. A segment along the ray counts at its nearer end.
+pub fn ray_segment(from: Point, dir: Point, a: Point, b: Point) -> Option<f64> {
+    let e = b - a;
+    let den = dir.perp_dot(e);
+    let w = a - from;
+    if den.abs() <= f64::EPSILON * dir.length() * e.length() {
+        // Parallel: only a collinear segment ahead can be met.
+        if w.perp_dot(dir).abs() > f64::EPSILON * (w.length() + e.length()) * dir.length() {
+            return None;
+        }
+        let (ta, tb) = (w.dot(dir), (b - from).dot(dir));
+        let t = ta.min(tb).max(0.0);
+        return (ta.max(tb) >= 0.0).then(|| t / dir.length_squared());
+    }
+    let t = w.perp_dot(e) / den;
+    let u = w.perp_dot(dir) / den;
+    (t >= 0.0 && (0.0..=1.0).contains(&u)).then_some(t)
+}
+
 /// Distance from `p` to the closed segment `a–b`.
 pub fn point_segment_distance(p: Point, a: Point, b: Point) -> f64 {
     let ab = b - a;

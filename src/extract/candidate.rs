@@ -21,6 +21,16 @@ pub(super) enum Cand {
     Left { s: SlotId },
 }
 
+/// A row being continued at a reference point: the front node it goes on
+/// from (P0's neighbour that is not the last element's top), the node
+/// beyond that, and whether that is to P0's right.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Row {
+    pub(super) base: SlotId,
+    pub(super) beyond: SlotId,
+    pub(super) right: bool,
+}
+
 /// The element chosen at a reference point.
 #[derive(Clone, Debug)]
 pub(super) struct Chosen {
@@ -31,6 +41,29 @@ pub(super) struct Chosen {
     pub(super) frame: Frame,
     pub(super) leading: Vec<u32>,
 }
+
+/// The model's element is taken at once when it scores this much.
+const EXCELLENT: f64 = 0.85;
+/// The model's element is taken over a better-scoring remedy that beats
+/// it by less than this.
+const MODEL_MARGIN: f64 = 0.15;
+/// A row's height moves towards the size field by at most this factor per
+/// element.
+const SIZE_STEP: f64 = 1.1;
+/// Front nodes within this many local sizes of Pn are snap candidates.
+const SNAP_REACH: f64 = 0.8;
+/// The front ahead is looked for within this many local sizes.
+const GAP_REACH: f64 = 2.8;
+/// A front node whose angle is above this is a row's side (below, it is a
+/// corner the row ends at).
+const ROW_SIDE: f64 = 150.0 * std::f64::consts::PI / 180.0;
+/// ... and above this a reflex corner the row turns around.
+const ROW_CORNER: f64 = 225.0 * std::f64::consts::PI / 180.0;
+/// An element's corner at the node a row goes on from may differ this much
+/// from its share of the node's angle before it costs.
+const ROW_SLACK: f64 = 20.0 * std::f64::consts::PI / 180.0;
+/// ... and the cost grows to its floor over this much more.
+const ROW_FALLOFF: f64 = 60.0 * std::f64::consts::PI / 180.0;
 
 /// Scores closer than this are a tie, which the first candidate wins: a
 /// model whose outputs differ in the last digits (a refit, another
@@ -95,6 +128,11 @@ impl Mesher {
 
     /// The guard on one candidate: its score when it passes.
     pub(super) fn check(&mut self, c: Cand, limits: Limits) -> Option<f64> {
+        let at = match c {
+            Cand::New { s, pn } => 0.5 * (self.world(s) + pn),
+            Cand::Snap { s, .. } | Cand::Right { s } | Cand::Left { s } => self.world(s),
+        };
+        let size = self.size.at(at);
         let f = &self.front;
         let n = self.front.loop_len(match c {
             Cand::New { s, .. } | Cand::Snap { s, .. } | Cand::Right { s } | Cand::Left { s } => s,
@@ -166,6 +204,7 @@ impl Mesher {
             corners,
             &consumed,
             limits,
+            size,
             &mut self.scratch,
         )?;
         let p = passed.corners;
@@ -175,6 +214,27 @@ impl Mesher {
         });
         if !self.pinned_corners_turn(p, ids) {
             return None;
+        }
+        let mut score = passed.score;
+        if let Cand::New { s, pn } = c {
+            // Where a row goes on along the front, the element's corner
+            // at the next node should take its share of that node's angle,
+            // as paving's rows do: half of a side node's (the bisector),
+            // a third of a reflex corner's. Much more or less opens the
+            // row into a fan or closes it into a wedge.
+            if let Some(row) = self.row_at(s) {
+                let theta = self.front.angle(row.base, &self.mesh.nodes);
+                if theta > ROW_SIDE {
+                    let share = if theta < ROW_CORNER {
+                        theta / 2.0
+                    } else {
+                        theta / 3.0
+                    };
+                    let corner = theta - self.row_angle_left(&row, pn);
+                    let off = (corner - share).abs() - ROW_SLACK;
+                    score = score.min((1.0 - off.max(0.0) / ROW_FALLOFF).clamp(0.3, 1.0));
+                }
+            }
         }
         if let Cand::Snap { s, q } = c {
             // The quad's corner at X must sit inside X's front wedge with
@@ -198,7 +258,7 @@ impl Mesher {
                 }
             }
         }
-        Some(passed.score)
+        Some(score)
     }
 
     /// Shorter distance along the loop between two slots of one loop.
@@ -215,36 +275,142 @@ impl Mesher {
         n
     }
 
-    /// The nearest front node to `p` within `radius` (excluding the reference
-    /// point's own neighbours), as a slot.
-    pub(super) fn snap_target(&mut self, s: SlotId, p: Point, radius: f64) -> Option<SlotId> {
+    /// Front nodes within `radius` of `p`, nearest first (the reference
+    /// point's own neighbours left out), as slots: at most `max`.
+    pub(super) fn snap_targets(
+        &mut self,
+        s: SlotId,
+        p: Point,
+        radius: f64,
+        max: usize,
+    ) -> Vec<SlotId> {
         let r = Point::splat(radius);
         self.front.edges_near(p - r, p + r, &mut self.scratch.near);
         let own = [s, self.front.prev(s), self.front.next(s)];
-        let mut best: Option<(f64, SlotId)> = None;
-        for &e in &self.scratch.near {
-            if own.contains(&e) {
-                continue;
-            }
-            let d = self.world(e).distance(p);
-            if d <= radius && best.is_none_or(|(bd, _)| d < bd) {
-                best = Some((d, e));
-            }
-        }
-        best.map(|(_, e)| e)
+        let mut found: Vec<(f64, SlotId)> = self
+            .scratch
+            .near
+            .iter()
+            .filter(|e| !own.contains(e))
+            .map(|&e| (self.world(e).distance(p), e))
+            .filter(|&(d, _)| d <= radius)
+            .collect();
+        found.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        found.truncate(max);
+        found.into_iter().map(|(_, e)| e).collect()
     }
 
-    /// Candidate list at reference slot `s`, model first, then remedies.
+    /// Pn with the row's height drawn towards the size field (the model's
+    /// output is normalised by the front edge at P0, so it carries the
+    /// front's spacing, not the size wanted here). Where P0 continues a row
+    /// (one of its front neighbours was made by extraction after P0), the
+    /// new side from the other neighbour to Pn is the row's next height:
+    /// its length moves towards the local size by at most [`SIZE_STEP`].
+    /// At a corner of the front both sides are the front's own edges and
+    /// Pn is left as predicted.
+    pub(super) fn sized_pn(&self, s: SlotId, pn: Point) -> Point {
+        let Some(row) = self.row_at(s) else {
+            return pn;
+        };
+        let base = self.world(row.base);
+        let v = pn - base;
+        let len = v.length();
+        if len <= 0.0 || !len.is_finite() {
+            return pn;
+        }
+        let want = self.size.at(base);
+        let k = (want / len).clamp(1.0 / SIZE_STEP, SIZE_STEP);
+        base + v * k
+    }
+
+    /// The row that reference slot `s` continues, if any: one front
+    /// neighbour of P0 was made by extraction after P0 (it is the top of
+    /// the row's last element), and the row goes on towards the other.
+    pub(super) fn row_at(&self, s: SlotId) -> Option<Row> {
+        let f = &self.front;
+        let (l, r) = (f.prev(s), f.next(s));
+        let layer = f.slot(s).layer;
+        match (f.slot(l).layer > layer, f.slot(r).layer > layer) {
+            (true, false) => Some(Row {
+                base: r,
+                beyond: f.next(r),
+                right: true,
+            }),
+            (false, true) => Some(Row {
+                base: l,
+                beyond: f.prev(l),
+                right: false,
+            }),
+            _ => None,
+        }
+    }
+
+    /// The front angle a type-0 element with new node `pn` leaves at the
+    /// node the row goes on from.
+    pub(super) fn row_angle_left(&self, row: &Row, pn: Point) -> f64 {
+        let (b, y) = (self.world(row.base), self.world(row.beyond));
+        if row.right {
+            ccw_angle(b, y, pn)
+        } else {
+            ccw_angle(b, pn, y)
+        }
+    }
+
+    /// Paving's new node for a row: from the node the row goes on from,
+    /// along the bisector of its front angle, far enough that the row is
+    /// `height` high there.
+    pub(super) fn paving_pn(&self, s: SlotId, row: &Row, height: f64) -> Point {
+        let (b, y, p0) = (self.world(row.base), self.world(row.beyond), self.world(s));
+        let (from, to) = if row.right { (y, p0) } else { (p0, y) };
+        let phi = ccw_angle(b, from, to);
+        let u = (from - b).normalize_or_zero();
+        let (sn, cs) = (0.5 * phi).sin_cos();
+        let dir = Point::new(u.x * cs - u.y * sn, u.x * sn + u.y * cs);
+        b + dir * (height / sn.max(0.5))
+    }
+
+    /// Where fronts are about to meet: the distance from `from` along
+    /// `dir` (a unit vector) to the first front edge not at the nodes
+    /// `skip`, within `reach`.
+    pub(super) fn gap_along(
+        &mut self,
+        from: Point,
+        dir: Point,
+        reach: f64,
+        skip: &[u32],
+    ) -> Option<f64> {
+        let to = from + dir * reach;
+        self.front
+            .edges_near(from.min(to), from.max(to), &mut self.scratch.near);
+        let mut best: Option<f64> = None;
+        for &e in &self.scratch.near {
+            let (c, d) = (self.front.node(e), self.front.node(self.front.next(e)));
+            if skip.contains(&c) || skip.contains(&d) {
+                continue;
+            }
+            let (pc, pd) = (self.mesh.nodes[c as usize], self.mesh.nodes[d as usize]);
+            if let Some(t) = crate::geom::ray_segment(from, dir, pc, pd) {
+                if t <= reach && best.is_none_or(|b| t < b) {
+                    best = Some(t);
+                }
+            }
+        }
+        best
+    }
+
+    /// Candidate list at reference slot `s`, model first, then remedies:
+    /// the model's element (Pn sized, [`Mesher::sized_pn`]); where the
+    /// model's Pn comes near other front nodes, the element closed onto
+    /// each of them (snapped); the other types; where the front ahead is
+    /// too close for a full element and too far to reach, Pn half-way
+    /// across; the rule-based Pn.
     pub(super) fn candidates(
         &mut self,
         s: SlotId,
         pred: Prediction,
         frame: &Frame,
     ) -> Vec<(Cand, Remedy)> {
-        let f = &self.front;
-        let h = 0.5 * (self.world(s).distance(self.world(f.prev(s))) + frame.scale);
-        let mut out = Vec::with_capacity(8);
-        let pn_world = frame.to_world(pred.pn);
+        let pn_world = self.sized_pn(s, frame.to_world(pred.pn));
         let model_cand = match pred.element_type {
             ElementType::New => Cand::New { s, pn: pn_world },
             ElementType::Right => Cand::Right { s },
@@ -253,38 +419,90 @@ impl Mesher {
         if self.params.pure_model {
             return vec![(model_cand, Remedy::None)];
         }
-        let snap_pn = match pred.element_type {
-            ElementType::New => Some(pn_world),
-            _ => None,
-        };
-        if let Some(pn) = snap_pn {
-            if let Some(q) = self.snap_target(s, pn, self.params.snap_radius * h) {
-                out.push((Cand::Snap { s, q }, Remedy::Snapped));
-            }
-        }
+        let mut out = Vec::with_capacity(12);
         out.push((model_cand, Remedy::None));
+        let (l, r) = (self.front.prev(s), self.front.next(s));
+        let (p0, pl, pr) = (self.world(s), self.world(l), self.world(r));
+        let rule_pn = {
+            let l1 = frame.to_local(pl);
+            self.sized_pn(s, frame.to_world(rules::parallelogram(l1, Point::X)))
+        };
+        let pn = if pred.element_type == ElementType::New {
+            pn_world
+        } else {
+            rule_pn
+        };
+        let size = self.size.at(pn);
+        for q in self.snap_targets(s, pn, SNAP_REACH * size, 4) {
+            out.push((Cand::Snap { s, q }, Remedy::Snapped));
+        }
         for t in [Cand::Right { s }, Cand::Left { s }] {
             if t != model_cand {
                 out.push((t, Remedy::OtherType));
             }
         }
-        // Corrected Pn: the rule-based position, and the same nearer in.
-        let l1 = frame.to_local(self.world(self.front.prev(s)));
-        let pg = rules::parallelogram(l1, Point::X);
-        for scale in [1.0, 0.7] {
-            let pn = frame.to_world(pg * scale);
-            out.push((Cand::New { s, pn }, Remedy::CorrectedPn));
-        }
-        if pred.element_type != ElementType::New {
-            if let Some(q) = self.snap_target(s, frame.to_world(pg), self.params.snap_radius * h) {
-                out.push((Cand::Snap { s, q }, Remedy::Snapped));
+        // The front ahead: measured from P0's neighbours along the new
+        // sides; a gap of one to three sizes is split evenly.
+        let skip = [self.front.node(s), self.front.node(l), self.front.node(r)];
+        let mut gap: Option<f64> = None;
+        let mut along = 0.0;
+        for base in [pr, pl] {
+            let v = pn - base;
+            let len = v.length();
+            if len <= 0.0 {
+                continue;
+            }
+            if let Some(g) = self.gap_along(base, v / len, GAP_REACH * size, &skip) {
+                if gap.is_none_or(|b| g < b) {
+                    gap = Some(g);
+                    along = len;
+                }
             }
         }
+        if let Some(g) = gap {
+            if g > 0.8 * size && g < GAP_REACH * size {
+                let k = 0.5 * g / along;
+                out.push((
+                    Cand::New {
+                        s,
+                        pn: p0 + (pn - p0) * k,
+                    },
+                    Remedy::CorrectedPn,
+                ));
+            }
+        }
+        if let Some(row) = self.row_at(s) {
+            let base = self.world(row.base);
+            let height = self.size.at(base);
+            let prev = if row.right {
+                p0.distance(pl)
+            } else {
+                p0.distance(pr)
+            };
+            let h = height.clamp(prev / SIZE_STEP, prev * SIZE_STEP);
+            out.push((
+                Cand::New {
+                    s,
+                    pn: self.paving_pn(s, &row, h),
+                },
+                Remedy::CorrectedPn,
+            ));
+        }
+        out.push((Cand::New { s, pn: rule_pn }, Remedy::CorrectedPn));
+        out.push((
+            Cand::New {
+                s,
+                pn: p0 + (rule_pn - p0) * 0.7,
+            },
+            Remedy::CorrectedPn,
+        ));
         out
     }
 
     /// The model's element at reference slot `s`, or the best remedy. With
-    /// `rules`, the rule model stands in for the model.
+    /// `rules`, the rule model stands in for the model. The model's element
+    /// is taken when it scores at least `accept_score` and is not beaten by
+    /// more than [`MODEL_MARGIN`]; otherwise the best candidate.
     pub(super) fn evaluate(
         &mut self,
         s: SlotId,
@@ -309,6 +527,7 @@ impl Mesher {
         };
         let leading: Vec<u32> = slots.iter().map(|&t| self.front.node(t)).collect();
         let mut best: Option<Chosen> = None;
+        let mut model: Option<Chosen> = None;
         for (c, remedy) in self.candidates(s, pred, &frame) {
             let Some(score) = self.check(c, limits) else {
                 if self.params.pure_model && !rules {
@@ -319,19 +538,25 @@ impl Mesher {
                 }
                 continue;
             };
-            let better = best.as_ref().is_none_or(|b| beats(score, b.score));
-            if better {
-                best = Some(Chosen {
-                    cand: c,
-                    remedy,
-                    score,
-                    prediction: pred,
-                    frame,
-                    leading: leading.clone(),
-                });
+            let chosen = Chosen {
+                cand: c,
+                remedy,
+                score,
+                prediction: pred,
+                frame,
+                leading: leading.clone(),
+            };
+            if remedy == Remedy::None && model.is_none() {
+                if score >= EXCELLENT {
+                    return Ok(Some(chosen));
+                }
+                model = Some(chosen.clone());
             }
-            if remedy == Remedy::None && score >= self.params.accept_score {
-                break;
+            chosen.keep_if_best(&mut best);
+        }
+        if let (Some(m), Some(b)) = (&model, &best) {
+            if m.score >= self.params.accept_score && m.score + MODEL_MARGIN >= b.score {
+                return Ok(model);
             }
         }
         Ok(best)

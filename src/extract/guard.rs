@@ -4,7 +4,9 @@
 //! leaves has no sliver angle.
 
 use crate::front::{Front, SlotId};
-use crate::geom::{ccw_angle, is_strictly_convex, orient, segments_intersect, Point};
+use crate::geom::{
+    ccw_angle, is_strictly_convex, orient, point_segment_distance, segments_intersect, Point,
+};
 
 /// One corner of a candidate quad.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,22 +38,34 @@ pub struct Scratch {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Passed {
     pub corners: [Point; 4],
-    /// Quality of the element and of the front it leaves, in `[0, 1]`:
-    /// the minimum of the quad's scaled Jacobian, `1/aspect` softened, and
-    /// a factor that falls from 1 to 0 as an angle left on the front drops
-    /// from 60° to 15°.
+    /// Quality of the element and of the front it leaves (thesis §2.3.1:
+    /// "a good element and a good remaining boundary"), in `[0, 1]`: the
+    /// minimum of the quad's scaled Jacobian, `1/aspect` softened, a factor
+    /// that falls from 1 to 0 as an angle left on the front drops from 60°
+    /// to 15°, and one that falls from 1 to 0 as the room left between the
+    /// element's new sides and the rest of the front drops from
+    /// [`CLEAR_GOOD`] to [`CLEAR_NONE`] local sizes (a gap that narrow
+    /// would become a sliver); times a factor for how far the new sides'
+    /// lengths are from the local size.
     pub score: f64,
 }
 
+/// Room, in local element sizes, from a candidate's new sides and node to
+/// the rest of the front that is enough for the next element.
+pub const CLEAR_GOOD: f64 = 0.7;
+/// Room below which a candidate leaves a gap only a sliver could fill.
+pub const CLEAR_NONE: f64 = 0.25;
+
 /// Checks a candidate quad. `consumed` are the front edges (by start slot)
-/// that become sides of the quad. Returns the corners and score when it
-/// passes.
+/// that become sides of the quad; `size` is the local element size.
+/// Returns the corners and score when it passes.
 pub fn check(
     front: &Front,
     nodes: &[Point],
     corners: [Corner; 4],
     consumed: &[SlotId],
     limits: Limits,
+    size: f64,
     scratch: &mut Scratch,
 ) -> Option<Passed> {
     let pos = |c: Corner| match c {
@@ -100,12 +114,26 @@ pub fn check(
         (Some(a), Some(b)) => consumed_edges.contains(&(b, a)) || consumed_edges.contains(&(a, b)),
         _ => false,
     };
-    let lo = p.iter().fold(Point::splat(f64::INFINITY), |a, &b| a.min(b));
+    // Front edges near the quad: within the room that counts as enough, so
+    // the same query finds what crosses the quad and what comes close.
+    let reach = Point::splat(CLEAR_GOOD * size);
+    let lo = p.iter().fold(Point::splat(f64::INFINITY), |a, &b| a.min(b)) - reach;
     let hi = p
         .iter()
-        .fold(Point::splat(f64::NEG_INFINITY), |a, &b| a.max(b));
+        .fold(Point::splat(f64::NEG_INFINITY), |a, &b| a.max(b))
+        + reach;
     front.edges_near(lo, hi, &mut scratch.near);
     let new_sides: Vec<usize> = (0..4).filter(|&k| !is_consumed(k)).collect();
+    // Each corner's front neighbours: their room to the sides at that
+    // corner is the front angle left there, judged above.
+    let neighbours = corners.map(|c| match c {
+        Corner::Full(s) | Corner::Partial(s) => [
+            Some(front.node(front.prev(s))),
+            Some(front.node(front.next(s))),
+        ],
+        Corner::New(_) => [None, None],
+    });
+    let mut clearance = f64::INFINITY;
     for &e in &scratch.near {
         if consumed.contains(&e) {
             continue;
@@ -137,12 +165,40 @@ pub fn check(
             if (0..4).all(|k| orient(p[k], p[(k + 1) % 4], pv) >= 0.0) {
                 return None;
             }
+            // Room between the quad's new sides and this node.
+            for &k in &new_sides {
+                let k1 = (k + 1) % 4;
+                if neighbours[k].contains(&Some(v)) || neighbours[k1].contains(&Some(v)) {
+                    continue;
+                }
+                clearance = clearance.min(point_segment_distance(pv, p[k], p[(k + 1) % 4]));
+            }
+        }
+        // Room between a new node and this edge.
+        for k in 0..4 {
+            if ids[k].is_none() && !touches(&ids, c, d) {
+                clearance = clearance.min(point_segment_distance(p[k], pc, pd));
+            }
         }
     }
     let q = crate::quality::Shape::of(p);
-    let size = (1.0 / q.aspect()).sqrt();
+    let stretch = (1.0 / q.aspect()).sqrt();
+    let room = ((clearance / size - CLEAR_NONE) / (CLEAR_GOOD - CLEAR_NONE)).clamp(0.0, 1.0);
+    // New sides far from the local size cost a little: a tie-breaker
+    // between otherwise good elements, not a limit.
+    let mut fit: f64 = 1.0;
+    for &k in &new_sides {
+        let len = p[k].distance(p[(k + 1) % 4]);
+        fit = fit.min((1.0 - 0.35 * (len / size).ln().abs()).clamp(0.2, 1.0));
+    }
     Some(Passed {
         corners: p,
-        score: q.scaled_jacobian.min(size).min(front_factor),
+        score: q.scaled_jacobian.min(stretch).min(front_factor).min(room) * fit,
     })
+}
+
+/// True when front edge `c–d` has an end among the quad's corners or next
+/// to one on the front.
+fn touches(ids: &[Option<u32>; 4], c: u32, d: u32) -> bool {
+    ids.contains(&Some(c)) || ids.contains(&Some(d))
 }

@@ -29,7 +29,10 @@ impl Mesher {
             }
         }
         let limits = self.limits();
-        // 0. A loop with no reference point starts a row with a square.
+        // 0. A loop with no reference point starts a row with a square:
+        //    a new loop, or (strategy B) a loop whose rows have fallen
+        //    behind the layer the queue has moved on to.
+        self.queue_rows_behind();
         while let Some(lid) = self.row_start.pop() {
             if self.front.loops[lid as usize].alive
                 && self.front.loops[lid as usize].len > 6
@@ -192,6 +195,37 @@ impl Mesher {
             loop_index: lid,
             node: self.front.node(head),
         })
+    }
+
+    /// Strategy B: when the queue moves on to a deeper layer, every loop
+    /// left behind on a shallower one without a reference point (the front
+    /// around a hole after a full ring, all its angles reflex) is queued
+    /// for a row start, so that every loop advances layer by layer.
+    fn queue_rows_behind(&mut self) {
+        if self.params.strategy != super::params::Strategy::B {
+            return;
+        }
+        let Some(layer) = self.queue_layer() else {
+            return;
+        };
+        if layer <= self.row_layer {
+            return;
+        }
+        self.row_layer = layer;
+        let hi = self.params.reference_angle[1].to_radians();
+        let behind: Vec<u32> = self
+            .front
+            .live_loops()
+            .filter(|&lid| {
+                let slots = self.front.loop_slots(lid);
+                slots.len() > 6
+                    && slots.iter().any(|&s| self.front.slot(s).layer < layer)
+                    && slots
+                        .iter()
+                        .all(|&s| self.front.angle(s, &self.mesh.nodes) > hi)
+            })
+            .collect();
+        self.row_start.extend(behind);
     }
 
     /// True when some slot of the loop is a reference point or sharp corner.

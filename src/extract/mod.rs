@@ -23,6 +23,7 @@ mod queue;
 mod repair;
 mod report;
 mod session;
+pub mod size;
 
 pub use params::{MeshParams, Strategy};
 pub use report::{

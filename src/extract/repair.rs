@@ -264,6 +264,7 @@ impl Mesher {
                     corners,
                     &[s],
                     limits,
+                    self.size.at(a),
                     &mut self.scratch,
                 )
                 .is_some()

@@ -12,6 +12,7 @@ use super::queue::Entry;
 use super::report::{
     Action, Correction, MeshError, Remedy, StepKind, StepOutcome, StepReport, StepStats,
 };
+use super::size::SizeField;
 use crate::boundary::Boundary;
 use crate::front::{Front, SlotId};
 use crate::geom::Point;
@@ -49,6 +50,11 @@ pub struct Mesher {
     pub(super) stats: StepStats,
     pub(super) scratch: Scratch,
     pub(super) step_limit: usize,
+    /// The deepest layer the queue has reached when loops left behind
+    /// were last looked for.
+    pub(super) row_layer: u32,
+    /// The element size wanted anywhere in the domain.
+    pub(super) size: Arc<SizeField>,
     pub(super) rules: RulesModel,
     /// Loops to check for a first row (no reference point on them).
     pub(super) row_start: Vec<u32>,
@@ -86,8 +92,11 @@ impl Mesher {
         let est = (boundary.area() / (min_seg * min_seg)).min(1e9) as usize;
         let work = est.max(boundary.node_count());
         let step_limit = params.max_steps.unwrap_or(8 * work + 10_000);
+        let size = Arc::new(SizeField::of_boundary(&boundary));
         let mut m = Mesher {
             step_limit,
+            row_layer: 0,
+            size,
             fill_after: (FILL_BUDGET * (boundary.area() / (h * h)).min(1e9)) as usize
                 + boundary.node_count()
                 + 200,

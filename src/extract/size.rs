@@ -1,0 +1,240 @@
+//! The element size field (thesis §1.2: elements dense near short boundary
+//! segments, sizes changing smoothly): the size at a boundary node is the
+//! mean length of its two segments, and inside the domain it is
+//! interpolated linearly over a constrained Delaunay triangulation of the
+//! boundary nodes (as Gmsh interpolates a boundary's mesh sizes when it is
+//! given no other), then sampled on a uniform grid so a look-up costs the
+//! same anywhere. Extraction uses it to give rows their height and to tell
+//! when two fronts are about to meet.
+
+use crate::boundary::Boundary;
+use crate::geom::Point;
+use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
+
+/// Grid cells along the longer side of the domain's bounding box, at most.
+const MAX_CELLS_PER_SIDE: usize = 1024;
+
+/// A size field sampled on a grid of cell centres, looked up bilinearly.
+#[derive(Clone, Debug)]
+pub struct SizeField {
+    origin: Point,
+    inv_cell: f64,
+    nx: usize,
+    ny: usize,
+    h: Vec<f32>,
+    /// Smallest and largest size anywhere.
+    range: [f64; 2],
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Sized {
+    p: Point2<f64>,
+    h: f64,
+}
+
+impl HasPosition for Sized {
+    type Scalar = f64;
+    fn position(&self) -> Point2<f64> {
+        self.p
+    }
+}
+
+impl SizeField {
+    /// The field of `boundary`'s spacing.
+    pub fn of_boundary(boundary: &Boundary) -> SizeField {
+        let pts = &boundary.points;
+        let mut node_h = vec![0.0; pts.len()];
+        for l in &boundary.loops {
+            let n = l.len();
+            for k in 0..n {
+                let (a, v, b) = (l[(k + n - 1) % n], l[k], l[(k + 1) % n]);
+                node_h[v] = 0.5 * (pts[a].distance(pts[v]) + pts[v].distance(pts[b]));
+            }
+        }
+        let bb = boundary.bbox();
+        let size = bb.size();
+        let lo = node_h.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = node_h.iter().copied().fold(0.0, f64::max);
+        let extent = size.max_element().max(f64::MIN_POSITIVE);
+        let cell = (extent / MAX_CELLS_PER_SIDE as f64).max(0.5 * lo.min(extent));
+        let nx = ((size.x / cell).ceil() as usize).clamp(1, MAX_CELLS_PER_SIDE + 1) + 1;
+        let ny = ((size.y / cell).ceil() as usize).clamp(1, MAX_CELLS_PER_SIDE + 1) + 1;
+        let mut f = SizeField {
+            origin: bb.min,
+            inv_cell: 1.0 / cell,
+            nx,
+            ny,
+            h: vec![f32::NAN; nx * ny],
+            range: [lo, hi],
+        };
+        let median = boundary.median_segment();
+        if !f.rasterise(boundary, &node_h) {
+            f.h.fill(median as f32);
+            f.range = [median, median];
+        }
+        f.fill_gaps(median);
+        f
+    }
+
+    /// Linear interpolation over the triangles of the boundary nodes'
+    /// constrained Delaunay triangulation, written to the cell centres each
+    /// triangle covers. False when the triangulation cannot be built.
+    fn rasterise(&mut self, boundary: &Boundary, node_h: &[f64]) -> bool {
+        // Coordinates relative to the box's corner keep the triangulation's
+        // arithmetic at the domain's own scale wherever the domain lies.
+        let o = self.origin;
+        let vertices: Vec<Sized> = boundary
+            .points
+            .iter()
+            .zip(node_h)
+            .map(|(p, &h)| Sized {
+                p: Point2::new(p.x - o.x, p.y - o.y),
+                h,
+            })
+            .collect();
+        let edges: Vec<[usize; 2]> = boundary.segments().map(|(a, b)| [a, b]).collect::<Vec<_>>();
+        let built = std::panic::catch_unwind(move || {
+            ConstrainedDelaunayTriangulation::<Sized>::try_bulk_load_cdt(vertices, edges, |_| {})
+        });
+        let Ok(Ok(cdt)) = built else {
+            return false;
+        };
+        let cell = 1.0 / self.inv_cell;
+        for face in cdt.inner_faces() {
+            let [a, b, c] = face.vertices().map(|v| {
+                let d = v.data();
+                (Point::new(d.p.x, d.p.y), d.h)
+            });
+            let area2 = (b.0 - a.0).perp_dot(c.0 - a.0);
+            if area2.abs() <= 0.0 {
+                continue;
+            }
+            let lo = a.0.min(b.0).min(c.0);
+            let hi = a.0.max(b.0).max(c.0);
+            let (i0, j0) = (
+                ((lo.x / cell).floor().max(0.0)) as usize,
+                ((lo.y / cell).floor().max(0.0)) as usize,
+            );
+            let (i1, j1) = (
+                ((hi.x / cell).ceil() as usize).min(self.nx - 1),
+                ((hi.y / cell).ceil() as usize).min(self.ny - 1),
+            );
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    let p = Point::new(i as f64 * cell, j as f64 * cell);
+                    let wa = (b.0 - p).perp_dot(c.0 - p) / area2;
+                    let wb = (c.0 - p).perp_dot(a.0 - p) / area2;
+                    let wc = 1.0 - wa - wb;
+                    let eps = -1e-9;
+                    if wa >= eps && wb >= eps && wc >= eps {
+                        self.h[j * self.nx + i] = (wa * a.1 + wb * b.1 + wc * c.1) as f32;
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    /// Cells no triangle covered (outside the domain, in holes) take the
+    /// mean of their covered neighbours, ring by ring; `fallback` where
+    /// nothing was covered at all.
+    fn fill_gaps(&mut self, fallback: f64) {
+        let (nx, ny) = (self.nx, self.ny);
+        let mut todo: Vec<usize> = (0..nx * ny).filter(|&k| self.h[k].is_nan()).collect();
+        while !todo.is_empty() {
+            let mut next = Vec::new();
+            let mut set = Vec::new();
+            for &k in &todo {
+                let (i, j) = (k % nx, k / nx);
+                let (mut s, mut n) = (0.0f32, 0);
+                for (di, dj) in [(-1i64, 0i64), (1, 0), (0, -1), (0, 1)] {
+                    let (a, b) = (i as i64 + di, j as i64 + dj);
+                    if a >= 0 && b >= 0 && (a as usize) < nx && (b as usize) < ny {
+                        let v = self.h[b as usize * nx + a as usize];
+                        if !v.is_nan() {
+                            s += v;
+                            n += 1;
+                        }
+                    }
+                }
+                if n > 0 {
+                    set.push((k, s / n as f32));
+                } else {
+                    next.push(k);
+                }
+            }
+            if set.is_empty() {
+                for k in next {
+                    self.h[k] = fallback as f32;
+                }
+                break;
+            }
+            for (k, v) in set {
+                self.h[k] = v;
+            }
+            todo = next;
+        }
+    }
+
+    /// The size at `p` (bilinear between cell centres, clamped to the grid).
+    pub fn at(&self, p: Point) -> f64 {
+        let q = (p - self.origin) * self.inv_cell;
+        let x = q.x.clamp(0.0, (self.nx - 1) as f64);
+        let y = q.y.clamp(0.0, (self.ny - 1) as f64);
+        let (i, j) = (
+            (x as usize).min(self.nx.saturating_sub(2)),
+            (y as usize).min(self.ny.saturating_sub(2)),
+        );
+        let (fx, fy) = (x - i as f64, y - j as f64);
+        let at =
+            |i: usize, j: usize| self.h[(j.min(self.ny - 1)) * self.nx + i.min(self.nx - 1)] as f64;
+        let a = at(i, j) * (1.0 - fx) + at(i + 1, j) * fx;
+        let b = at(i, j + 1) * (1.0 - fx) + at(i + 1, j + 1) * fx;
+        (a * (1.0 - fy) + b * fy).clamp(self.range[0], self.range[1])
+    }
+
+    /// Smallest and largest size of the field.
+    pub fn range(&self) -> [f64; 2] {
+        self.range
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uniform_spacing_gives_a_uniform_field() {
+        let b = Boundary::unit_square(10);
+        let f = SizeField::of_boundary(&b);
+        for p in [
+            Point::new(0.5, 0.5),
+            Point::new(0.1, 0.9),
+            Point::new(0.0, 0.0),
+        ] {
+            assert!((f.at(p) - 0.1).abs() < 1e-6, "{}", f.at(p));
+        }
+    }
+
+    #[test]
+    fn graded_spacing_is_interpolated() {
+        // A 1 × 1 square: 10 segments along the bottom, 2 along the top.
+        let mut pts: Vec<Point> = (0..=10).map(|i| Point::new(i as f64 / 10.0, 0.0)).collect();
+        pts.push(Point::new(1.0, 0.5));
+        pts.push(Point::new(1.0, 1.0));
+        pts.push(Point::new(0.5, 1.0));
+        pts.push(Point::new(0.0, 1.0));
+        pts.push(Point::new(0.0, 0.5));
+        let n = pts.len();
+        let b = Boundary::new(pts, vec![(0..n).collect()], None).unwrap();
+        let f = SizeField::of_boundary(&b);
+        let bottom = f.at(Point::new(0.5, 0.02));
+        let middle = f.at(Point::new(0.5, 0.5));
+        let top = f.at(Point::new(0.5, 0.98));
+        assert!(bottom < middle && middle < top, "{bottom} {middle} {top}");
+        assert!(
+            (bottom - 0.1).abs() < 0.03 && (top - 0.5).abs() < 0.05,
+            "{bottom} {top}"
+        );
+    }
+}
