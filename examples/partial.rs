@@ -62,6 +62,16 @@ fn main() {
             break;
         }
     }
+    if let Some(node) = opt("--explain").and_then(|s| s.parse::<u32>().ok()) {
+        match m.explain(node) {
+            Some(list) => {
+                for c in list {
+                    eprintln!("  {c:?}");
+                }
+            }
+            None => eprintln!("node {node} is not on the front"),
+        }
+    }
     let mut svg = write_svg(m.mesh(), &SvgOptions::default());
     // Overlay the front.
     let mesh = m.mesh();
@@ -89,6 +99,21 @@ fn main() {
     extra.push_str("</g>\n</svg>\n");
     svg = svg.replace("</svg>\n", &extra);
     std::fs::write(output, svg).expect("write");
+    if f.len() <= 24 {
+        for lid in f.live_loops() {
+            let pts: Vec<String> = f
+                .loop_slots(lid)
+                .iter()
+                .map(|&sl| {
+                    let v = f.node(sl);
+                    let p = mesh.nodes[v as usize];
+                    let b = if mesh.is_boundary(v) { "*" } else { "" };
+                    format!("{v}{b}({:.4},{:.4}) {:.1}°", p.x, p.y, f.angle(sl, &mesh.nodes).to_degrees())
+                })
+                .collect();
+            eprintln!("loop {lid}: {}", pts.join("  "));
+        }
+    }
     eprintln!(
         "{} quads, {} front nodes in {} loops; steps {:?}",
         mesh.quads.len(),

@@ -11,6 +11,7 @@ use crate::front::SlotId;
 use crate::geom::{ccw_angle, Point};
 use crate::model::{rules, ElementType, Model, Prediction};
 use crate::normalize::{Frame, LeadingPoints};
+use std::f64::consts::PI;
 
 /// A candidate element at a reference slot.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -19,6 +20,20 @@ pub(super) enum Cand {
     Snap { s: SlotId, q: SlotId },
     Right { s: SlotId },
     Left { s: SlotId },
+}
+
+/// One candidate element as [`Mesher::explain`] lists it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CandidateReport {
+    /// [`Remedy::None`] for the model's own element.
+    pub remedy: Remedy,
+    pub element_type: ElementType,
+    /// The new node of a type-0 element.
+    pub pn: Option<Point>,
+    /// The front node a snapped element closes onto.
+    pub snap_to: Option<u32>,
+    /// The guard's score, `None` when it refuses the element.
+    pub score: Option<f64>,
 }
 
 /// A row being continued at a reference point: the front node it goes on
@@ -54,6 +69,13 @@ const SIZE_STEP: f64 = 1.1;
 const SNAP_REACH: f64 = 0.8;
 /// The front ahead is looked for within this many local sizes.
 const GAP_REACH: f64 = 2.8;
+/// How far past a right-angled kite the element at a sharp corner may open
+/// its opposite corner.
+const TIP_SLACK: f64 = 5.0 * PI / 180.0;
+/// The kite at a sharp corner reaches this fraction of the way to right
+/// angles beside the tip.
+const TIP_REACH: f64 = 0.95;
+
 /// A front node whose angle is above this is a row's side (below, it is a
 /// corner the row ends at).
 const ROW_SIDE: f64 = 150.0 * std::f64::consts::PI / 180.0;
@@ -128,6 +150,19 @@ impl Mesher {
 
     /// The guard on one candidate: its score when it passes.
     pub(super) fn check(&mut self, c: Cand, limits: Limits) -> Option<f64> {
+        let (Cand::New { s: p0, .. } | Cand::Snap { s: p0, .. } | Cand::Right { s: p0 } | Cand::Left { s: p0 }) = c;
+        // The element at a sharp corner of the front has that corner's
+        // angle; the corner opposite may open as far as a kite with right
+        // angles beside the tip needs.
+        let tip = self.front.angle(p0, &self.mesh.nodes);
+        let limits = if tip < self.params.reference_angle[0].to_radians() {
+            Limits {
+                max_corner: limits.max_corner.max(PI - tip + TIP_SLACK),
+                ..limits
+            }
+        } else {
+            limits
+        };
         let at = match c {
             Cand::New { s, pn } => 0.5 * (self.world(s) + pn),
             Cand::Snap { s, .. } | Cand::Right { s } | Cand::Left { s } => self.world(s),
@@ -488,6 +523,14 @@ impl Mesher {
                 Remedy::CorrectedPn,
             ));
         }
+        // At a sharp corner, the kite with near right angles beside it.
+        let theta = self.front.angle(s, &self.mesh.nodes);
+        if theta < self.params.reference_angle[0].to_radians() {
+            let a = 0.5 * (p0.distance(pl) + p0.distance(pr));
+            let dir = ((pl - p0).normalize_or_zero() + (pr - p0).normalize_or_zero()).normalize_or_zero();
+            let d = TIP_REACH * a / (0.5 * theta).cos();
+            out.push((Cand::New { s, pn: p0 + dir * d }, Remedy::CorrectedPn));
+        }
         out.push((Cand::New { s, pn: rule_pn }, Remedy::CorrectedPn));
         out.push((
             Cand::New {
@@ -509,22 +552,7 @@ impl Mesher {
         limits: Limits,
         rules: bool,
     ) -> Result<Option<Chosen>, MeshError> {
-        let n = if rules { 2 } else { self.leading_n() };
-        let slots = self.leading_slots(s, n);
-        let (frame, input) = self.normalised(&slots);
-        let pred = if rules {
-            self.rules.predict(&input)
-        } else {
-            self.model.predict(&input)
-        };
-        let pred = if pred.pn.is_finite() {
-            pred
-        } else {
-            Prediction {
-                pn: Point::new(1.0, 1.0),
-                ..pred
-            }
-        };
+        let (slots, frame, pred) = self.predict_at(s, rules);
         let leading: Vec<u32> = slots.iter().map(|&t| self.front.node(t)).collect();
         let mut best: Option<Chosen> = None;
         let mut model: Option<Chosen> = None;
@@ -560,6 +588,66 @@ impl Mesher {
             }
         }
         Ok(best)
+    }
+
+    /// The leading slots, frame and prediction at reference slot `s` (with
+    /// `rules`, of the rule model on two leading points a side). A
+    /// prediction that is not finite becomes the square corner's Pn.
+    fn predict_at(&self, s: SlotId, rules: bool) -> (Vec<SlotId>, Frame, Prediction) {
+        let n = if rules { 2 } else { self.leading_n() };
+        let slots = self.leading_slots(s, n);
+        let (frame, input) = self.normalised(&slots);
+        let pred = if rules {
+            self.rules.predict(&input)
+        } else {
+            self.model.predict(&input)
+        };
+        let pred = if pred.pn.is_finite() {
+            pred
+        } else {
+            Prediction {
+                pn: Point::new(1.0, 1.0),
+                ..pred
+            }
+        };
+        (slots, frame, pred)
+    }
+
+    /// Every candidate element at front node `node` as the next step would
+    /// see it, in the order they are tried: what it is, its new node or the
+    /// node it closes onto, and its score, or `None` where the guard refuses
+    /// it. `None` when the node is not on the front. The state is not
+    /// changed.
+    pub fn explain(&mut self, node: u32) -> Option<Vec<CandidateReport>> {
+        let s = self
+            .front
+            .live_loops()
+            .flat_map(|l| self.front.loop_slots(l))
+            .find(|&s| self.front.node(s) == node)?;
+        let limits = self.limits();
+        let (_, frame, pred) = self.predict_at(s, false);
+        let cands = self.candidates(s, pred, &frame);
+        Some(
+            cands
+                .into_iter()
+                .map(|(c, remedy)| {
+                    let score = self.check(c, limits);
+                    let (element_type, pn, snap_to) = match c {
+                        Cand::New { pn, .. } => (ElementType::New, Some(pn), None),
+                        Cand::Snap { q, .. } => (ElementType::New, None, Some(self.front.node(q))),
+                        Cand::Right { .. } => (ElementType::Right, None, None),
+                        Cand::Left { .. } => (ElementType::Left, None, None),
+                    };
+                    CandidateReport {
+                        remedy,
+                        element_type,
+                        pn,
+                        snap_to,
+                        score,
+                    }
+                })
+                .collect(),
+        )
     }
 
     pub(super) fn commit_chosen(&mut self, c: Chosen) -> StepReport {

@@ -9,12 +9,21 @@
 //!
 //! chosen over all rotations as the valid one of best minimum scaled
 //! Jacobian.
+//!
+//! A small loop that does not close as it stands has its movable nodes
+//! settled first ([`Mesher::settle_small`]).
 
 use super::report::{StepKind, StepReport};
 use super::session::Mesher;
 use crate::front::SlotId;
 use crate::geom::{is_measurably_convex, Point};
+use crate::mesh::QuadMesh;
+use crate::smooth::pattern_search;
 use crate::quality::Shape;
+
+/// A small loop whose closure and whose nodes' quads are all at least this
+/// good (scaled Jacobian) is not settled.
+const SETTLED: f64 = 0.3;
 
 /// A way to fill a 6-node loop: the quads (indices into the loop, with
 /// 6 standing for the interior node) and the interior node, if any.
@@ -48,48 +57,77 @@ fn score(pts: &[Point], interior: Option<Point>, quads: &[[usize; 4]]) -> Option
     Some(min_sj)
 }
 
+/// The best closure a loop of 4 or 6 nodes could have: the scaled
+/// Jacobian (signed, so a folded closure scores below zero) of its one quad,
+/// or the best over the patterns and rotations of [`fill_six`] of their
+/// worst quad. A continuous measure a node can be moved to improve.
+pub fn closure_quality(pts: &[Point]) -> f64 {
+    match pts.len() {
+        4 => Shape::of([pts[0], pts[1], pts[2], pts[3]]).scaled_jacobian,
+        6 => {
+            let p6: [Point; 6] = std::array::from_fn(|k| pts[k]);
+            patterns(&p6)
+                .into_iter()
+                .map(|(_, interior, quads)| {
+                    let at = |i: usize| if i == 6 { interior.unwrap_or(Point::ZERO) } else { p6[i] };
+                    quads
+                        .iter()
+                        .map(|q| Shape::of(q.map(at)).scaled_jacobian)
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .fold(f64::NEG_INFINITY, f64::max)
+        }
+        _ => f64::NEG_INFINITY,
+    }
+}
+
+/// Every pattern of Figure 20 over every rotation of a 6-node loop: its
+/// letter, interior node and quads (index 6 = the interior node).
+fn patterns(pts: &[Point; 6]) -> Vec<(char, Option<Point>, Vec<[usize; 4]>)> {
+    let mut out = Vec::with_capacity(18);
+    for r in 0..6 {
+        let i = |k: usize| (k - 1 + r) % 6; // 1-based pattern index → loop index
+        out.push((
+            'a',
+            Some((pts[i(2)] + pts[i(4)] + pts[i(6)]) / 3.0),
+            vec![
+                [i(1), i(2), 6, i(6)],
+                [i(2), i(3), i(4), 6],
+                [i(4), i(5), i(6), 6],
+            ],
+        ));
+        out.push((
+            'b',
+            Some((3.0 * pts[i(3)] + 3.0 * pts[i(5)] + pts[i(2)] + pts[i(6)]) / 8.0),
+            vec![
+                [i(1), i(2), i(3), 6],
+                [i(3), i(4), i(5), 6],
+                [i(5), i(6), i(1), 6],
+            ],
+        ));
+        out.push((
+            'c',
+            None,
+            vec![[i(1), i(2), i(3), i(6)], [i(3), i(4), i(5), i(6)]],
+        ));
+    }
+    out
+}
+
 /// The best fill of a 6-node loop (positions in loop order, CCW), or `None`
 /// when no pattern gives convex quads. The caller still checks that an
 /// interior node does not fall on other front edges.
 pub fn fill_six(pts: &[Point; 6]) -> Option<Fill> {
     let mut best: Option<Fill> = None;
-    for r in 0..6 {
-        let i = |k: usize| (k - 1 + r) % 6; // 1-based pattern index → loop index
-        let cands = [
-            (
-                'a',
-                Some((pts[i(2)] + pts[i(4)] + pts[i(6)]) / 3.0),
-                vec![
-                    [i(1), i(2), 6, i(6)],
-                    [i(2), i(3), i(4), 6],
-                    [i(4), i(5), i(6), 6],
-                ],
-            ),
-            (
-                'b',
-                Some((3.0 * pts[i(3)] + 3.0 * pts[i(5)] + pts[i(2)] + pts[i(6)]) / 8.0),
-                vec![
-                    [i(1), i(2), i(3), 6],
-                    [i(3), i(4), i(5), 6],
-                    [i(5), i(6), i(1), 6],
-                ],
-            ),
-            (
-                'c',
-                None,
-                vec![[i(1), i(2), i(3), i(6)], [i(3), i(4), i(5), i(6)]],
-            ),
-        ];
-        for (pattern, interior, quads) in cands {
-            if let Some(min_sj) = score(pts, interior, &quads) {
-                if best.as_ref().is_none_or(|b| min_sj > b.min_sj) {
-                    best = Some(Fill {
-                        pattern,
-                        interior,
-                        quads,
-                        min_sj,
-                    });
-                }
+    for (pattern, interior, quads) in patterns(pts) {
+        if let Some(min_sj) = score(pts, interior, &quads) {
+            if best.as_ref().is_none_or(|b| min_sj > b.min_sj) {
+                best = Some(Fill {
+                    pattern,
+                    interior,
+                    quads,
+                    min_sj,
+                });
             }
         }
     }
@@ -158,6 +196,90 @@ impl Mesher {
             }
             _ => None,
         }
+    }
+
+    /// A loop of 4 or 6 slots that does not close as it stands: its
+    /// movable nodes (made by extraction, on the front only once) are moved,
+    /// each by a pattern search, to where the worst of their quads and of
+    /// the loop's best closure ([`closure_quality`]) is best, keeping the
+    /// front free of crossings (paving's smoothing before closure). True
+    /// when a node moved.
+    pub(super) fn settle_small(&mut self, lid: u32) -> bool {
+        let slots = self.front.loop_slots(lid);
+        let nodes: Vec<u32> = slots.iter().map(|&s| self.front.node(s)).collect();
+        if !matches!(nodes.len(), 4 | 6) {
+            return false;
+        }
+        let mut moved = false;
+        for (k, &s) in slots.iter().enumerate() {
+            let v = nodes[k];
+            if self.mesh.is_boundary(v) || !self.front_once(v) {
+                continue;
+            }
+            let quads: Vec<u32> = self.incident[v as usize].clone();
+            let quality = |m: &QuadMesh| {
+                let pts: Vec<Point> = nodes.iter().map(|&u| m.nodes[u as usize]).collect();
+                let mut worst = closure_quality(&pts);
+                let mut sum = worst;
+                for &q in &quads {
+                    let c = m.corners(&m.quads[q as usize]);
+                    if !is_measurably_convex(c) {
+                        return None;
+                    }
+                    let sj = Shape::of(c).scaled_jacobian;
+                    worst = worst.min(sj);
+                    sum += sj;
+                }
+                Some((worst, sum))
+            };
+            let Some(start) = quality(&self.mesh) else {
+                continue;
+            };
+            if start.0 >= SETTLED {
+                continue;
+            }
+            let mut nbs: Vec<u32> = quads
+                .iter()
+                .flat_map(|&q| self.mesh.quads[q as usize])
+                .filter(|&u| u != v)
+                .collect();
+            nbs.extend(nodes.iter().copied().filter(|&u| u != v));
+            let old = self.mesh.nodes[v as usize];
+            self.front.unfile_edges_at(s, &self.mesh.nodes);
+            let at = pattern_search(&mut self.mesh, v as usize, &nbs, start, quality);
+            let (pp, pn) = (
+                self.world(self.front.prev(s)),
+                self.world(self.front.next(s)),
+            );
+            let (np, nn) = (
+                self.front.node(self.front.prev(s)),
+                self.front.node(self.front.next(s)),
+            );
+            if at != old && (self.crosses_front(at, pp, &[v, np]) || self.crosses_front(at, pn, &[v, nn])) {
+                self.mesh.nodes[v as usize] = old;
+            } else if at != old {
+                moved = true;
+            }
+            self.front.refile_edges_at(s, v, &self.mesh.nodes);
+        }
+        if moved {
+            for &s in &slots {
+                self.push(s);
+            }
+        }
+        moved
+    }
+
+    /// True when node `v` stands on the front once (not where a loop was
+    /// pinched), judged by the slots at its position.
+    pub(super) fn front_once(&mut self, v: u32) -> bool {
+        let p = self.mesh.nodes[v as usize];
+        let probe = Point::splat(1e-12 * (1.0 + p.abs().max_element()));
+        self.front.edges_near(p - probe, p + probe, &mut self.scratch.near);
+        let near = std::mem::take(&mut self.scratch.near);
+        let count = near.iter().filter(|&&e| self.front.node(e) == v).count();
+        self.scratch.near = near;
+        count <= 1
     }
 
     /// No other front edge or node lies inside the loop `slots` (e.g. a hole

@@ -53,6 +53,11 @@ impl Mesher {
             if let Some(r) = self.close_small(lid) {
                 return Ok(r);
             }
+            if self.settle_small(lid) {
+                if let Some(r) = self.close_small(lid) {
+                    return Ok(r);
+                }
+            }
         }
         // 2. The region inside the first layers is filled directly.
         if let Some(k) = self.params.fill_after_layers {

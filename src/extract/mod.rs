@@ -25,6 +25,7 @@ mod report;
 mod session;
 pub mod size;
 
+pub use candidate::CandidateReport;
 pub use params::{MeshParams, Strategy};
 pub use report::{
     Action, Correction, MeshError, Remedy, StepKind, StepOutcome, StepReport, StepStats,
