@@ -409,7 +409,7 @@ impl ModelFile {
             return Err(ModelFileError::Version { found: f.version });
         }
         let n = f.coefficients.n();
-        if f.points != 2 * n + 1 || !(2..=5).contains(&n) {
+        if !(2..=5).contains(&n) || f.points != 2 * n + 1 {
             return Err(ModelFileError::Points {
                 points: f.points,
                 n,
