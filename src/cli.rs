@@ -493,13 +493,16 @@ fn run(c: Command) -> Result<()> {
             let folds = match folds {
                 Some(1) => {
                     return Err(InputError(anyhow!(
-                        "--folds 1: one fold holds nothing out; give 2 to {} (or 0 to skip the held-out figures)",
+                        "{}: --folds 1: one fold holds nothing out; give 2 to {} (or 0 to skip the held-out figures)",
+                        sets[0].display(),
                         fit::MAX_FOLDS.min(set.len())
                     ))
                     .into())
                 }
                 Some(f) => {
-                    fit::check_folds(f, set.len()).map_err(|e| InputError(anyhow!("--folds: {e}")))?;
+                    fit::check_folds(f, set.len()).map_err(|e| {
+                        InputError(anyhow!("{}: --folds: {e}", sets[0].display()))
+                    })?;
                     f
                 }
                 None if set.len() >= 2 => FitParams::DEFAULT.folds.min(set.len()),

@@ -308,7 +308,7 @@ fn folds_are_bounded() {
         ("1", "--folds 1"),
     ] {
         let r = fit(set, &model, &["--folds", folds, "--form", "quadratic"]);
-        assert_refused(&r, "", expect);
+        assert_refused(&r, set, expect);
         assert!(r.seconds < 5.0);
         assert!(!model.exists());
     }
