@@ -95,6 +95,31 @@ pub fn check_folds(folds: usize, samples: usize) -> Result<(), FitError> {
     Ok(())
 }
 
+/// Checks a set before a fit: 5, 7, 9 or 11 input points and every sample
+/// well formed ([`crate::samples::sample_problem`]: `N` leading points a
+/// side, coordinates finite and in range), samples numbered from 1.
+pub fn check_set(set: &TrainingSet) -> Result<(), FitError> {
+    if !matches!(set.points, 5 | 7 | 9 | 11) {
+        return Err(FitError::BadSample {
+            index: 0,
+            msg: format!("{} input points (5, 7, 9 or 11)", set.points),
+        });
+    }
+    for (index, s) in set.samples.iter().enumerate() {
+        let finite = s.input.thesis_order().iter().all(|p| p.is_finite()) && s.pn.is_finite();
+        if !finite {
+            return Err(FitError::NotFinite { index: index + 1 });
+        }
+        if let Some(msg) = crate::samples::sample_problem(s, set.points) {
+            return Err(FitError::BadSample {
+                index: index + 1,
+                msg,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Samples as the fitting code reads them.
 #[derive(Clone, Debug)]
 pub struct Data {
@@ -109,24 +134,7 @@ impl Data {
     /// `N` leading points a side, coordinates finite and in range), so that
     /// no fit is made of a malformed sample.
     pub fn of(set: &TrainingSet) -> Result<Data, FitError> {
-        if !matches!(set.points, 5 | 7 | 9 | 11) {
-            return Err(FitError::BadSample {
-                index: 0,
-                msg: format!("{} input points (5, 7, 9 or 11)", set.points),
-            });
-        }
-        for (index, s) in set.samples.iter().enumerate() {
-            let finite = s.input.thesis_order().iter().all(|p| p.is_finite()) && s.pn.is_finite();
-            if !finite {
-                return Err(FitError::NotFinite { index: index + 1 });
-            }
-            if let Some(msg) = crate::samples::sample_problem(s, set.points) {
-                return Err(FitError::BadSample {
-                    index: index + 1,
-                    msg,
-                });
-            }
-        }
+        check_set(set)?;
         Ok(Data {
             n: set.n(),
             inputs: set.samples.iter().map(|s| s.input.clone()).collect(),
