@@ -73,10 +73,18 @@ impl Draft {
         use BoundaryError as E;
         match *e {
             E::NonFinite { node }
+            | E::TooLarge { node, .. }
             | E::OpenChain { node }
             | E::Branching { node, .. }
-            | E::DuplicateNode { node, .. } => self.at_label(node).into_iter().collect(),
-            E::Crossing { node_a, node_b, .. } => [node_a, node_b]
+            | E::DuplicateNode { node, .. }
+            | E::FoldBack { node, .. } => self.at_label(node).into_iter().collect(),
+            E::Crossing { node_a, node_b, .. } | E::NodesCoincide { node_a, node_b, .. } => {
+                [node_a, node_b]
+                    .iter()
+                    .filter_map(|&n| self.at_label(n))
+                    .collect()
+            }
+            E::NodeOnSegment { node, from, to, .. } => [node, from, to]
                 .iter()
                 .filter_map(|&n| self.at_label(n))
                 .collect(),
@@ -85,6 +93,7 @@ impl Draft {
             | E::HoleOutside { loop_index }
             | E::NestedHole { loop_index, .. } => whole(loop_index),
             E::Empty
+            | E::TooSmall { .. }
             | E::TooFewNodes { .. }
             | E::BadSegmentIndex { .. }
             | E::OddNodeCount { .. } => Vec::new(),

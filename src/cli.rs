@@ -145,9 +145,11 @@ enum Command {
         /// Write the fit figures as JSON.
         #[arg(long)]
         report: Option<PathBuf>,
-        /// Folds of the held-out figures.
-        #[arg(long, default_value_t = FitParams::DEFAULT.folds)]
-        folds: usize,
+        /// Folds of the held-out figures: 2 to 100, and no more than the
+        /// samples (0: no held-out figures). Default 5, or the sample count
+        /// when smaller.
+        #[arg(long)]
+        folds: Option<usize>,
         /// The model's name (default: the output file's stem).
         #[arg(long)]
         name: Option<String>,
@@ -212,32 +214,49 @@ pub fn main() -> ExitCode {
     match res {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            let code = if e.downcast_ref::<InputErrorMarker>().is_some() {
-                2
-            } else {
-                1
+            let (code, msg) = match e.downcast_ref::<BadInput>() {
+                Some(b) => (2, b.0.clone()),
+                None => (1, format!("{e:#}")),
             };
-            eprintln!("quadex: {:#}", e);
+            // One line, whatever the file held.
+            eprintln!("quadex: {}", io::one_line(&msg));
             ExitCode::from(code)
         }
     }
 }
 
+/// The message of an error in the user's input.
 #[derive(Debug)]
-struct InputErrorMarker;
-impl std::fmt::Display for InputErrorMarker {
+struct BadInput(String);
+impl std::fmt::Display for BadInput {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("bad input")
+        f.write_str(&self.0)
     }
 }
-impl std::error::Error for InputErrorMarker {}
+impl std::error::Error for BadInput {}
 
 impl From<InputError> for anyhow::Error {
     fn from(e: InputError) -> Self {
         // Keep the message; mark the error as the user's.
-        let msg = format!("{:#}", e.0);
-        anyhow::Error::new(InputErrorMarker).context(msg)
+        anyhow::Error::new(BadInput(format!("{:#}", e.0)))
     }
+}
+
+/// Refuses an output path whose folder does not exist, before any work.
+fn check_output(path: &Path) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(InputError(anyhow!(
+            "{}: cannot write there: the folder {} does not exist",
+            path.display(),
+            dir.display()
+        ))
+        .into());
+    }
+    Ok(())
 }
 
 fn load_model(spec: &str) -> Result<Arc<dyn Model>> {
@@ -304,6 +323,10 @@ fn run(c: Command) -> Result<()> {
         } => {
             let fmt = MeshFormat::from_path(&output)
                 .map_err(|e| InputError(anyhow!("{}: {e}", output.display())))?;
+            check_output(&output)?;
+            if let Some(r) = &report {
+                check_output(r)?;
+            }
             let boundary = io::read_boundary(&input)
                 .map_err(|e| InputError(anyhow!("{}: {e}", input.display())))?;
             let model = load_model(&model)?;
@@ -355,8 +378,24 @@ fn run(c: Command) -> Result<()> {
                 b.finish_and_clear();
             }
             let seconds = t0.elapsed().as_secs_f64();
-            io::write_atomic(&output, fmt.render(&mesh).as_bytes())?;
             let q = MeshQuality::of(&mesh);
+            let rendered = fmt.render(&mesh);
+            // The mesh and its report are written together or not at all.
+            let report_json = match &report {
+                Some(_) => Some(serde_json::to_string_pretty(&Report {
+                    input: input.display().to_string(),
+                    model: name,
+                    quality: q.clone(),
+                    steps: mesher.stats(),
+                    seconds,
+                })?),
+                None => None,
+            };
+            let mut files: Vec<(&Path, &[u8])> = vec![(&output, rendered.as_bytes())];
+            if let (Some(path), Some(json)) = (&report, &report_json) {
+                files.push((path, json.as_bytes()));
+            }
+            io::write_atomic_all(&files)?;
             println!(
                 "{}: {} quads, sj min {:.3} mean {:.3}, {:.1}% in [45,135], {} irregular, {:.3} s",
                 output.display(),
@@ -374,27 +413,17 @@ fn run(c: Command) -> Result<()> {
                     100.0 * ok as f64 / all.max(1) as f64
                 );
             }
-            if let Some(path) = report {
-                let r = Report {
-                    input: input.display().to_string(),
-                    model: name,
-                    quality: q,
-                    steps: mesher.stats(),
-                    seconds,
-                };
-                io::write_atomic(&path, serde_json::to_string_pretty(&r)?.as_bytes())?;
-            }
             Ok(())
         }
         Command::Quality { mesh, boundary } => {
+            // Reading checks the mesh: convex quads, no overlaps, one piece.
             let m = read_mesh(&mesh)?;
             if let Some(b) = boundary {
                 let bd = io::read_boundary(&b)
                     .map_err(|e| InputError(anyhow!("{}: {e}", b.display())))?;
-                check_against(&m, &bd).map_err(|e| anyhow!("{}: {e}", mesh.display()))?;
+                check_against(&m, &bd)
+                    .map_err(|e| InputError(anyhow!("{}: {e}", mesh.display())))?;
             }
-            m.check_finished()
-                .map_err(|e| anyhow!("{}: {e}", mesh.display()))?;
             println!("{}", serde_json::to_string_pretty(&MeshQuality::of(&m))?);
             Ok(())
         }
@@ -408,6 +437,7 @@ fn run(c: Command) -> Result<()> {
             let [lo, hi] = turn[..] else {
                 return Err(InputError(anyhow!("--turn takes two angles, LO,HI")).into());
             };
+            check_output(&output)?;
             let params = CollectParams {
                 turn: [lo, hi],
                 ..CollectParams::DEFAULT
@@ -453,11 +483,33 @@ fn run(c: Command) -> Result<()> {
                     InputError(anyhow!("{f}: unknown form (use thesis or quadratic)"))
                 })?),
             };
+            check_output(&output)?;
+            if let Some(r) = &report {
+                check_output(r)?;
+            }
             let mut set = read_set(&sets[0])?;
             for path in &sets[1..] {
                 set.merge(read_set(path)?)
                     .map_err(|e| InputError(anyhow!("{}: {e}", path.display())))?;
             }
+            let folds = match folds {
+                Some(1) => {
+                    return Err(InputError(anyhow!(
+                        "{}: --folds 1: one fold holds nothing out; give 2 to {} (or 0 to skip the held-out figures)",
+                        sets[0].display(),
+                        fit::MAX_FOLDS.min(set.len())
+                    ))
+                    .into())
+                }
+                Some(f) => {
+                    fit::check_folds(f, set.len()).map_err(|e| {
+                        InputError(anyhow!("{}: --folds: {e}", sets[0].display()))
+                    })?;
+                    f
+                }
+                None if set.len() >= 2 => FitParams::DEFAULT.folds.min(set.len()),
+                None => 0,
+            };
             let name = name.unwrap_or_else(|| {
                 output
                     .file_stem()
@@ -475,7 +527,32 @@ fn run(c: Command) -> Result<()> {
             for r in &reports {
                 println!("{}", r.table());
             }
-            io::write_atomic(&output, file.to_json().as_bytes())?;
+            let json = file.to_json();
+            // Never write a model file that `--model` would refuse.
+            quadex::model::ModelFile::from_json(&json).map_err(|e| {
+                InputError(anyhow!(
+                    "{}: the fitted model cannot be used: {e}",
+                    sets[0].display()
+                ))
+            })?;
+            let report_json = match &report {
+                Some(_) => {
+                    // The chosen form's figures at the top (`type`, `xn`,
+                    // `yn`, each with `train` and `holdout`), every form
+                    // under `forms`.
+                    let mut v = serde_json::to_value(&file.figures)?;
+                    if let Some(obj) = v.as_object_mut() {
+                        obj.insert("forms".into(), serde_json::to_value(&reports)?);
+                    }
+                    Some(serde_json::to_string_pretty(&v)?)
+                }
+                None => None,
+            };
+            let mut files: Vec<(&Path, &[u8])> = vec![(&output, json.as_bytes())];
+            if let (Some(path), Some(r)) = (&report, &report_json) {
+                files.push((path, r.as_bytes()));
+            }
+            io::write_atomic_all(&files)?;
             println!(
                 "{}: form {}, {} samples, {} in {seconds:.2} s",
                 output.display(),
@@ -487,15 +564,6 @@ fn run(c: Command) -> Result<()> {
                     "fitted"
                 }
             );
-            if let Some(path) = report {
-                // The chosen form's figures at the top (`type`, `xn`, `yn`,
-                // each with `train` and `holdout`), every form under `forms`.
-                let mut json = serde_json::to_value(&file.figures)?;
-                if let Some(obj) = json.as_object_mut() {
-                    obj.insert("forms".into(), serde_json::to_value(&reports)?);
-                }
-                io::write_atomic(&path, serde_json::to_string_pretty(&json)?.as_bytes())?;
-            }
             Ok(())
         }
         Command::Factors {
@@ -503,6 +571,9 @@ fn run(c: Command) -> Result<()> {
             points,
             report,
         } => {
+            if let Some(r) = &report {
+                check_output(r)?;
+            }
             let mut tables = Vec::new();
             for &pts in &points {
                 let mut set = TrainingSet::new(pts);
@@ -529,7 +600,11 @@ fn run(c: Command) -> Result<()> {
                     }
                 }
                 set.dedup();
-                let f = factors::factors(&set).map_err(|e| anyhow!("{pts} points: {e}"))?;
+                let f = factors::factors(&set).map_err(|e| {
+                    let names: Vec<String> =
+                        inputs.iter().map(|p| p.display().to_string()).collect();
+                    InputError(anyhow!("{}: {pts} points: {e}", names.join(", ")))
+                })?;
                 println!("{}", f.table());
                 tables.push(f);
             }

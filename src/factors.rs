@@ -83,6 +83,9 @@ impl Factors {
 
 /// The critical-factor weights of a training set.
 pub fn factors(set: &TrainingSet) -> Result<Factors, FitError> {
+    // Every sample checked (N points a side, finite coordinates in range),
+    // so that the rows below all have the same length.
+    crate::fit::check_set(set)?;
     let n = set.n();
     let k = 2 * n - 1;
     let m = set.len();
@@ -175,5 +178,11 @@ mod tests {
         assert!(f.xn[0].abs() < 1e-6);
         assert!(truncated(&set, 7).is_none());
         assert_eq!(truncated(&set, 5).unwrap().len(), 200);
+        // A sample short of a right point is refused, not a panic.
+        set.samples[7].input.right.pop();
+        assert!(matches!(
+            factors(&set),
+            Err(FitError::BadSample { index: 8, .. })
+        ));
     }
 }

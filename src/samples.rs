@@ -302,31 +302,126 @@ fn disjoint(l: &[u32], r: &[u32], n: usize) -> bool {
     })
 }
 
-/// A problem reading a training set, with the line at fault.
+/// A problem reading a training set, with the line (CSV) or the sample
+/// (JSON, numbered from 1) at fault.
 #[derive(Debug, Error)]
 pub enum SamplesError {
     #[error("line {line}: {msg}")]
     Parse { line: usize, msg: String },
+    #[error("sample {sample}: {msg}")]
+    Sample { sample: usize, msg: String },
     #[error("the header does not name a sample layout: {0}")]
     Header(String),
     #[error("a set of {expected} input points cannot take samples of {found}")]
     Points { expected: usize, found: usize },
     #[error("{0}")]
-    Json(#[from] serde_json::Error),
+    Json(String),
     #[error("{0}")]
-    Csv(#[from] csv::Error),
+    Csv(String),
     #[error("{0}")]
-    Io(#[from] std::io::Error),
+    Io(String),
     #[error("{0}")]
-    Write(#[from] crate::io::WriteError),
+    Write(String),
 }
 
-/// Samples of one input-point count (`2N + 1`).
+// The causes are kept as text (escaped, one line), not as `source`s:
+// printing an error with its chain must not repeat them.
+impl From<serde_json::Error> for SamplesError {
+    fn from(e: serde_json::Error) -> Self {
+        SamplesError::Json(crate::io::quote_long(&e.to_string()))
+    }
+}
+impl From<csv::Error> for SamplesError {
+    fn from(e: csv::Error) -> Self {
+        SamplesError::Csv(crate::io::quote_long(&e.to_string()))
+    }
+}
+impl From<std::io::Error> for SamplesError {
+    fn from(e: std::io::Error) -> Self {
+        SamplesError::Io(e.to_string())
+    }
+}
+impl From<crate::io::WriteError> for SamplesError {
+    fn from(e: crate::io::WriteError) -> Self {
+        SamplesError::Write(e.to_string())
+    }
+}
+
+/// The largest magnitude of a normalised coordinate in a training set: the
+/// frame's unit is `|P0 P_r1|`, so a leading point a million such units
+/// away is no mesh's, and larger values overflow the fits' sums of squares.
+pub const MAX_SAMPLE_COORDINATE: f64 = 1e6;
+
+/// Why a value cannot be a sample's coordinate, if it cannot.
+fn bad_coordinate(v: f64) -> Option<String> {
+    if !v.is_finite() {
+        Some("is not finite".into())
+    } else if v.abs() > MAX_SAMPLE_COORDINATE {
+        Some(format!(
+            "= {v:e} is out of range: normalised coordinates lie within ±{MAX_SAMPLE_COORDINATE:e}"
+        ))
+    } else {
+        None
+    }
+}
+
+/// The problem of one sample in a set of `points` input points, if any:
+/// its leading points do not number `N` on each side, or a coordinate is
+/// not finite or out of range ([`MAX_SAMPLE_COORDINATE`]).
+pub fn sample_problem(s: &Sample, points: usize) -> Option<String> {
+    let n = points.saturating_sub(1) / 2;
+    for (side, pts) in [("left", &s.input.left), ("right", &s.input.right)] {
+        if pts.len() != n {
+            return Some(format!(
+                "{} {side} leading points, where {points} input points need {n}",
+                pts.len()
+            ));
+        }
+    }
+    let names = TrainingSet::csv_header(n);
+    let coords = s
+        .input
+        .thesis_order()
+        .into_iter()
+        .enumerate()
+        .flat_map(|(k, p)| [(2 * k, p.x), (2 * k + 1, p.y)])
+        .chain([(2 * points + 1, s.pn.x), (2 * points + 2, s.pn.y)]);
+    for (k, v) in coords {
+        if let Some(why) = bad_coordinate(v) {
+            return Some(format!("{} {why}", names[k]));
+        }
+    }
+    None
+}
+
+/// Samples of one input-point count (`2N + 1`). Reading one (from JSON,
+/// CSV or inside any document) checks every sample ([`sample_problem`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "UncheckedSet")]
 pub struct TrainingSet {
     /// Input points: 5, 7, 9 or 11.
     pub points: usize,
     pub samples: Vec<Sample>,
+}
+
+/// A training set as read, before its checks.
+#[derive(Deserialize)]
+struct UncheckedSet {
+    points: usize,
+    samples: Vec<Sample>,
+}
+
+impl TryFrom<UncheckedSet> for TrainingSet {
+    type Error = SamplesError;
+
+    fn try_from(u: UncheckedSet) -> Result<TrainingSet, SamplesError> {
+        let set = TrainingSet {
+            points: u.points,
+            samples: u.samples,
+        };
+        set.check()?;
+        Ok(set)
+    }
 }
 
 /// Rounding of coordinates when comparing samples for duplicates.
@@ -343,7 +438,25 @@ impl TrainingSet {
 
     /// `N`, leading points per side.
     pub fn n(&self) -> usize {
-        (self.points - 1) / 2
+        self.points.saturating_sub(1) / 2
+    }
+
+    /// Checks the set: 5, 7, 9 or 11 input points, and every sample with
+    /// `N` leading points a side and coordinates in range
+    /// ([`sample_problem`]); a bad sample is named by its number (from 1).
+    pub fn check(&self) -> Result<(), SamplesError> {
+        if !matches!(self.points, 5 | 7 | 9 | 11) {
+            return Err(SamplesError::Header(format!(
+                "{} input points (5, 7, 9 or 11)",
+                self.points
+            )));
+        }
+        for (k, s) in self.samples.iter().enumerate() {
+            if let Some(msg) = sample_problem(s, self.points) {
+                return Err(SamplesError::Sample { sample: k + 1, msg });
+            }
+        }
+        Ok(())
     }
 
     pub fn len(&self) -> usize {
@@ -376,6 +489,12 @@ impl TrainingSet {
             return Err(SamplesError::Points {
                 expected: self.points,
                 found: 2 * s.n() + 1,
+            });
+        }
+        if let Some(msg) = sample_problem(&s, self.points) {
+            return Err(SamplesError::Sample {
+                sample: self.samples.len() + 1,
+                msg,
             });
         }
         self.samples.push(s);
@@ -476,6 +595,7 @@ impl TrainingSet {
     /// Reads CSV written by [`TrainingSet::to_csv`]; the source columns may
     /// be missing (then the source is "correction").
     pub fn from_csv(text: &str) -> Result<TrainingSet, SamplesError> {
+        let text = crate::io::normalise_text(text);
         let mut r = csv::ReaderBuilder::new()
             .flexible(true)
             .trim(csv::Trim::All)
@@ -484,15 +604,19 @@ impl TrainingSet {
         let coords = header
             .iter()
             .position(|h| h == "type")
-            .ok_or_else(|| SamplesError::Header(header.join(",")))?;
+            .ok_or_else(|| SamplesError::Header(crate::io::quote_long(&header.join(","))))?;
         let points = coords / 2;
         if coords % 2 != 0 || !matches!(points, 5 | 7 | 9 | 11) {
-            return Err(SamplesError::Header(header.join(",")));
+            return Err(SamplesError::Header(crate::io::quote_long(
+                &header.join(","),
+            )));
         }
         let n = (points - 1) / 2;
         let expected = Self::csv_header(n);
-        if header[..coords + 3] != expected[..coords + 3] {
-            return Err(SamplesError::Header(header.join(",")));
+        if header.get(..coords + 3) != expected.get(..coords + 3) {
+            return Err(SamplesError::Header(crate::io::quote_long(
+                &header.join(","),
+            )));
         }
         let mut set = TrainingSet::new(points);
         for (i, rec) in r.records().enumerate() {
@@ -505,15 +629,15 @@ impl TrainingSet {
                 })?;
                 let v: f64 = f.parse().map_err(|_| SamplesError::Parse {
                     line,
-                    msg: format!("{}: not a number: {f:?}", expected[k]),
+                    msg: format!("{}: not a number: `{}`", expected[k], crate::io::quote(f)),
                 })?;
-                if v.is_finite() {
-                    Ok(v)
-                } else {
-                    Err(SamplesError::Parse {
+                match bad_coordinate(v) {
+                    // The type column is checked on its own.
+                    Some(why) if k != coords => Err(SamplesError::Parse {
                         line,
-                        msg: format!("{}: not finite", expected[k]),
-                    })
+                        msg: format!("{} {why}", expected[k]),
+                    }),
+                    _ => Ok(v),
                 }
             };
             let mut pts = Vec::with_capacity(points);
@@ -552,7 +676,7 @@ impl TrainingSet {
 
     /// Reads a set from a `.json` file, or CSV otherwise.
     pub fn read(path: &std::path::Path) -> Result<TrainingSet, SamplesError> {
-        let text = std::fs::read_to_string(path)?;
+        let text = crate::io::decode_text(&std::fs::read(path)?);
         if is_json(path) {
             TrainingSet::from_json(&text)
         } else {
@@ -575,20 +699,17 @@ impl TrainingSet {
         Ok(serde_json::to_string_pretty(self)?)
     }
 
+    /// Reads a set from JSON, checked (see [`TrainingSet::check`]).
     pub fn from_json(text: &str) -> Result<TrainingSet, SamplesError> {
-        let set: TrainingSet = serde_json::from_str(text)?;
-        if !matches!(set.points, 5 | 7 | 9 | 11) {
-            return Err(SamplesError::Points {
-                expected: 7,
-                found: set.points,
-            });
-        }
-        if let Some(s) = set.samples.iter().find(|s| 2 * s.n() + 1 != set.points) {
-            return Err(SamplesError::Points {
-                expected: set.points,
-                found: 2 * s.n() + 1,
-            });
-        }
+        let text = crate::io::normalise_text(text);
+        // Parsed unchecked first, so that a bad sample is reported as
+        // itself rather than inside serde's message.
+        let u: UncheckedSet = serde_json::from_str(&text)?;
+        let set = TrainingSet {
+            points: u.points,
+            samples: u.samples,
+        };
+        set.check()?;
         Ok(set)
     }
 }
@@ -719,6 +840,36 @@ mod tests {
         u.merge(t.clone()).unwrap();
         assert_eq!(u.dedup(), t.len());
         assert!(u.merge(TrainingSet::new(7)).is_err());
+    }
+
+    #[test]
+    fn short_or_absurd_samples_are_refused_with_their_number() {
+        let m = grid(3, 3);
+        let mut t = TrainingSet::new(7);
+        t.samples = collect(&m, 3, &CollectParams::DEFAULT, "g");
+        let mut bad = t.clone();
+        bad.samples[2].input.right.truncate(1);
+        let e = TrainingSet::from_json(&serde_json::to_string(&bad).unwrap()).unwrap_err();
+        assert!(matches!(e, SamplesError::Sample { sample: 3, .. }), "{e:?}");
+        assert!(e.to_string().contains("1 right leading points"), "{e}");
+        // Inside any document too.
+        assert!(
+            serde_json::from_str::<TrainingSet>(&serde_json::to_string(&bad).unwrap()).is_err()
+        );
+        let mut huge = t.clone();
+        huge.samples[0].input.left[1].y = 1e300;
+        let e = TrainingSet::from_json(&huge.to_json().unwrap()).unwrap_err();
+        assert!(matches!(e, SamplesError::Sample { sample: 1, .. }), "{e:?}");
+        let e = TrainingSet::from_csv(&huge.to_csv().unwrap()).unwrap_err();
+        assert!(
+            matches!(e, SamplesError::Parse { line: 2, .. }) && e.to_string().contains("yl2"),
+            "{e}"
+        );
+        assert!(t.clone().push(huge.samples[0].clone()).is_err());
+        // A byte-order mark and CR line ends read the same.
+        let csv = t.to_csv().unwrap();
+        let back = TrainingSet::from_csv(&format!("\u{feff}{}", csv.replace('\n', "\r"))).unwrap();
+        assert_eq!(back, t);
     }
 
     #[test]

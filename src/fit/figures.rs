@@ -8,13 +8,54 @@ use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 
 /// Figures of one output on one set of samples.
+///
+/// Every figure is finite for finite data: with a constant output (one
+/// sample, or every sample of one type) `R` and `DC` are 1 when the
+/// predictions are exact and 0 otherwise. A figure that is not finite all
+/// the same (sums overflowing) is left out of JSON, never written as
+/// `null`, and a missing or `null` figure reads as NaN: a model file's
+/// figures are information and never stop it from loading.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Figures {
     pub n: usize,
+    #[serde(
+        default = "nan",
+        skip_serializing_if = "not_finite",
+        deserialize_with = "lenient"
+    )]
     pub sse: f64,
+    #[serde(
+        default = "nan",
+        skip_serializing_if = "not_finite",
+        deserialize_with = "lenient"
+    )]
     pub rmse: f64,
+    #[serde(
+        default = "nan",
+        skip_serializing_if = "not_finite",
+        deserialize_with = "lenient"
+    )]
     pub r: f64,
+    #[serde(
+        default = "nan",
+        skip_serializing_if = "not_finite",
+        deserialize_with = "lenient"
+    )]
     pub dc: f64,
+}
+
+fn nan() -> f64 {
+    f64::NAN
+}
+
+fn not_finite(v: &f64) -> bool {
+    !v.is_finite()
+}
+
+/// A figure, `null` reading as NaN (files written before figures were
+/// always finite).
+fn lenient<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 impl Figures {
@@ -46,12 +87,14 @@ impl Figures {
             sse,
             rmse: (sse / nf).sqrt(),
             r,
+            // A constant output has no variance to explain: DC is 1 for
+            // exact predictions and 0 otherwise (as R is).
             dc: if sst > 0.0 {
                 1.0 - sse / sst
             } else if sse == 0.0 {
                 1.0
             } else {
-                f64::NEG_INFINITY
+                0.0
             },
         }
     }
@@ -64,6 +107,11 @@ impl Figures {
 pub struct TypeFigures {
     #[serde(flatten)]
     pub figures: Figures,
+    #[serde(
+        default = "nan",
+        skip_serializing_if = "not_finite",
+        deserialize_with = "lenient"
+    )]
     pub accuracy: f64,
     /// `confusion[actual][predicted]`.
     pub confusion: [[usize; 3]; 3],
@@ -192,6 +240,28 @@ mod tests {
         assert_eq!(f.sse, 5.0);
         assert_eq!(f.r, 0.0);
         assert!((f.dc - 0.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn constant_outputs_have_finite_figures() {
+        let f = Figures::of(&[1.0, 1.0, 1.0], &[1.0, 0.5, 1.5]);
+        assert_eq!((f.r, f.dc), (0.0, 0.0));
+        let f = Figures::of(&[2.0], &[2.0]);
+        assert_eq!((f.r, f.dc), (1.0, 1.0));
+        let json = serde_json::to_string(&Figures::of(&[0.0], &[1.0])).unwrap();
+        assert!(!json.contains("null"), "{json}");
+        // A figure that is not finite is left out, and reads back as NaN;
+        // so does `null`.
+        let odd = Figures {
+            sse: f64::INFINITY,
+            ..Figures::default()
+        };
+        let json = serde_json::to_string(&odd).unwrap();
+        assert!(!json.contains("sse") && !json.contains("null"), "{json}");
+        assert!(serde_json::from_str::<Figures>(&json).unwrap().sse.is_nan());
+        let back: Figures =
+            serde_json::from_str(r#"{"n":1,"sse":0,"rmse":0,"r":1,"dc":null}"#).unwrap();
+        assert!(back.dc.is_nan());
     }
 
     #[test]

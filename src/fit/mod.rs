@@ -75,6 +75,49 @@ pub enum FitError {
     Singular { what: &'static str },
     #[error("sample {index} has a coordinate that is not finite")]
     NotFinite { index: usize },
+    #[error("sample {index}: {msg}")]
+    BadSample { index: usize, msg: String },
+    #[error("{folds} folds for {samples} samples: held-out figures take 2 to {max} folds, and no more than the samples (0 skips them)", max = MAX_FOLDS)]
+    Folds { folds: usize, samples: usize },
+    #[error("the {form} fit gave coefficients that are not finite")]
+    Diverged { form: &'static str },
+}
+
+/// The most folds of the held-out figures (each fold is a full fit).
+pub const MAX_FOLDS: usize = 100;
+
+/// Checks a fold count against the samples: 0 or 1 (no held-out figures)
+/// or 2 to [`MAX_FOLDS`], and no more than the samples.
+pub fn check_folds(folds: usize, samples: usize) -> Result<(), FitError> {
+    if folds >= 2 && (folds > MAX_FOLDS || folds > samples) {
+        return Err(FitError::Folds { folds, samples });
+    }
+    Ok(())
+}
+
+/// Checks a set before a fit: 5, 7, 9 or 11 input points and every sample
+/// well formed ([`crate::samples::sample_problem`]: `N` leading points a
+/// side, coordinates finite and in range), samples numbered from 1.
+pub fn check_set(set: &TrainingSet) -> Result<(), FitError> {
+    if !matches!(set.points, 5 | 7 | 9 | 11) {
+        return Err(FitError::BadSample {
+            index: 0,
+            msg: format!("{} input points (5, 7, 9 or 11)", set.points),
+        });
+    }
+    for (index, s) in set.samples.iter().enumerate() {
+        let finite = s.input.thesis_order().iter().all(|p| p.is_finite()) && s.pn.is_finite();
+        if !finite {
+            return Err(FitError::NotFinite { index: index + 1 });
+        }
+        if let Some(msg) = crate::samples::sample_problem(s, set.points) {
+            return Err(FitError::BadSample {
+                index: index + 1,
+                msg,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Samples as the fitting code reads them.
@@ -87,13 +130,11 @@ pub struct Data {
 }
 
 impl Data {
+    /// The samples of a set, each checked ([`crate::samples::sample_problem`]:
+    /// `N` leading points a side, coordinates finite and in range), so that
+    /// no fit is made of a malformed sample.
     pub fn of(set: &TrainingSet) -> Result<Data, FitError> {
-        for (index, s) in set.samples.iter().enumerate() {
-            let finite = s.input.thesis_order().iter().all(|p| p.is_finite()) && s.pn.is_finite();
-            if !finite {
-                return Err(FitError::NotFinite { index });
-            }
-        }
+        check_set(set)?;
         Ok(Data {
             n: set.n(),
             inputs: set.samples.iter().map(|s| s.input.clone()).collect(),
@@ -130,10 +171,14 @@ pub fn fit_coefficients(
     form: Form,
     params: &FitParams,
 ) -> Result<Coefficients, FitError> {
-    match form {
-        Form::Thesis => thesis::fit(data, params).map(Coefficients::Thesis),
-        Form::Quadratic => quadratic::fit(data, params).map(Coefficients::Quadratic),
+    let c = match form {
+        Form::Thesis => thesis::fit(data, params).map(Coefficients::Thesis)?,
+        Form::Quadratic => quadratic::fit(data, params).map(Coefficients::Quadratic)?,
+    };
+    if !c.all_finite() {
+        return Err(FitError::Diverged { form: form.name() });
     }
+    Ok(c)
 }
 
 /// Predictions on `data` by `f` (type value and prediction): type value,
@@ -231,10 +276,11 @@ pub fn fit_with_report(
     params: &FitParams,
 ) -> Result<(Coefficients, FitReport), FitError> {
     let data = Data::of(set)?;
+    check_folds(params.folds, data.len())?;
     let coef = fit_coefficients(&data, form, params)?;
     let (v, t, p) = predict_all(&coef, &data);
     let train = figures(&data, &v, &t, &p);
-    let folds = params.folds.min(data.len());
+    let folds = params.folds;
     let holdout = if folds >= 2 {
         let order = shuffled(data.len(), params.seed);
         let mut v = vec![0.0; data.len()];

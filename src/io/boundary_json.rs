@@ -61,11 +61,12 @@ impl BoundaryDoc {
 
 /// Parses a boundary document.
 pub fn parse(text: &str) -> Result<Boundary, ReadError> {
+    let text = super::normalise_text(text);
     if text.trim().is_empty() {
         return Err(ReadError::Empty);
     }
-    let doc: BoundaryDoc =
-        serde_json::from_str(text).map_err(|e| ReadError::Json(e.to_string()))?;
+    let doc: BoundaryDoc = serde_json::from_str(&text)
+        .map_err(|e| ReadError::Json(super::quote_long(&e.to_string())))?;
     doc.to_boundary()
 }
 
@@ -81,5 +82,13 @@ mod tests {
         let b2 = doc.to_boundary().unwrap();
         assert_eq!(b.points.len(), b2.points.len());
         assert!((b2.area() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bom_and_line_ends() {
+        let t = "{\"loops\": [[[0,0],[1000,0],\r\n[1000,1],\r[0,1]]]}";
+        let b = parse(&format!("\u{feff}{t}")).unwrap();
+        assert_eq!(b.node_count(), 4);
+        assert!((b.area() - 1000.0).abs() < 1e-9);
     }
 }

@@ -2,9 +2,10 @@
 //! each boundary loop a physical curve, the domain a physical surface) and
 //! 2.2, and a reader for quad meshes in either version.
 
+use super::check::{self, MeshCheckError};
 use super::{fmt_f64, ReadError};
 use crate::geom::Point;
-use crate::mesh::QuadMesh;
+use crate::mesh::{boundary_loops, InvariantError, QuadMesh};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
@@ -179,6 +180,8 @@ pub fn write_msh22(mesh: &QuadMesh) -> String {
 struct Tokens<'a> {
     lines: std::iter::Enumerate<std::str::Lines<'a>>,
     line: usize,
+    /// Lines in the file.
+    total: usize,
 }
 
 impl<'a> Tokens<'a> {
@@ -205,38 +208,68 @@ impl<'a> Tokens<'a> {
             .and_then(|s| s.parse().ok())
             .ok_or_else(|| self.err(format!("expected a number in field {}", k + 1)))
     }
+    /// Refuses a count (field `k` of the current line) of items taking
+    /// `lines_each` lines each that the rest of the file cannot hold: a
+    /// count never makes the reader reserve memory for data that is not
+    /// there.
+    fn count(
+        &self,
+        f: &[&str],
+        k: usize,
+        lines_each: u64,
+        what: &'static str,
+    ) -> Result<usize, ReadError> {
+        let count: u64 = self.num(f, k)?;
+        let room = self.total.saturating_sub(self.line);
+        if count.saturating_mul(lines_each) > room as u64 {
+            return Err(ReadError::TooMany {
+                line: self.line,
+                count,
+                what,
+                room,
+            });
+        }
+        Ok(count as usize)
+    }
 }
 
-/// Reads an all-quad 2D mesh from MSH 2.2 or 4.1 ASCII. Nodes are
-/// renumbered so that the boundary nodes come first, loop by loop (outer
-/// loop CCW first, holes CW), and quads are made CCW.
+/// Reads an all-quad 2D mesh from MSH 2.2 or 4.1 ASCII and checks it
+/// ([`super::check`]): a file that parses but holds non-convex,
+/// overlapping or separate quads is refused. Nodes are renumbered so that
+/// the boundary nodes come first, loop by loop (outer loop CCW first,
+/// holes CW), and quads are made CCW.
 pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
+    let text = super::normalise_text(text);
     if text.trim().is_empty() {
         return Err(ReadError::Empty);
     }
     let mut t = Tokens {
         lines: text.lines().enumerate(),
         line: 0,
+        total: text.lines().count(),
     };
     let mut version = 0.0f64;
     let mut nodes: BTreeMap<u64, Point> = BTreeMap::new();
-    let mut quads: Vec<[u64; 4]> = Vec::new();
+    // Quads as (element tag, node tags).
+    let mut quads: Vec<(u64, [u64; 4])> = Vec::new();
     while let Some(l) = t.next_line() {
         match l {
             "$MeshFormat" => {
                 let f = t.fields("the format line")?;
                 version = t.num(&f, 0)?;
+                if !version.is_finite() || version <= 0.0 {
+                    return Err(t.err("the format version is not a positive number"));
+                }
                 if f.get(1) != Some(&"0") {
                     return Err(t.err("binary MSH is not supported; save as ASCII"));
                 }
             }
             "$Nodes" if version >= 4.0 => {
                 let f = t.fields("the node header")?;
-                let blocks: usize = t.num(&f, 0)?;
+                let blocks = t.count(&f, 0, 1, "node blocks")?;
                 for _ in 0..blocks {
                     let f = t.fields("a node block header")?;
-                    let para: usize = t.num(&f, 2)?;
-                    let count: usize = t.num(&f, 3)?;
+                    let count = t.count(&f, 3, 2, "nodes")?;
                     let mut tags = Vec::with_capacity(count);
                     for _ in 0..count {
                         let f = t.fields("a node tag")?;
@@ -244,14 +277,13 @@ pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
                     }
                     for tag in tags {
                         let f = t.fields("node coordinates")?;
-                        let _ = para;
                         nodes.insert(tag, Point::new(t.num(&f, 0)?, t.num(&f, 1)?));
                     }
                 }
             }
             "$Nodes" => {
                 let f = t.fields("the node count")?;
-                let count: usize = t.num(&f, 0)?;
+                let count = t.count(&f, 0, 1, "nodes")?;
                 for _ in 0..count {
                     let f = t.fields("a node")?;
                     nodes.insert(t.num(&f, 0)?, Point::new(t.num(&f, 1)?, t.num(&f, 2)?));
@@ -259,20 +291,18 @@ pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
             }
             "$Elements" if version >= 4.0 => {
                 let f = t.fields("the element header")?;
-                let blocks: usize = t.num(&f, 0)?;
+                let blocks = t.count(&f, 0, 1, "element blocks")?;
                 for _ in 0..blocks {
                     let f = t.fields("an element block header")?;
                     let ty: u32 = t.num(&f, 2)?;
-                    let count: usize = t.num(&f, 3)?;
+                    let count = t.count(&f, 3, 1, "elements")?;
                     for _ in 0..count {
                         let f = t.fields("an element")?;
                         match ty {
-                            3 => quads.push([
-                                t.num(&f, 1)?,
-                                t.num(&f, 2)?,
-                                t.num(&f, 3)?,
-                                t.num(&f, 4)?,
-                            ]),
+                            3 => quads.push((
+                                t.num(&f, 0)?,
+                                [t.num(&f, 1)?, t.num(&f, 2)?, t.num(&f, 3)?, t.num(&f, 4)?],
+                            )),
                             1 | 15 => {}
                             other => {
                                 return Err(ReadError::NotQuadMesh(format!("element type {other}")))
@@ -283,19 +313,22 @@ pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
             }
             "$Elements" => {
                 let f = t.fields("the element count")?;
-                let count: usize = t.num(&f, 0)?;
+                let count = t.count(&f, 0, 1, "elements")?;
                 for _ in 0..count {
                     let f = t.fields("an element")?;
                     let ty: u32 = t.num(&f, 1)?;
                     let ntags: usize = t.num(&f, 2)?;
-                    let at = 3 + ntags;
+                    let at = ntags.saturating_add(3);
                     match ty {
-                        3 => quads.push([
-                            t.num(&f, at)?,
-                            t.num(&f, at + 1)?,
-                            t.num(&f, at + 2)?,
-                            t.num(&f, at + 3)?,
-                        ]),
+                        3 => quads.push((
+                            t.num(&f, 0)?,
+                            [
+                                t.num(&f, at)?,
+                                t.num(&f, at.saturating_add(1))?,
+                                t.num(&f, at.saturating_add(2))?,
+                                t.num(&f, at.saturating_add(3))?,
+                            ],
+                        )),
                         1 | 15 => {}
                         other => {
                             return Err(ReadError::NotQuadMesh(format!("element type {other}")))
@@ -318,12 +351,17 @@ pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
     from_raw(&nodes, &quads)
 }
 
-fn from_raw(nodes: &BTreeMap<u64, Point>, quads: &[[u64; 4]]) -> Result<QuadMesh, ReadError> {
+/// The mesh of the quads read, checked, with the file's tags in messages.
+fn from_raw(
+    nodes: &BTreeMap<u64, Point>,
+    quads: &[(u64, [u64; 4])],
+) -> Result<QuadMesh, ReadError> {
     // Compact ids over the nodes the quads use.
     let mut id: BTreeMap<u64, u32> = BTreeMap::new();
     let mut pts = Vec::new();
+    let mut tags = Vec::new();
     let mut qs = Vec::with_capacity(quads.len());
-    for q in quads {
+    for (_, q) in quads {
         let mut out = [0u32; 4];
         for (k, tag) in q.iter().enumerate() {
             let p = *nodes.get(tag).ok_or_else(|| {
@@ -331,10 +369,127 @@ fn from_raw(nodes: &BTreeMap<u64, Point>, quads: &[[u64; 4]]) -> Result<QuadMesh
             })?;
             out[k] = *id.entry(*tag).or_insert_with(|| {
                 pts.push(p);
+                tags.push(*tag);
                 (pts.len() - 1) as u32
             });
         }
         qs.push(out);
     }
-    QuadMesh::from_quads(pts, qs).map_err(|e| ReadError::NotQuadMesh(e.to_string()))
+    let quad_tag = |k: usize| quads.get(k).map_or(k as u64, |q| q.0);
+    if let Some(k) = pts.iter().position(|p| !p.is_finite()) {
+        return Err(MeshCheckError::NonFinite { node: tags[k] }.into());
+    }
+    let (mesh, order) = assemble(&pts, qs)
+        .map_err(|e| check::from_invariant(e, &|v| tags[v as usize], &quad_tag))?;
+    check::check_mesh_labelled(&mesh, &|v| tags[order[v as usize] as usize], &quad_tag)?;
+    Ok(mesh)
+}
+
+/// Signed area of a quad, relative to its first corner.
+fn quad_area(p: [Point; 4]) -> f64 {
+    0.5 * ((p[1] - p[0]).perp_dot(p[2] - p[0]) + (p[2] - p[0]).perp_dot(p[3] - p[0]))
+}
+
+/// The mesh of bare quads (any orientation): quads turned counter-clockwise
+/// (judged relative to each quad's first corner, so far from the origin
+/// too), boundary loops from the edges used once (the outer loop, of
+/// largest area, first), nodes renumbered boundary first in loop order,
+/// then in order of use. Also returns, per new node id, the old one.
+fn assemble(
+    points: &[Point],
+    quads: Vec<[u32; 4]>,
+) -> Result<(QuadMesh, Vec<u32>), InvariantError> {
+    let mut qs = quads;
+    for q in &mut qs {
+        if quad_area(q.map(|i| points[i as usize])) < 0.0 {
+            q.reverse();
+        }
+    }
+    let mut loops = boundary_loops(points, &qs)?;
+    // The outer loop by an area free of cancellation.
+    let area = |l: &Vec<u32>| {
+        let p: Vec<Point> = l.iter().map(|&i| points[i as usize]).collect();
+        let o = p[0];
+        (1..p.len().saturating_sub(1))
+            .map(|i| (p[i] - o).perp_dot(p[i + 1] - o))
+            .sum::<f64>()
+    };
+    if let Some(outer) =
+        (0..loops.len()).max_by(|&a, &b| area(&loops[a]).total_cmp(&area(&loops[b])))
+    {
+        loops.swap(0, outer);
+    }
+    let mut new_id = vec![u32::MAX; points.len()];
+    let mut order: Vec<u32> = Vec::with_capacity(points.len());
+    for v in loops.iter().flatten().chain(qs.iter().flatten()).copied() {
+        if new_id[v as usize] == u32::MAX {
+            new_id[v as usize] = order.len() as u32;
+            order.push(v);
+        }
+    }
+    let mesh = QuadMesh {
+        nodes: order.iter().map(|&v| points[v as usize]).collect(),
+        quads: qs.iter().map(|q| q.map(|v| new_id[v as usize])).collect(),
+        loops: loops
+            .iter()
+            .map(|l| l.iter().map(|&v| new_id[v as usize]).collect())
+            .collect(),
+    };
+    Ok((mesh, order))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_beyond_the_file_are_refused_before_reading() {
+        let head = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n";
+        for block in ["2 1 0 18446744073709551615\n", "2 1 0 99999999999\n"] {
+            let e = read_msh(&format!("{head}{block}")).unwrap_err();
+            assert!(matches!(e, ReadError::TooMany { line: 6, .. }), "{e:?}");
+        }
+        let e = read_msh("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n99999999999\n1 0 0 0\n")
+            .unwrap_err();
+        assert!(matches!(e, ReadError::TooMany { line: 5, .. }), "{e:?}");
+        let e = read_msh("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Elements\n18446744073709551615\n")
+            .unwrap_err();
+        assert!(matches!(e, ReadError::TooMany { line: 5, .. }), "{e:?}");
+    }
+
+    #[test]
+    fn tags_name_the_quad_and_node_at_fault() {
+        let t = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n11 0 0 0\n12 2 0 0\n13 0.5 0.5 0\n14 0 2 0\n$EndNodes\n$Elements\n1\n7 3 2 1 1 11 12 13 14\n$EndElements\n";
+        let e = read_msh(t).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                ReadError::InvalidMesh(MeshCheckError::NotConvex { quad: 7, node: 13 })
+            ),
+            "{e:?}"
+        );
+        // CRLF and a byte-order mark read the same.
+        let e2 = read_msh(&format!("\u{feff}{}", t.replace('\n', "\r\n"))).unwrap_err();
+        assert_eq!(e.to_string(), e2.to_string());
+    }
+
+    #[test]
+    fn a_small_mesh_far_from_the_origin_reads() {
+        let mut t = String::from("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n");
+        for (k, (x, y)) in [(0, 0), (1, 0), (2, 0), (2, 1), (1, 1), (0, 1)]
+            .iter()
+            .enumerate()
+        {
+            t.push_str(&format!(
+                "{} {} {} 0\n",
+                k + 1,
+                1e8 + *x as f64,
+                1e8 + *y as f64
+            ));
+        }
+        t.push_str("$EndNodes\n$Elements\n2\n1 3 2 1 1 1 2 5 6\n2 3 2 1 1 2 3 4 5\n$EndElements\n");
+        let m = read_msh(&t).unwrap();
+        assert_eq!(m.quads.len(), 2);
+        assert_eq!(m.n_boundary(), 6);
+    }
 }

@@ -9,9 +9,27 @@ use std::collections::BTreeMap;
 
 struct Lines<'a> {
     inner: std::iter::Enumerate<std::str::Lines<'a>>,
+    /// Lines in the file.
+    total: usize,
 }
 
 impl<'a> Lines<'a> {
+    /// Refuses a count announced on line `line` that the lines after it
+    /// cannot hold (each item takes a line): a count never makes the
+    /// reader reserve memory for data that is not there.
+    fn room_for(&self, line: usize, count: u64, what: &'static str) -> Result<usize, ReadError> {
+        let room = self.total.saturating_sub(line);
+        if count > room as u64 {
+            return Err(ReadError::TooMany {
+                line,
+                count,
+                what,
+                room,
+            });
+        }
+        Ok(count as usize)
+    }
+
     /// The next line with content, as (1-based line number, fields).
     fn next_fields(&mut self, expected: &str) -> Result<(usize, Vec<&'a str>), ReadError> {
         for (i, raw) in self.inner.by_ref() {
@@ -43,21 +61,23 @@ fn num<T: std::str::FromStr>(
             line,
             message: format!(
                 "`{}` is not a valid {what}",
-                fields.get(k).copied().unwrap_or("")
+                super::quote(fields.get(k).copied().unwrap_or(""))
             ),
         })
 }
 
 /// Parses the text of a `.poly` file into a validated boundary.
 pub fn parse_poly(text: &str) -> Result<Boundary, ReadError> {
+    let text = super::normalise_text(text);
     if text.trim().is_empty() {
         return Err(ReadError::Empty);
     }
     let mut lines = Lines {
         inner: text.lines().enumerate(),
+        total: text.lines().count(),
     };
     let (ln, head) = lines.next_fields("the node count")?;
-    let n: usize = num(ln, &head, 0, "node count")?;
+    let n: u64 = num(ln, &head, 0, "node count")?;
     let dim: usize = if head.len() > 1 {
         num(ln, &head, 1, "dimension")?
     } else {
@@ -72,6 +92,7 @@ pub fn parse_poly(text: &str) -> Result<Boundary, ReadError> {
     if n == 0 {
         return Err(BoundaryError::Empty.into());
     }
+    let n = lines.room_for(ln, n, "nodes")?;
     let mut points = Vec::with_capacity(n);
     let mut labels = Vec::with_capacity(n);
     let mut index: BTreeMap<i64, usize> = BTreeMap::new();
@@ -93,7 +114,8 @@ pub fn parse_poly(text: &str) -> Result<Boundary, ReadError> {
         return Err(BoundaryError::NonFinite { node: labels[i] }.into());
     }
     let (ln, f) = lines.next_fields("the segment count")?;
-    let ns: usize = num(ln, &f, 0, "segment count")?;
+    let ns: u64 = num(ln, &f, 0, "segment count")?;
+    let ns = lines.room_for(ln, ns, "segments")?;
     let mut segs = Vec::with_capacity(ns);
     for k in 0..ns {
         let (ln, f) = lines.next_fields(&format!("segment {} of {ns}", k + 1))?;
@@ -115,7 +137,8 @@ pub fn parse_poly(text: &str) -> Result<Boundary, ReadError> {
     }
     // Hole points are optional; when present they must be well formed.
     if let Ok((ln, f)) = lines.next_fields("") {
-        let nh: usize = num(ln, &f, 0, "hole count")?;
+        let nh: u64 = num(ln, &f, 0, "hole count")?;
+        let nh = lines.room_for(ln, nh, "hole points")?;
         for k in 0..nh {
             let (ln, f) = lines.next_fields(&format!("hole point {} of {nh}", k + 1))?;
             let x: f64 = num(ln, &f, 1, "hole x coordinate")?;
@@ -203,9 +226,56 @@ mod tests {
     }
 
     #[test]
+    fn counts_beyond_the_file_are_refused_before_reading() {
+        for t in [
+            "99999999999 2 0 0\n1 0 0\n",
+            "18446744073709551615 2 0 0\n1 0 0\n",
+            "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n18446744073709551615 0\n1 1 2\n",
+            "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4294967296 0\n1 1 2\n",
+        ] {
+            let e = parse_poly(t).unwrap_err();
+            assert!(matches!(e, ReadError::TooMany { .. }), "{e:?}");
+        }
+        assert!(matches!(
+            parse_poly("18446744073709551616 2 0 0\n"),
+            Err(ReadError::Syntax { line: 1, .. })
+        ));
+    }
+
+    #[test]
+    fn bom_and_any_line_ends_are_read() {
+        let t = "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n";
+        let plain = parse_poly(t).unwrap();
+        for v in [
+            format!("\u{feff}{t}"),
+            t.replace('\n', "\r\n"),
+            t.replace('\n', "\r"),
+            format!("\u{feff}{}", t.replace('\n', "\r")),
+        ] {
+            assert_eq!(parse_poly(&v).unwrap(), plain);
+        }
+        // Old Mac line ends count as lines in messages.
+        let e = parse_poly("4 2 0 0\r1 0 0\r2 x 0\r3 1 1\r4 0 1\r").unwrap_err();
+        assert!(matches!(e, ReadError::Syntax { line: 3, .. }), "{e:?}");
+    }
+
+    #[test]
+    fn control_bytes_are_not_echoed() {
+        let e = parse_poly("4 2 0 0\n1 0 0\n2 1 0.\u{1c}5\n3 1 1\n4 0 1\n")
+            .unwrap_err()
+            .to_string();
+        assert!(!e.chars().any(char::is_control), "{e:?}");
+        assert!(e.contains("\\u{1c}"), "{e}");
+    }
+
+    #[test]
     fn truncated_and_garbage() {
         assert!(matches!(
             parse_poly("8 2 0 0\n1 0 0\n"),
+            Err(ReadError::TooMany { line: 1, .. })
+        ));
+        assert!(matches!(
+            parse_poly("4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n"),
             Err(ReadError::Truncated { .. })
         ));
         assert!(matches!(

@@ -241,6 +241,24 @@ pub enum Coefficients {
 }
 
 impl Coefficients {
+    /// True when every coefficient is finite.
+    pub fn all_finite(&self) -> bool {
+        let ok = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        match self {
+            Coefficients::Thesis(t) => {
+                ok(&[t.mu0, t.mu1]) && ok(&t.type_coef) && ok(&t.xn) && ok(&t.yn)
+            }
+            Coefficients::Quadratic(q) => {
+                ok(&q.mean)
+                    && ok(&q.scale)
+                    && ok(&q.lo)
+                    && ok(&q.hi)
+                    && q.type_logit.iter().all(|v| ok(v))
+                    && q.xn.iter().chain(&q.yn).all(|v| ok(v))
+            }
+        }
+    }
+
     pub fn form(&self) -> Form {
         match self {
             Coefficients::Thesis(_) => Form::Thesis,
@@ -330,7 +348,7 @@ pub struct ModelFile {
 #[derive(Debug, Error)]
 pub enum ModelFileError {
     #[error("not a quadex model file: {0}")]
-    Json(#[from] serde_json::Error),
+    Json(String),
     #[error("format {found:?} is not {MODEL_FORMAT:?}")]
     Format { found: String },
     #[error("version {found} is newer than this quadex reads ({MODEL_VERSION})")]
@@ -345,6 +363,13 @@ pub enum ModelFileError {
     },
     #[error("coefficient {what} is not finite")]
     NotFinite { what: &'static str },
+}
+
+// The cause as text (escaped, one line), not a `source`.
+impl From<serde_json::Error> for ModelFileError {
+    fn from(e: serde_json::Error) -> Self {
+        ModelFileError::Json(crate::io::quote_long(&e.to_string()))
+    }
 }
 
 impl ModelFile {
@@ -373,15 +398,18 @@ impl ModelFile {
 
     /// Reads and checks a model file.
     pub fn from_json(text: &str) -> Result<ModelFile, ModelFileError> {
-        let f: ModelFile = serde_json::from_str(text)?;
+        let text = crate::io::normalise_text(text);
+        let f: ModelFile = serde_json::from_str(&text)?;
         if f.format != MODEL_FORMAT {
-            return Err(ModelFileError::Format { found: f.format });
+            return Err(ModelFileError::Format {
+                found: crate::io::quote(&f.format),
+            });
         }
         if f.version > MODEL_VERSION {
             return Err(ModelFileError::Version { found: f.version });
         }
         let n = f.coefficients.n();
-        if f.points != 2 * n + 1 || !(2..=5).contains(&n) {
+        if !(2..=5).contains(&n) || f.points != 2 * n + 1 {
             return Err(ModelFileError::Points {
                 points: f.points,
                 n,

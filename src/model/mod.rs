@@ -98,9 +98,22 @@ pub fn builtin(name: &str) -> Option<Box<dyn Model>> {
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
     #[error("{0}")]
-    Io(#[from] std::io::Error),
+    Io(std::io::Error),
     #[error("{0}")]
-    File(#[from] ModelFileError),
+    File(ModelFileError),
+}
+
+// Causes are part of the message, not `source`s: printing the error with
+// its chain must not repeat them.
+impl From<std::io::Error> for LoadError {
+    fn from(e: std::io::Error) -> Self {
+        LoadError::Io(e)
+    }
+}
+impl From<ModelFileError> for LoadError {
+    fn from(e: ModelFileError) -> Self {
+        LoadError::File(e)
+    }
 }
 
 /// A built-in model by name, or a model file by path.
@@ -108,6 +121,6 @@ pub fn load(spec: &str) -> Result<Box<dyn Model>, LoadError> {
     if let Some(m) = builtin(spec) {
         return Ok(m);
     }
-    let text = std::fs::read_to_string(spec)?;
+    let text = crate::io::decode_text(&std::fs::read(spec)?);
     Ok(Box::new(ModelFile::from_json(&text)?.model()))
 }
