@@ -108,7 +108,12 @@ fn main() {
                     let v = f.node(sl);
                     let p = mesh.nodes[v as usize];
                     let b = if mesh.is_boundary(v) { "*" } else { "" };
-                    format!("{v}{b}({:.4},{:.4}) {:.1}°", p.x, p.y, f.angle(sl, &mesh.nodes).to_degrees())
+                    format!(
+                        "{v}{b}({:.4},{:.4}) {:.1}°",
+                        p.x,
+                        p.y,
+                        f.angle(sl, &mesh.nodes).to_degrees()
+                    )
                 })
                 .collect();
             eprintln!("loop {lid}: {}", pts.join("  "));

@@ -32,6 +32,12 @@ pub const MIN_EXTENT: f64 = 1e-150;
 /// node that close to a segment touches it: 8 units in the last place.
 pub const TOUCH_EPS: f64 = 8.0 * f64::EPSILON;
 
+/// A segment shorter than this fraction of the boundary's extent repeats
+/// the node before it: no element between such a node and the rest of the
+/// domain could have a sensible shape (grading of 1:100 000 along one
+/// boundary is far beyond what a mesh can follow).
+pub const DUPLICATE_RATIO: f64 = 1e-5;
+
 /// Why a boundary cannot be meshed. Loops are numbered from 0 in input
 /// order; nodes carry the label they had in the input file.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -54,7 +60,7 @@ pub enum BoundaryError {
     Branching { node: i64, degree: usize },
     #[error("loop {loop_index} has only {nodes} nodes; a loop needs at least 3")]
     LoopTooShort { loop_index: usize, nodes: usize },
-    #[error("loop {loop_index}: node {node} repeats the position of the node before it (up to rounding)")]
+    #[error("loop {loop_index}: node {node} repeats the position of the node before it (closer than 1e-5 of the boundary's extent)")]
     DuplicateNode { loop_index: usize, node: i64 },
     #[error("loop {loop_a}: node {node_a} is at the position of node {node_b} of loop {loop_b} (up to rounding)")]
     NodesCoincide {
@@ -236,7 +242,9 @@ impl Boundary {
         for (li, l) in loops.iter().enumerate() {
             for k in 0..l.len() {
                 let (a, b) = (l[k], l[(k + 1) % l.len()]);
-                if same_point(points[a], points[b]) {
+                if same_point(points[a], points[b])
+                    || points[a].distance(points[b]) < DUPLICATE_RATIO * extent
+                {
                     return Err(BoundaryError::DuplicateNode {
                         loop_index: li,
                         node: lab(b),

@@ -60,19 +60,14 @@ bad!(
     )
 );
 
-/// The one file of `bench/bad` that validation accepts: its nodes 97 and
-/// 98 are 0.0016 apart where the other segments are 3 to 60 long, in
-/// coordinates of a few hundred. That is a very short segment, not a
-/// repeated node: nodes are the same only up to rounding at their
-/// magnitude (about 1e-13 here), whatever the other segments' lengths (a
-/// rule relative to the median segment refused a plain 1000 × 1 rectangle).
-/// The boundary meshes.
-#[test]
-fn a_short_segment_is_not_a_repeated_node() {
-    let path = common::bench().join("bad/duplicate_node_freemesh_boundary10.poly");
-    let b = read_boundary(&path).unwrap();
-    assert_eq!(b.node_count(), 140);
-}
+// Nodes 97 and 98 are 0.0016 apart in a boundary about 430 wide: a
+// segment under 1e-5 of the extent repeats its node (a 1000 × 1 rectangle,
+// whose short sides are 1e-3 of its extent, is valid: tests/repro.rs).
+bad!(
+    duplicate_node,
+    "duplicate_node_freemesh_boundary10.poly",
+    ReadError::Boundary(BoundaryError::DuplicateNode { .. })
+);
 bad!(empty, "empty.poly", ReadError::Empty);
 bad!(garbage, "garbage.poly", ReadError::Syntax { line: 1, .. });
 bad!(
@@ -155,19 +150,18 @@ bad!(
 
 #[test]
 fn every_bad_file_has_a_test() {
-    // 19 refused, and the short segment accepted.
+    // Each of the 20 is refused by a test above.
     assert_eq!(common::cases("bad").len(), 20);
 }
 
 /// The command line refuses each bad file with exit code 2, one line on
-/// stderr, and no output file (the short segment, which is valid, aside).
+/// stderr, and no output file.
 #[test]
 fn cli_refuses_bad_files() {
     let exe = env!("CARGO_BIN_EXE_quadex");
     let dir = tempfile::tempdir().unwrap();
     for case in common::cases("bad")
         .iter()
-        .filter(|c| !c.ends_with("duplicate_node_freemesh_boundary10.poly"))
         .chain(std::iter::once(&common::bench().join("bad/empty.poly")))
     {
         let out = dir.path().join("out.msh");

@@ -150,7 +150,10 @@ impl Mesher {
 
     /// The guard on one candidate: its score when it passes.
     pub(super) fn check(&mut self, c: Cand, limits: Limits) -> Option<f64> {
-        let (Cand::New { s: p0, .. } | Cand::Snap { s: p0, .. } | Cand::Right { s: p0 } | Cand::Left { s: p0 }) = c;
+        let (Cand::New { s: p0, .. }
+        | Cand::Snap { s: p0, .. }
+        | Cand::Right { s: p0 }
+        | Cand::Left { s: p0 }) = c;
         // The element at a sharp corner of the front has that corner's
         // angle; the corner opposite may open as far as a kite with right
         // angles beside the tip needs.
@@ -527,9 +530,16 @@ impl Mesher {
         let theta = self.front.angle(s, &self.mesh.nodes);
         if theta < self.params.reference_angle[0].to_radians() {
             let a = 0.5 * (p0.distance(pl) + p0.distance(pr));
-            let dir = ((pl - p0).normalize_or_zero() + (pr - p0).normalize_or_zero()).normalize_or_zero();
+            let dir =
+                ((pl - p0).normalize_or_zero() + (pr - p0).normalize_or_zero()).normalize_or_zero();
             let d = TIP_REACH * a / (0.5 * theta).cos();
-            out.push((Cand::New { s, pn: p0 + dir * d }, Remedy::CorrectedPn));
+            out.push((
+                Cand::New {
+                    s,
+                    pn: p0 + dir * d,
+                },
+                Remedy::CorrectedPn,
+            ));
         }
         out.push((Cand::New { s, pn: rule_pn }, Remedy::CorrectedPn));
         out.push((

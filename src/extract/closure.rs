@@ -18,8 +18,8 @@ use super::session::Mesher;
 use crate::front::SlotId;
 use crate::geom::{is_measurably_convex, Point};
 use crate::mesh::QuadMesh;
-use crate::smooth::pattern_search;
 use crate::quality::Shape;
+use crate::smooth::pattern_search;
 
 /// A small loop whose closure and whose nodes' quads are all at least this
 /// good (scaled Jacobian) is not settled.
@@ -69,7 +69,13 @@ pub fn closure_quality(pts: &[Point]) -> f64 {
             patterns(&p6)
                 .into_iter()
                 .map(|(_, interior, quads)| {
-                    let at = |i: usize| if i == 6 { interior.unwrap_or(Point::ZERO) } else { p6[i] };
+                    let at = |i: usize| {
+                        if i == 6 {
+                            interior.unwrap_or(Point::ZERO)
+                        } else {
+                            p6[i]
+                        }
+                    };
                     quads
                         .iter()
                         .map(|q| Shape::of(q.map(at)).scaled_jacobian)
@@ -255,7 +261,9 @@ impl Mesher {
                 self.front.node(self.front.prev(s)),
                 self.front.node(self.front.next(s)),
             );
-            if at != old && (self.crosses_front(at, pp, &[v, np]) || self.crosses_front(at, pn, &[v, nn])) {
+            if at != old
+                && (self.crosses_front(at, pp, &[v, np]) || self.crosses_front(at, pn, &[v, nn]))
+            {
                 self.mesh.nodes[v as usize] = old;
             } else if at != old {
                 moved = true;
@@ -275,7 +283,8 @@ impl Mesher {
     pub(super) fn front_once(&mut self, v: u32) -> bool {
         let p = self.mesh.nodes[v as usize];
         let probe = Point::splat(1e-12 * (1.0 + p.abs().max_element()));
-        self.front.edges_near(p - probe, p + probe, &mut self.scratch.near);
+        self.front
+            .edges_near(p - probe, p + probe, &mut self.scratch.near);
         let near = std::mem::take(&mut self.scratch.near);
         let count = near.iter().filter(|&&e| self.front.node(e) == v).count();
         self.scratch.near = near;
