@@ -19,6 +19,7 @@ use crate::geom::Point;
 use crate::mesh::QuadMesh;
 use crate::model::{ElementType, Model, RulesModel};
 use std::collections::BinaryHeap;
+use std::ops::ControlFlow;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -424,10 +425,27 @@ impl Mesher {
     /// Runs to the end; `progress` is called after every step with the
     /// number of front nodes left.
     pub fn run(&mut self, mut progress: impl FnMut(usize)) -> Result<(), MeshError> {
-        while let StepOutcome::Stepped(_) = self.step()? {
-            progress(self.front.len());
+        self.run_with(|_, left| {
+            progress(left);
+            ControlFlow::Continue(())
+        })
+        .map(|_| ())
+    }
+
+    /// Steps until the mesh is complete or `each` breaks; `each` sees every
+    /// step's report and the number of front nodes left after it (a
+    /// background run counts steps, shows the last element and stops when
+    /// cancelled). Returns whether the mesh is complete.
+    pub fn run_with(
+        &mut self,
+        mut each: impl FnMut(&StepReport, usize) -> ControlFlow<()>,
+    ) -> Result<bool, MeshError> {
+        while let StepOutcome::Stepped(r) = self.step()? {
+            if each(&r, self.front.len()).is_break() {
+                return Ok(self.is_done());
+            }
         }
-        Ok(())
+        Ok(true)
     }
 
     /// Undoes the last step by replaying all the others from the start
