@@ -28,6 +28,11 @@ pub struct MeshParams {
     /// Window of front angles that make a reference point (default
     /// [45, 135]); smaller angles are sharp corners, taken first.
     pub reference_angle: [f64; 2],
+    /// Front angles up to this (beyond the reference window) are taken
+    /// too, after every reference point of their band and layer: a row
+    /// whose end opened a little wider than the window goes on instead of
+    /// stopping (default 150).
+    pub row_angle: f64,
     /// Smallest new quad corner the guard accepts (default 30).
     pub min_corner: f64,
     /// Largest new quad corner the guard accepts (default 150).
@@ -73,6 +78,7 @@ impl MeshParams {
         strategy: Strategy::B,
         leading_points: 3,
         reference_angle: [45.0, 135.0],
+        row_angle: 150.0,
         min_corner: 30.0,
         max_corner: 150.0,
         min_front_angle: 20.0,

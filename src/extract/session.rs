@@ -19,8 +19,8 @@ use crate::geom::Point;
 use crate::mesh::QuadMesh;
 use crate::model::{ElementType, Model, RulesModel};
 use std::collections::BinaryHeap;
-use std::ops::ControlFlow;
 use std::f64::consts::PI;
+use std::ops::ControlFlow;
 use std::sync::Arc;
 
 /// Steps allowed before the region left is filled, per element a uniform
@@ -51,14 +51,17 @@ pub struct Mesher {
     pub(super) stats: StepStats,
     pub(super) scratch: Scratch,
     pub(super) step_limit: usize,
-    /// The deepest layer the queue has reached when loops left behind
-    /// were last looked for.
-    pub(super) row_layer: u32,
+    /// The coarsest band and deepest layer the queue had reached when loops
+    /// left behind were last looked for.
+    pub(super) row_key: (u32, u32),
     /// The element size wanted anywhere in the domain.
     pub(super) size: Arc<SizeField>,
     pub(super) rules: RulesModel,
     /// Loops to check for a first row (no reference point on them).
     pub(super) row_start: Vec<u32>,
+    /// Front edges (by start slot) to start a row on: stretches of the
+    /// boundary left behind.
+    pub(super) row_edges: Vec<SlotId>,
     pub(super) rip_ups: usize,
     /// Quads incident to each node.
     pub(super) incident: Vec<Vec<u32>>,
@@ -96,7 +99,7 @@ impl Mesher {
         let size = Arc::new(SizeField::of_boundary(&boundary));
         let mut m = Mesher {
             step_limit,
-            row_layer: 0,
+            row_key: (0, 0),
             size,
             fill_after: (FILL_BUDGET * (boundary.area() / (h * h)).min(1e9)) as usize
                 + boundary.node_count()
@@ -122,6 +125,7 @@ impl Mesher {
             scratch: Scratch::default(),
             rules: RulesModel::DEFAULT,
             row_start: Vec::new(),
+            row_edges: Vec::new(),
             rip_ups: 0,
             incident: Vec::new(),
             relaxes: 0,
@@ -140,6 +144,10 @@ impl Mesher {
         &self.mesh
     }
 
+    /// The element size field extraction follows.
+    pub fn size(&self) -> &SizeField {
+        &self.size
+    }
     /// The front.
     pub fn front(&self) -> &Front {
         &self.front
