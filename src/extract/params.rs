@@ -61,8 +61,9 @@ pub struct MeshParams {
     /// With `Some(k)`, once every reference point left lies on layer `k`
     /// or deeper (strategy B's layers: the boundary is layer 0), the region
     /// left is filled with [`fill::fill_region`] instead of being extracted
-    /// further; a fill that fails is retried later while extraction goes on
-    /// (default `Some(2)`). `None`: extraction to the end.
+    /// further; a fill that fails is retried later while extraction goes on.
+    /// `None` (the default): extraction to the end, the fill only as the
+    /// last resort.
     pub fill_after_layers: Option<u32>,
     /// Pure model: the guard takes the model's element as predicted or
     /// rejects it (no snapping, no other type, no corrected Pn). A rejected
@@ -88,7 +89,7 @@ impl MeshParams {
         seam_angle: 30.0,
         max_steps: None,
         fill: true,
-        fill_after_layers: Some(2),
+        fill_after_layers: None,
         pure_model: false,
     };
 }

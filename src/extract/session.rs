@@ -23,9 +23,9 @@ use std::f64::consts::PI;
 use std::ops::ControlFlow;
 use std::sync::Arc;
 
-/// Steps allowed before the region left is filled, per element a uniform
-/// mesh at the median boundary segment would have (plus one per boundary
-/// node and 200).
+/// Steps allowed before the region left is filled, per element a mesh
+/// following the size field would have (plus one per boundary node and
+/// 200).
 const FILL_BUDGET: f64 = 2.0;
 
 /// The element extraction loop over one boundary.
@@ -97,13 +97,12 @@ impl Mesher {
         let work = est.max(boundary.node_count());
         let step_limit = params.max_steps.unwrap_or(8 * work + 10_000);
         let size = Arc::new(SizeField::of_boundary(&boundary));
+        let quads = size.quad_estimate().min(1e9);
         let mut m = Mesher {
             step_limit,
             row_key: (0, 0),
             size,
-            fill_after: (FILL_BUDGET * (boundary.area() / (h * h)).min(1e9)) as usize
-                + boundary.node_count()
-                + 200,
+            fill_after: (FILL_BUDGET * quads) as usize + boundary.node_count() + 200,
             fill_retry_at: 0,
             replaying: false,
             rewound: false,
