@@ -3,7 +3,7 @@
 //! loop into two even loops (the extension of TP, thesis §1.3.2),
 //! relaxation of a stuck loop and rip-up of the elements around it.
 
-use super::guard::{self, Corner, Limits};
+use super::guard::{self, Corner, Limits, MAX_SIDE_RATIO};
 use super::report::{StepKind, StepReport};
 use super::session::Mesher;
 use crate::front::{Front, SlotId};
@@ -192,19 +192,22 @@ impl Mesher {
                 continue;
             }
             let quads = self.incident[v as usize].clone();
-            let before: Vec<f64> = quads
+            let before: Vec<(f64, f64)> = quads
                 .iter()
                 .map(|&k| {
-                    crate::quality::Shape::of(self.mesh.corners(&self.mesh.quads[k as usize]))
-                        .scaled_jacobian
+                    let s =
+                        crate::quality::Shape::of(self.mesh.corners(&self.mesh.quads[k as usize]));
+                    (s.scaled_jacobian, s.side_ratio())
                 })
                 .collect();
             self.front.unfile_edges_at(s, &self.mesh.nodes);
             self.mesh.nodes[v as usize] = new;
-            let mut ok = quads.iter().zip(&before).all(|(&k, &b)| {
+            let mut ok = quads.iter().zip(&before).all(|(&k, &(sj, sides))| {
                 let p = self.mesh.corners(&self.mesh.quads[k as usize]);
+                let s = crate::quality::Shape::of(p);
                 crate::geom::is_strictly_convex(p)
-                    && crate::quality::Shape::of(p).scaled_jacobian >= b.min(0.3)
+                    && s.scaled_jacobian >= sj.min(0.3)
+                    && s.side_ratio() <= sides.max(MAX_SIDE_RATIO)
             });
             if ok {
                 let prev_node = self.front.node(self.front.prev(s));
