@@ -34,7 +34,10 @@ impl Mesher {
         };
         for l in self.front.live_loops() {
             for s in self.front.loop_slots(l) {
-                toggle(&mut edges, (self.front.node(s), self.front.node(self.front.next(s))));
+                toggle(
+                    &mut edges,
+                    (self.front.node(s), self.front.node(self.front.next(s))),
+                );
             }
         }
         let mut removed = vec![false; self.mesh.quads.len()];
@@ -66,11 +69,7 @@ impl Mesher {
         r.removed += before - self.mesh.quads.len();
         self.rebuild_incidence();
         let loops = Front::link_loops(edges.into_iter().collect(), &self.mesh.nodes);
-        self.front = Front::new(
-            &loops,
-            &self.mesh.nodes,
-            2.0 * self.boundary.median_segment(),
-        );
+        self.front = Front::new(&loops, &self.mesh.nodes, self.grid_cell);
         self.queue.clear();
         self.version.clear();
         for s in 0..self.front.slots.len() as SlotId {
