@@ -75,8 +75,9 @@ enum Command {
         /// No region fill: a run extraction cannot finish stops with an error.
         #[arg(long)]
         no_fill: bool,
-        /// Layers extracted from the boundary before the region left is
-        /// filled directly (default 2); `all`: extraction to the end.
+        /// `all` (the default): extraction to the end, the region fill only
+        /// as the last resort; K: K layers extracted from the boundary, then
+        /// the region left filled directly.
         #[arg(long, value_parser = parse_layers)]
         layers: Option<Layers>,
         /// Write the quality figures and step counts as JSON.

@@ -195,3 +195,30 @@ fn textbook_cases_finish_without_fill() {
         assert!(q.sj_min >= 0.5, "{name}: scaled Jacobian {}", q.sj_min);
     }
 }
+
+/// `--layers K` holds for both reference-point strategies: the region
+/// inside the first layers is filled, and extraction to the end needs no
+/// fill.
+#[test]
+fn both_strategies_follow_the_layer_count() {
+    use quadex::extract::Strategy;
+    let b = quadex::io::read_boundary(&common::bench().join("boundaries/plate_hole.poly")).unwrap();
+    for strategy in [Strategy::A, Strategy::B] {
+        let run = |layers: Option<u32>| {
+            let params = MeshParams {
+                strategy,
+                fill_after_layers: layers,
+                ..MeshParams::DEFAULT
+            };
+            let model = Arc::new(quadex::model::default_model().unwrap());
+            let mut m = Mesher::new(b.clone(), model, params);
+            m.run(|_| {}).unwrap();
+            m.stats().clone()
+        };
+        let two = run(Some(1));
+        let all = run(None);
+        assert_eq!(two.count(StepKind::Fill), 1, "{strategy:?} with one layer");
+        assert_eq!(all.count(StepKind::Fill), 0, "{strategy:?} to the end");
+        assert!(two.steps < all.steps, "{strategy:?}");
+    }
+}
