@@ -363,6 +363,8 @@ fn run(c: Command) -> Result<()> {
             };
             let t0 = Instant::now();
             let name = model.name().to_string();
+            // Meshed next to the origin, moved back when written.
+            let (boundary, origin) = boundary.to_local();
             let mut mesher = Mesher::new(boundary, model, params);
             let bar = progress_bar(mesher.front().len());
             mesher
@@ -373,8 +375,9 @@ fn run(c: Command) -> Result<()> {
                     }
                 })
                 .with_context(|| format!("{}", input.display()))?;
-            let mesh = pipeline::finish(&mesher, &finish)
+            let mut mesh = pipeline::finish(&mesher, &finish)
                 .with_context(|| format!("{}", input.display()))?;
+            pipeline::to_world(&mut mesh, origin);
             if let Some(b) = bar {
                 b.finish_and_clear();
             }
