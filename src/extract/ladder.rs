@@ -7,6 +7,9 @@
 use super::candidate::Chosen;
 use super::guard::Limits;
 use super::params::Strategy;
+
+/// Rip-ups a run may take.
+const RIP_UPS: usize = 64;
 use super::report::{MeshError, Remedy, StepReport};
 use super::session::Mesher;
 use crate::front::SlotId;
@@ -223,10 +226,15 @@ impl Mesher {
         }
         // 10. Give the smallest stuck loop room: remove the elements around it.
         if let Some(&lid) = loops.first() {
-            if self.rip_ups < 64 {
+            if self.rip_ups < RIP_UPS {
                 let r = self.rip_up(lid, 1 + self.rip_ups % 4);
                 self.rip_ups += 1;
-                return Ok(r);
+                if r.removed > 0 || !r.quads.is_empty() {
+                    return Ok(r);
+                }
+                // Nothing around the loop to remove and no split: rip-ups
+                // cannot help any more.
+                self.rip_ups = RIP_UPS;
             }
         }
         // 11. Fill the region left.
