@@ -22,8 +22,8 @@
 //! [`quality`], [`io`] (file formats), [`samples`] (training samples,
 //! thesis Chapter 3), [`fit`] (model fitting and fit figures, Chapter 4),
 //! [`factors`] (critical factors, §4.2), [`domains`] (seeded awkward test
-//! domains), [`mapped`] (transfinite mapped
-//! meshing) and [`reference`](mod@reference) (the meshes the shipped model learns from).
+//! domains), [`mapped`] (transfinite mapped meshing) and
+//! [`reference`](mod@reference) (the meshes the shipped model learns from).
 //! [`app`] is the desktop editor, the only module that uses egui.
 
 pub mod app;
