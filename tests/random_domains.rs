@@ -65,8 +65,9 @@ fn mesh_one(d: &Domain) -> Result<usize, String> {
     Ok(stats.by_kind.get(&StepKind::Fill).copied().unwrap_or(0))
 }
 
-/// Ignored while the engine times out on four of these (three rectangles
-/// with 2 nodes against 26–76, one mixed domain with 5° teeth): run with
+/// Ignored while the engine times out on five of these 36 (three
+/// rectangles with 2 nodes against 26–76, two mixed domains with teeth and
+/// near pairs): run with
 /// `cargo test --release --test random_domains -- --ignored --nocapture`.
 #[test]
 #[ignore = "the engine does not finish every domain yet (issue 15)"]
