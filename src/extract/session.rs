@@ -19,8 +19,8 @@ use crate::geom::Point;
 use crate::mesh::QuadMesh;
 use crate::model::{ElementType, Model, RulesModel};
 use std::collections::BinaryHeap;
-use std::ops::ControlFlow;
 use std::f64::consts::PI;
+use std::ops::ControlFlow;
 use std::sync::Arc;
 
 /// Steps allowed before the region left is filled, per element a uniform
@@ -353,7 +353,15 @@ impl Mesher {
         Ok(r)
     }
 
-    pub(super) fn apply_correction(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
+    /// Checks that [`Mesher::correct`] would commit `c` now, without
+    /// committing it (the editor marks the front nodes an element can be
+    /// closed onto).
+    pub fn check_correction(&mut self, c: &Correction) -> Result<(), MeshError> {
+        self.correction_cand(c).map(|_| ())
+    }
+
+    /// The element of a correction, checked with relaxed limits.
+    fn correction_cand(&mut self, c: &Correction) -> Result<(SlotId, Cand), MeshError> {
         let s = self
             .front
             .live_loops()
@@ -385,6 +393,11 @@ impl Mesher {
         if self.check(cand, relaxed).is_none() {
             return Err(MeshError::InvalidCorrection { node: c.reference });
         }
+        Ok((s, cand))
+    }
+
+    pub(super) fn apply_correction(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
+        let (s, cand) = self.correction_cand(c)?;
         let leading: Vec<u32> = self
             .leading_slots(s, self.leading_n())
             .iter()
