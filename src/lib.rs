@@ -23,8 +23,10 @@
 //! thesis Chapter 3), [`fit`] (model fitting and fit figures, Chapter 4),
 //! [`factors`] (critical factors, §4.2), [`mapped`] (transfinite mapped
 //! meshing) and [`reference`](mod@reference) (the meshes the shipped model learns from).
-//! [`app`] is the desktop editor, the only module that uses egui.
+//! `app` is the desktop editor, the only module that uses egui (behind the
+//! default cargo feature `gui`).
 
+#[cfg(feature = "gui")]
 pub mod app;
 pub mod boundary;
 pub mod boundary_edit;
