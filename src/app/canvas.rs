@@ -282,6 +282,20 @@ pub struct MeshCache {
     mean_edge: f64,
     /// The quads by place, for hovering.
     pub index: QuadIndex,
+    /// What [`MeshCache::screen`] was built for.
+    screen_key: Option<ScreenKey>,
+    /// The mesh, the boundary and the front as screen-space shapes.
+    screen: Vec<Shape>,
+}
+
+/// What the screen-space shapes of the mesh depend on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct ScreenKey {
+    mesh: Option<(u64, usize, Option<Metric>)>,
+    center: Point,
+    zoom: f64,
+    rect: Rect,
+    edge_color: Color32,
 }
 
 impl MeshCache {
@@ -376,11 +390,54 @@ pub fn draw(
     }
     painter.add(Shape::mesh(fill));
 
-    // Quads and their edges, one shape each. Nodes are mapped once; quads
-    // off the canvas are skipped; edges are left out when they would be
-    // under 3 pixels long on average (the fill alone shows the mesh).
+    // Quads, their edges, the boundary and the front: built in screen
+    // space once per mesh, colouring and view, and kept while none of them
+    // changes (a still frame with a large mesh rebuilds nothing).
     cache.refresh(o);
+    let key = ScreenKey {
+        mesh: cache.key,
+        center: view.center,
+        zoom: view.zoom,
+        rect,
+        edge_color: ui.visuals().text_color(),
+    };
+    if cache.screen_key.as_ref() != Some(&key) {
+        cache.screen = screen_shapes(cache, o, view, rect, key.edge_color);
+        cache.screen_key = Some(key);
+    }
+    painter.extend(cache.screen.iter().cloned());
+
+    if let Some(r) = o.last {
+        draw_step(painter, r, o.mesh, &to);
+    }
+    let hovered_quad = pointer
+        .world
+        .filter(|_| pointer.hovered)
+        .and_then(|p| cache.index.quad_at(o.mesh, p));
+    if let Some(k) = hovered_quad {
+        let s = o.mesh.corners(&o.mesh.quads[k]).map(to);
+        painter.add(Shape::closed_line(
+            s.to_vec(),
+            Stroke::new(2.0, Color32::WHITE),
+        ));
+    }
+    hovered_quad
+}
+
+/// The mesh (quads filled in their colours, those that miss the thesis
+/// criteria tinted, edges when they are 3 pixels long or more on average),
+/// the boundary and the front, as screen-space shapes. Nodes are mapped
+/// once; quads and edges off the canvas are left out.
+fn screen_shapes(
+    cache: &MeshCache,
+    o: &Overlay,
+    view: &View,
+    rect: Rect,
+    text_color: Color32,
+) -> Vec<Shape> {
+    let to = |p: Point| view.to_screen(rect, p);
     let screen: Vec<Pos2> = o.mesh.nodes.iter().map(|&p| to(p)).collect();
+    let mut shapes = Vec::new();
     let mut quads = Mesh::default();
     for (q, &color) in o.mesh.quads.iter().zip(&cache.colors) {
         let s = q.map(|v| screen[v as usize]);
@@ -388,12 +445,13 @@ pub fn draw(
             push_fan(&mut quads, &s, color);
         }
     }
-    painter.add(Shape::mesh(quads));
+    shapes.push(Shape::mesh(quads));
     let show_edges = cache.mean_edge * view.zoom >= 3.0;
     // Quads that miss the thesis criteria: tinted, and outlined dashed
     // when edges are drawn.
     let mut tint = Mesh::default();
     let poor_color = Color32::from_rgba_unmultiplied(200, 60, 220, 90);
+    let mut dashed = Vec::new();
     for &k in &cache.poor {
         let s = o.mesh.quads[k as usize].map(|v| screen[v as usize]);
         if rect.intersects(Rect::from_points(&s)) {
@@ -401,7 +459,7 @@ pub fn draw(
             if show_edges {
                 let mut ring = s.to_vec();
                 ring.push(s[0]);
-                painter.extend(Shape::dashed_line(
+                dashed.extend(Shape::dashed_line(
                     &ring,
                     Stroke::new(1.5, Color32::from_rgb(230, 90, 255)),
                     4.0,
@@ -410,19 +468,19 @@ pub fn draw(
             }
         }
     }
-    painter.add(Shape::mesh(tint));
+    shapes.extend(dashed);
+    shapes.push(Shape::mesh(tint));
     if show_edges {
         let mut edges = Mesh::default();
-        let edge_color = ui.visuals().text_color().gamma_multiply(0.7);
+        let edge_color = text_color.gamma_multiply(0.7);
         for e in &cache.edges {
             let (a, b) = (screen[e[0] as usize], screen[e[1] as usize]);
             if rect.intersects(Rect::from_two_pos(a, b)) {
                 push_segment(&mut edges, a, b, 1.0, edge_color);
             }
         }
-        painter.add(Shape::mesh(edges));
+        shapes.push(Shape::mesh(edges));
     }
-
     // Boundary and front.
     let mut lines = Mesh::default();
     if let Some(b) = o.boundary {
@@ -440,23 +498,8 @@ pub fn draw(
             push_segment(&mut lines, a, b, 3.0, front_color);
         }
     }
-    painter.add(Shape::mesh(lines));
-
-    if let Some(r) = o.last {
-        draw_step(painter, r, o.mesh, &to);
-    }
-    let hovered_quad = pointer
-        .world
-        .filter(|_| pointer.hovered)
-        .and_then(|p| cache.index.quad_at(o.mesh, p));
-    if let Some(k) = hovered_quad {
-        let s = o.mesh.quads[k].map(|v| screen[v as usize]);
-        painter.add(Shape::closed_line(
-            s.to_vec(),
-            Stroke::new(2.0, Color32::WHITE),
-        ));
-    }
-    hovered_quad
+    shapes.push(Shape::mesh(lines));
+    shapes
 }
 
 /// The quad tooltip while hovering quad `k` of the mesh.
