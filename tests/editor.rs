@@ -60,7 +60,11 @@ fn settle(h: &mut Harness<'static, App>) {
 }
 
 fn example() -> App {
-    App::new(Document::example("annulus.poly", Settings::default()).unwrap())
+    example_named("annulus.poly")
+}
+
+fn example_named(name: &str) -> App {
+    App::new(Document::example(name, Settings::default()).unwrap())
 }
 
 fn open(path: &Path) -> App {
@@ -884,8 +888,9 @@ fn issue17_clicking_a_front_node_closes_the_element_onto_it() {
         };
         // The panel says how many there are.
         h.get_by_label_contains(&format!(
-            "{} near P0 give",
-            quadex::app::plural(valid.len(), "front node")
+            "{} near P0 {} a valid element",
+            quadex::app::plural(valid.len(), "front node"),
+            if valid.len() == 1 { "gives" } else { "give" }
         ));
         // The valid targets are drawn (green rings).
         assert!(strokes_of(&h, egui::Color32::from_rgb(90, 230, 110)) >= valid.len());
@@ -1178,6 +1183,37 @@ fn issue17_the_canvas_keeps_room_and_refits_on_resize() {
     h.set_size(egui::vec2(1100.0, 700.0));
     h.run();
     assert_eq!(h.state().view.canvas.zoom, zoomed);
+}
+
+/// 10a'. The side panels keep their width while stepping, correcting and
+///       refitting: a new table row (the last step's) does not widen a
+///       panel and shift the canvas under the pointer.
+#[test]
+fn issue17_the_canvas_stays_put_while_stepping() {
+    for tab in ["Quality", "Model"] {
+        let mut h = harness_sized(example_named("plate_hole.poly"), 1000.0, 650.0);
+        h.run();
+        h.get_by_label(tab).click();
+        h.run();
+        let r0 = h.state().view.canvas_rect;
+        for k in 0..40 {
+            let cmd = match k {
+                10 => Command::AppendLast,
+                20 => Command::Refit {
+                    form: Form::Quadratic,
+                    mesh_rest: false,
+                },
+                _ => Command::Step,
+            };
+            h.state_mut().apply(cmd);
+            h.run();
+            let r = h.state().view.canvas_rect;
+            assert!(
+                (r.left() - r0.left()).abs() <= 1.0 && (r.right() - r0.right()).abs() <= 1.0,
+                "{tab}: the canvas moved at step {k}: {r:?}, was {r0:?}"
+            );
+        }
+    }
 }
 
 /// 10b. The last step's labels (P0, l1.., r1.., Pn) never overlap.

@@ -64,6 +64,8 @@ pub enum Command {
     Animate(bool),
     /// Stop the background run; the document stays as before it.
     Cancel,
+    /// Close the window (asks first when there is unsaved work).
+    Quit,
     /// Compute the finished mesh (after its pass was cancelled or failed).
     Finish,
     /// Append the samples of a training-set file (CSV or JSON).
@@ -111,6 +113,7 @@ impl Command {
             Command::Dialog(Dialog::ExportMesh) => Some(k(Modifiers::COMMAND, Key::E)),
             Command::Animate(_) => Some(k(Modifiers::NONE, Key::P)),
             Command::Cancel => Some(k(Modifiers::NONE, Key::Escape)),
+            Command::Quit => Some(k(Modifiers::COMMAND, Key::Q)),
             Command::Reset => Some(k(Modifiers::COMMAND, Key::R)),
             Command::FitView => Some(k(Modifiers::NONE, Key::F)),
             _ => None,
@@ -136,6 +139,6 @@ impl Command {
 
     /// True for what may be done while a run goes on in the background.
     pub fn allowed_while_running(&self) -> bool {
-        matches!(self, Command::Cancel | Command::FitView)
+        matches!(self, Command::Cancel | Command::FitView | Command::Quit)
     }
 }

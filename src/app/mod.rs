@@ -711,12 +711,12 @@ impl App {
 
     fn run_command(&mut self, cmd: Command) -> Result<String, EditorError> {
         match cmd {
-            Command::Step => self.step_sync(1).map(|k| {
-                if k == 1 {
-                    String::new()
-                } else {
-                    "the mesh is complete".into()
+            Command::Step => self.step_sync(1).map(|k| match self.document.doc.last() {
+                Some(r) if k == 1 => {
+                    format!("step {}: {}", r.index + 1, document::kind_name(r.kind))
                 }
+                _ if k == 1 => "stepped".into(),
+                _ => "the mesh is complete".into(),
             }),
             Command::StepN(n) if self.background.threads && n > BACKGROUND_STEPS => {
                 self.start_run(n, "stepping", Record::Steps)?;
@@ -738,6 +738,11 @@ impl App {
                 Ok(if on { "running…" } else { "paused" }.into())
             }
             Command::Cancel => Ok(self.cancel()),
+            Command::Quit => {
+                // Closing asks first when there is unsaved work.
+                self.window.close_now = true;
+                Ok(String::new())
+            }
             Command::Undo => {
                 let before = self.document.doc.clone();
                 let what = self.document.history.undo(&mut self.document.doc);
@@ -1083,10 +1088,15 @@ impl App {
                 }
                 None => {}
             }
+            let what = if job.record == Record::WithLastEdit {
+                "refitted, then meshed the rest: "
+            } else {
+                ""
+            };
             self.window.status = match done.error {
-                Some(e) => format!("error after {}: {e}", plural(done.steps, "step")),
+                Some(e) => format!("{what}error after {}: {e}", plural(done.steps, "step")),
                 None => format!(
-                    "{}{}",
+                    "{what}{}{}",
                     plural(done.steps, "step"),
                     if self.document.doc.is_done() {
                         ", mesh complete"
@@ -1147,6 +1157,8 @@ impl App {
         let mesh = self.finished_mesh()?;
         crate::io::write_mesh(&mesh, &path)?;
         self.window.recent.push(&path);
+        // The Export box writes there again.
+        self.panels.export_path = path.display().to_string();
         Ok(format!(
             "wrote {} ({})",
             path.display(),
@@ -1360,6 +1372,7 @@ impl App {
             Command::Dialog(Dialog::Open),
             Command::Dialog(Dialog::ExportMesh),
             Command::Animate(self.background.animating.is_none()),
+            Command::Quit,
             Command::Cancel,
         ] {
             if menu_open && cmd == Command::Cancel {
@@ -1454,11 +1467,11 @@ impl App {
                         let mut out = Vec::new();
                         out.extend(self.panels.step.ui(ui, &scene));
                         ui.separator();
+                        export_box(ui, &mut self.panels.export_path, &scene, &mut out);
+                        ui.separator();
                         out.extend(self.panels.train.ui(ui, &scene));
                         ui.separator();
                         out.extend(self.panels.tools.ui(ui, &scene));
-                        ui.separator();
-                        export_box(ui, &mut self.panels.export_path, &scene, &mut out);
                         cmds.extend(out);
                     });
                 });
@@ -1494,7 +1507,14 @@ impl App {
         }
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE)
-            .show(ctx, |ui| self.canvas(ui, &mut cmds));
+            .show(ctx, |ui| {
+                egui::Frame::side_top_panel(ui.style()).show(ui, |ui| {
+                    ui.set_width(ui.available_width());
+                    let scene = scene_of(&self.document, &self.view, &self.background);
+                    cmds.extend(self.panels.tools.toolbar(ui, &scene));
+                });
+                self.canvas(ui, &mut cmds);
+            });
         self.questions(ctx, &mut cmds);
         for c in cmds {
             self.apply(c);
@@ -1740,6 +1760,15 @@ impl App {
                 }
             }
             ui.label(egui::RichText::new("(or drop a file on the window)").weak());
+            ui.separator();
+            item(
+                ui,
+                "Quit",
+                "Close the editor (asks first when there is unsaved work)",
+                Command::Quit,
+                true,
+                cmds,
+            );
         });
         ui.menu_button("Edit", |ui| {
             let h = &self.document.history;

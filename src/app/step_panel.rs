@@ -59,6 +59,29 @@ pub fn button_enabled(
     }
 }
 
+/// One row of the last-step table: the name in a column of its own, the
+/// value wrapped in what is left of the panel's width (a table that sizes
+/// its columns from the last frame would widen the panel when a new row
+/// appears). Returns the name's response (for a tooltip).
+fn row(ui: &mut Ui, name: &str, value: egui::RichText) -> egui::Response {
+    ui.horizontal_top(|ui| {
+        let w = (0.45 * ui.available_width()).min(140.0);
+        let name = ui
+            .allocate_ui_with_layout(
+                egui::vec2(w, 0.0),
+                egui::Layout::top_down(egui::Align::Min),
+                |ui| {
+                    ui.set_width(w);
+                    ui.add(egui::Label::new(name).wrap())
+                },
+            )
+            .inner;
+        ui.add(egui::Label::new(value).wrap());
+        name
+    })
+    .inner
+}
+
 /// What a remedy means, for the last-step table.
 fn remedy_name(r: Remedy) -> &'static str {
     match r {
@@ -254,44 +277,49 @@ impl super::View for StepPanel {
                 ui.label("none yet");
             }
             Some(r) => {
-                egui::Grid::new("last_step").num_columns(2).show(ui, |ui| {
-                    ui.label("step");
-                    ui.label(format!("{} ({})", r.index + 1, kind_name(r.kind)));
-                    ui.end_row();
-                    if let Some(v) = r.reference {
-                        ui.label("reference P0");
-                        ui.label(format!("node {v}"));
-                        ui.end_row();
-                    }
-                    if let Some(p) = &r.prediction {
-                        ui.label("model's type");
-                        ui.label(p.element_type.number().to_string());
-                        ui.end_row();
-                        ui.label("model's Pn, normalised").on_hover_text(
-                            "In the frame of P0: P0 at the origin, r1 at (1, 0); unit |P0 r1|",
-                        );
-                        ui.monospace(format!("({:.3}, {:.3}) × |P0 r1|", p.pn.x, p.pn.y));
-                        ui.end_row();
-                    }
-                    if let Some(w) = r.predicted_pn {
-                        ui.label("model's Pn, world");
-                        ui.monospace(format!("({:.4}, {:.4})", w.x, w.y));
-                        ui.end_row();
-                    }
-                    if let Some(t) = r.element_type {
-                        ui.label("element");
-                        ui.label(format!("type {}", t.number()));
-                        ui.end_row();
-                    }
-                    ui.label("remedy");
-                    ui.label(remedy_name(r.remedy));
-                    ui.end_row();
-                    if r.skipped > 0 {
-                        ui.label("passed over");
-                        ui.label(super::plural(r.skipped, "reference point"));
-                        ui.end_row();
-                    }
-                });
+                let mono = |t: String| egui::RichText::new(t).monospace();
+                let plain = egui::RichText::new;
+                row(
+                    ui,
+                    "step",
+                    plain(format!("{} ({})", r.index + 1, kind_name(r.kind))),
+                );
+                if let Some(v) = r.reference {
+                    row(ui, "reference P0", plain(format!("node {v}")));
+                }
+                if let Some(p) = &r.prediction {
+                    row(
+                        ui,
+                        "model's type",
+                        plain(p.element_type.number().to_string()),
+                    );
+                    row(
+                        ui,
+                        "model's Pn, normalised",
+                        mono(format!("({:.3}, {:.3}) × |P0 r1|", p.pn.x, p.pn.y)),
+                    )
+                    .on_hover_text(
+                        "In the frame of P0: P0 at the origin, r1 at (1, 0); unit |P0 r1|",
+                    );
+                }
+                if let Some(w) = r.predicted_pn {
+                    row(
+                        ui,
+                        "model's Pn, world",
+                        mono(format!("({:.4}, {:.4})", w.x, w.y)),
+                    );
+                }
+                if let Some(t) = r.element_type {
+                    row(ui, "element", plain(format!("type {}", t.number())));
+                }
+                row(ui, "remedy", plain(remedy_name(r.remedy).to_string()));
+                if r.skipped > 0 {
+                    row(
+                        ui,
+                        "passed over",
+                        plain(super::plural(r.skipped, "reference point")),
+                    );
+                }
             }
         }
         out

@@ -411,7 +411,18 @@ impl Tools {
                 }
                 Some(Hover::FrontNode(v, w)) => {
                     painter.circle_stroke(to(w), 8.0, Stroke::new(2.0, red));
-                    tip(ui, &format!("node {v}: too far from P0 to close onto"));
+                    let corner = n
+                        .checked_sub(1)
+                        .and_then(|k| last.leading.get(k..=n + 1))
+                        .is_some_and(|c| c.contains(&v));
+                    tip(
+                        ui,
+                        &if corner {
+                            format!("node {v} is a corner of this element: nothing to close onto")
+                        } else {
+                            format!("node {v}: too far from P0 to close the element onto")
+                        },
+                    );
                 }
                 Some(Hover::Handle) if self.pn_drag.is_none() => {
                     tip(ui, "drag Pn and let go to correct the element");
@@ -526,55 +537,69 @@ fn front_node_at(at: &OnCanvas, pos: Option<Pos2>) -> Option<(u32, Point)> {
         .map(|(v, w, _)| (v, w))
 }
 
-impl super::View for Tools {
-    /// The boundary section of the left panel.
-    fn ui(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
-        let mut out = Vec::new();
+impl Tools {
+    /// The tool bar above the canvas: the tools, the one in hand's hint and
+    /// options (a split's parts, the loop being drawn, the closing targets
+    /// of the Correct tool).
+    pub fn toolbar(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
         let doc = s.doc;
-        ui.heading("Canvas tool");
         ui.horizontal_wrapped(|ui| {
+            ui.label(egui::RichText::new("Tool").strong());
             for t in Tool::ALL {
                 ui.selectable_value(&mut self.tool, t, t.name())
                     .on_hover_text(t.hint());
             }
-        });
-        ui.label(egui::RichText::new(self.tool.hint()).weak());
-        match self.tool {
-            Tool::Correct if doc.last_element().is_some() && s.shown.kind == MeshKind::Stepped => {
-                let valid = s.targets.iter().filter(|t| t.valid).count();
-                ui.label(if valid == 0 {
-                    "No front node near P0 gives a valid element here (the quad would be flat or fold): drag Pn instead.".to_string()
-                } else {
-                    format!(
-                        "{} near P0 give a valid element (green).",
-                        super::plural(valid, "front node")
-                    )
-                });
-            }
-            Tool::Draw if !self.drawing.is_empty() => {
-                ui.label(format!(
-                    "{} placed",
-                    super::plural(self.drawing.len(), "node")
-                ));
-                if ui
-                    .button("Drop the loop being drawn")
-                    .on_hover_text("Forget the nodes placed (Esc)")
-                    .clicked()
+            ui.separator();
+            match self.tool {
+                Tool::Correct
+                    if doc.last_element().is_some() && s.shown.kind == MeshKind::Stepped =>
                 {
-                    self.drawing.clear();
+                    let valid = s.targets.iter().filter(|t| t.valid).count();
+                    ui.label(if valid == 0 {
+                        "No front node near P0 gives a valid element here (the quad would be flat or fold): drag Pn instead.".to_string()
+                    } else {
+                        format!(
+                            "{} near P0 {} a valid element (green): click one to close the element onto it, or drag Pn.",
+                            super::plural(valid, "front node"),
+                            if valid == 1 { "gives" } else { "give" }
+                        )
+                    });
                 }
-            }
-            Tool::Split => {
-                ui.horizontal(|ui| {
+                Tool::Draw if !self.drawing.is_empty() => {
+                    ui.label(format!(
+                        "{} placed; click the first node to close the loop",
+                        super::plural(self.drawing.len(), "node")
+                    ));
+                    if ui
+                        .button("Drop the loop")
+                        .on_hover_text("Forget the nodes placed (Esc or right-click)")
+                        .clicked()
+                    {
+                        self.drawing.clear();
+                    }
+                }
+                Tool::Split => {
                     ui.label("parts");
                     ui.add(egui::DragValue::new(&mut self.split_parts).range(2..=100))
-                        .on_hover_text(
-                            "A split cuts the segment clicked into this many equal parts",
-                        );
-                });
+                        .on_hover_text("A split cuts the segment clicked into this many equal parts");
+                    ui.label(egui::RichText::new(self.tool.hint()).weak());
+                }
+                t => {
+                    ui.label(egui::RichText::new(t.hint()).weak());
+                }
             }
-            _ => {}
-        }
+        });
+        Vec::new()
+    }
+}
+
+impl super::View for Tools {
+    /// The boundary section of the left panel: its loops, resampling, and
+    /// whether it is a valid boundary.
+    fn ui(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
+        let mut out = Vec::new();
+        let doc = s.doc;
+        ui.heading("Boundary");
         let d = &doc.draft;
         if !d.loops.is_empty() {
             ui.horizontal_wrapped(|ui| {
@@ -631,14 +656,22 @@ impl super::View for Tools {
                 ));
             }
             Some(crate::boundary::BoundaryError::Empty) if d.loops.is_empty() => {
-                ui.label("Nothing drawn yet: choose \"draw loop\" and click on the canvas.");
+                ui.label(if self.tool == Tool::Draw {
+                    "Nothing drawn yet: click on the canvas to place the outer loop's nodes."
+                } else {
+                    "Nothing drawn yet: choose the \"draw loop\" tool above the canvas and click on the canvas."
+                });
             }
             Some(e) => {
                 ui.colored_label(
                     Color32::from_rgb(255, 110, 110),
                     format!("not a valid boundary yet: {e}"),
                 );
-                ui.label("The nodes at fault are circled in red; fix them with the tools above, or undo.");
+                ui.label(if d.marked(e).is_empty() {
+                    "Fix it with the tools above, or undo."
+                } else {
+                    "The nodes at fault are circled in red; fix them with the tools above, or undo."
+                });
             }
         }
         out

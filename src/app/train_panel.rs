@@ -15,8 +15,9 @@ pub struct TrainPanel {
     pub element_type: ElementType,
     /// Pn of the correction, in world coordinates.
     pub pn: Point,
-    /// The step the correction fields were filled from.
-    filled_from: Option<(usize, Option<u32>)>,
+    /// The mesh (by version) the correction fields were filled from: a
+    /// step, a correction or an undo fills them again.
+    filled_from: Option<u64>,
     form: Form,
     /// Mesh the rest with the new model right after a refit.
     pub regenerate: bool,
@@ -42,7 +43,7 @@ impl super::View for TrainPanel {
         match (doc.last_element(), doc.mesher()) {
             (Some(r), Some(m)) if s.shown.kind == super::MeshKind::Stepped => {
                 // Start from what was committed: the new node, or r2 / l2.
-                let key = (r.index, r.pn_node());
+                let key = s.mesh_version;
                 if self.filled_from != Some(key) {
                     self.filled_from = Some(key);
                     self.element_type = r.element_type.unwrap_or(ElementType::New);
