@@ -62,6 +62,12 @@ fn main() {
             break;
         }
     }
+    if flag("--sizes") {
+        for k in 0..m.boundary().points.len().min(8) {
+            let p = m.boundary().points[k];
+            eprintln!("size at node {k} {p:?}: {:.4}", m.size().at(p));
+        }
+    }
     if let Some(node) = opt("--explain").and_then(|s| s.parse::<u32>().ok()) {
         match m.explain(node) {
             Some(list) => {
@@ -99,7 +105,7 @@ fn main() {
     extra.push_str("</g>\n</svg>\n");
     svg = svg.replace("</svg>\n", &extra);
     std::fs::write(output, svg).expect("write");
-    if f.len() <= 24 {
+    if f.len() <= 24 || flag("--loops") {
         for lid in f.live_loops() {
             let pts: Vec<String> = f
                 .loop_slots(lid)

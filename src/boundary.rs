@@ -975,7 +975,7 @@ mod tests {
         let l = vec![vec![0, 1, 2, 3]];
         for (w, h, o) in [
             (1000.0, 1.0, Point::ZERO),
-            (1.0, 1e-9, Point::ZERO),
+            (1.0, 1e-4, Point::ZERO),
             (1.0, 1.0, Point::splat(1e8)),
             (1e-3, 1.0, Point::new(-5e7, 3e7)),
             (1e120, 1e120, Point::ZERO),

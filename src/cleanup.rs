@@ -670,11 +670,12 @@ mod tests {
             remesh: crate::remesh::RemeshParams::OFF,
             ..crate::pipeline::FinishParams::DEFAULT
         };
-        let mut m = Mesher::new(
-            b,
-            std::sync::Arc::new(RulesModel::DEFAULT),
-            MeshParams::DEFAULT,
-        );
+        // Two layers and the region fill: a mesh with work for cleanup.
+        let params = MeshParams {
+            fill_after_layers: Some(2),
+            ..MeshParams::DEFAULT
+        };
+        let mut m = Mesher::new(b, std::sync::Arc::new(RulesModel::DEFAULT), params);
         m.run(|_| {}).unwrap();
         crate::pipeline::finish(&m, &finish).unwrap()
     }

@@ -5,7 +5,7 @@ use anyhow::{anyhow, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use quadex::cleanup::CleanupParams;
-use quadex::extract::{MeshParams, Mesher, StepStats, Strategy};
+use quadex::extract::{MeshParams, Mesher, StepKind, StepStats, Strategy};
 use quadex::factors;
 use quadex::fit::{self, FitParams};
 use quadex::io::{self, MeshFormat};
@@ -406,8 +406,16 @@ fn run(c: Command) -> Result<()> {
                 files.push((path, json.as_bytes()));
             }
             io::write_atomic_all(&files)?;
+            let stats = mesher.stats();
+            let made_by = match stats.count(StepKind::Fill) {
+                0 => format!("{} extraction steps", stats.steps),
+                _ => format!(
+                    "{} extraction steps and a region fill",
+                    stats.steps - stats.count(StepKind::Fill)
+                ),
+            };
             println!(
-                "{}: {} quads, sj min {:.3} mean {:.3}, {:.1}% in [45,135], {} irregular, {:.3} s",
+                "{}: {} quads, sj min {:.3} mean {:.3}, {:.1}% in [45,135], {} irregular, {made_by}, {:.3} s",
                 output.display(),
                 q.quads,
                 q.sj_min,

@@ -1,27 +1,26 @@
 //! The reference meshes the shipped model learns from (thesis §3.1.2:
 //! samples come from good meshes of varied character). Each is built by the
 //! project itself, by mapped meshing ([`crate::mapped`]) or, for the peer
-//! domain, by quadex's own extraction with the rules model; each is checked
+//! domain, recorded from quadex's own extraction with the rules model (kept
+//! as data so that the shipped model does not change with the extraction
+//! engine); each is checked
 //! by [`QuadMesh::check_invariants`]. `cargo run --example reference_meshes`
 //! writes them to `assets/reference/` and the tests check that the shipped
 //! files are what the generator makes.
 
-use crate::extract::{MeshError, MeshParams};
 use crate::fit::{fit_model, FitError, FitParams};
 use crate::geom::Point;
-use crate::io::poly::parse_poly;
+use crate::io::msh::read_msh;
 use crate::mapped::{graded, map_grid, merge, Block};
 use crate::mesh::{InvariantError, QuadMesh};
-use crate::model::RulesModel;
 use crate::model::{Form, ModelFile};
-use crate::pipeline::{mesh_boundary, Params};
 use crate::samples::{CollectParams, TrainingSet};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
-use std::sync::Arc;
 use thiserror::Error;
 
-/// The FreeMesh domain `boundary6` (MIT licence; see `assets/README.md`).
-const PEER_BOUNDARY: &str = include_str!("../assets/examples/freemesh_boundary6.poly");
+/// Extraction's mesh of the FreeMesh domain `boundary6` (MIT licence; see
+/// `assets/README.md`) with the rules model, as recorded.
+const PEER_MESH: &str = include_str!("../assets/reference/peer_boundary6.msh");
 
 /// A reference mesh that could not be built.
 #[derive(Debug, Error)]
@@ -30,11 +29,6 @@ pub enum ReferenceError {
     Invariant {
         name: &'static str,
         source: InvariantError,
-    },
-    #[error("{name}: {source}")]
-    Mesh {
-        name: &'static str,
-        source: MeshError,
     },
     /// A boundary or mesh file that cannot be read.
     #[error("{name}: {msg}")]
@@ -155,24 +149,13 @@ pub fn build(name: &'static str) -> Result<QuadMesh, ReferenceError> {
         "annulus_sector" => annulus_sector(),
         "lshape" => lshape(),
         "peer_boundary6" => {
-            let b = parse_poly(PEER_BOUNDARY).map_err(|e| ReferenceError::Boundary {
+            // A recorded extraction of the peer domain with the rules model,
+            // kept as data: the shipped model must not move each time the
+            // extraction engine changes.
+            let m = read_msh(PEER_MESH).map_err(|e| ReferenceError::Boundary {
                 name,
                 msg: e.to_string(),
             })?;
-            let (m, _) = mesh_boundary(
-                &b,
-                Arc::new(RulesModel::DEFAULT),
-                // Extraction throughout: its quads are extraction's patterns.
-                &Params {
-                    extract: MeshParams {
-                        fill_after_layers: None,
-                        ..MeshParams::DEFAULT
-                    },
-                    ..Params::DEFAULT
-                },
-                |_| {},
-            )
-            .map_err(|source| ReferenceError::Mesh { name, source })?;
             m.check_finished()
                 .map_err(|source| ReferenceError::Invariant { name, source })?;
             return Ok(m);
@@ -245,7 +228,7 @@ pub fn read_shipped() -> Result<Vec<(String, QuadMesh)>, ReferenceError> {
     SHIPPED
         .iter()
         .map(|&(name, text)| {
-            crate::io::msh::read_msh(text)
+            read_msh(text)
                 .map(|m| (format!("{name}.msh"), m))
                 .map_err(|e| ReferenceError::Boundary {
                     name,

@@ -271,7 +271,7 @@ fn candidates(params: &MeshParams) -> Vec<MeshParams> {
     let other_finish = MeshParams {
         fill_after_layers: match base.fill_after_layers {
             Some(_) => None,
-            None => MeshParams::DEFAULT.fill_after_layers,
+            None => Some(2),
         },
         ..base.clone()
     };

@@ -15,6 +15,10 @@ use std::f64::consts::PI;
 /// cut on them.
 const SMALL_LOOP: usize = 48;
 
+/// A stretch of the given boundary this long (nodes) that no row has
+/// reached when the queue moves on gets a row start.
+const ROW_RUN: usize = 4;
+
 impl Mesher {
     pub(super) fn auto_step(&mut self) -> Result<StepReport, MeshError> {
         if self.params.fill && self.history.len() >= self.fill_after {
@@ -30,8 +34,8 @@ impl Mesher {
         }
         let limits = self.limits();
         // 0. A loop with no reference point starts a row with a square:
-        //    a new loop, or (strategy B) a loop whose rows have fallen
-        //    behind the layer the queue has moved on to.
+        //    a new loop, or (strategy B) a loop left behind the band or
+        //    layer the queue has moved on to.
         self.queue_rows_behind();
         while let Some(lid) = self.row_start.pop() {
             if self.front.loops[lid as usize].alive
@@ -39,6 +43,19 @@ impl Mesher {
                 && !self.loop_has_reference(lid)
             {
                 if let Some(r) = self.square_cut(Some(lid), limits) {
+                    return Ok(r);
+                }
+            }
+        }
+        let hi = self.params.row_angle.to_radians();
+        while let Some(s) = self.row_edges.pop() {
+            let t = self.front.next(s);
+            if self.front.slot(s).alive
+                && self.front.loop_len(s) > 6
+                && self.front.angle(s, &self.mesh.nodes) > hi
+                && self.front.angle(t, &self.mesh.nodes) > hi
+            {
+                if let Some(r) = self.square_on(s, limits) {
                     return Ok(r);
                 }
             }
@@ -61,23 +78,32 @@ impl Mesher {
         }
         // 2. The region inside the first layers is filled directly.
         if let Some(k) = self.params.fill_after_layers {
-            if self.params.fill && self.queue_layer().is_some_and(|l| l >= k) {
+            if self.params.fill && self.queue_top().is_some_and(|(_, l)| l >= k) {
                 if let Some(r) = self.fill_rest() {
                     return Ok(r);
                 }
             }
         }
         // 3. Reference points in queue order; poor elements wait while a
-        //    better reference point exists (the "next reference point" remedy).
+        //    better reference point of the same kind, band and layer
+        //    exists (the "next reference point" remedy): the best of the
+        //    group is taken before the queue moves on to the next group.
         let mut skipped = 0;
         let mut deferred: Vec<SlotId> = Vec::new();
         let mut best: Option<Chosen> = None;
         let mut chosen = None;
+        let mut group = None;
         while let Some(e) = self.queue.pop() {
             let i = e.slot as usize;
             if !self.front.slot(e.slot).alive || self.version[i] != e.version {
                 continue;
             }
+            let key = (e.class > 0, e.band, e.layer);
+            if best.is_some() && group.is_some_and(|g| g != key) {
+                self.queue.push(e);
+                break;
+            }
+            group = Some(key);
             if e.class == 0
                 && self.front.angle(e.slot, &self.mesh.nodes) < self.params.seam_angle.to_radians()
             {
@@ -202,35 +228,61 @@ impl Mesher {
         })
     }
 
-    /// Strategy B: when the queue moves on to a deeper layer, every loop
-    /// left behind on a shallower one without a reference point (the front
+    /// Strategy B: when the queue moves on to a coarser band or deeper
+    /// layer, every loop left behind without a reference point (the front
     /// around a hole after a full ring, all its angles reflex) is queued
-    /// for a row start, so that every loop advances layer by layer.
+    /// for a row start, and so is every stretch of the given boundary no
+    /// row has reached, so that every part of the front keeps up.
     fn queue_rows_behind(&mut self) {
         if self.params.strategy != super::params::Strategy::B {
             return;
         }
-        let Some(layer) = self.queue_layer() else {
+        let Some(top) = self.queue_top() else {
             return;
         };
-        if layer <= self.row_layer {
+        if top <= self.row_key {
             return;
         }
-        self.row_layer = layer;
-        let hi = self.params.reference_angle[1].to_radians();
-        let behind: Vec<u32> = self
-            .front
-            .live_loops()
-            .filter(|&lid| {
-                let slots = self.front.loop_slots(lid);
-                slots.len() > 6
-                    && slots.iter().any(|&s| self.front.slot(s).layer < layer)
-                    && slots
-                        .iter()
-                        .all(|&s| self.front.angle(s, &self.mesh.nodes) > hi)
-            })
-            .collect();
-        self.row_start.extend(behind);
+        self.row_key = top;
+        let hi = self.params.row_angle.to_radians();
+        let loops: Vec<u32> = self.front.live_loops().collect();
+        for lid in loops {
+            let slots = self.front.loop_slots(lid);
+            let n = slots.len();
+            if n <= 6 || !slots.iter().any(|&s| self.slot_key(s) < top) {
+                continue;
+            }
+            let open: Vec<bool> = slots
+                .iter()
+                .map(|&s| self.front.angle(s, &self.mesh.nodes) > hi)
+                .collect();
+            if open.iter().all(|&o| o) {
+                self.row_start.push(lid);
+                continue;
+            }
+            // Stretches of the given boundary no row has reached yet (the
+            // far side of a hole): a row start on each one's shortest edge.
+            let untouched = |k: usize| open[k] && self.mesh.is_boundary(self.front.node(slots[k]));
+            let first = (0..n).find(|&k| !untouched(k)).unwrap_or(0);
+            let mut run: Vec<SlotId> = Vec::new();
+            for k in 1..=n {
+                let i = (first + k) % n;
+                if untouched(i) && k < n {
+                    run.push(slots[i]);
+                    continue;
+                }
+                if run.len() >= ROW_RUN {
+                    let best = run
+                        .windows(2)
+                        .map(|w| (self.world(w[0]).distance(self.world(w[1])), w[0]))
+                        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                    if let Some((_, s)) = best {
+                        self.row_edges.push(s);
+                    }
+                }
+                run.clear();
+            }
+        }
     }
 
     /// True when some slot of the loop is a reference point or sharp corner.

@@ -28,6 +28,11 @@ pub struct MeshParams {
     /// Window of front angles that make a reference point (default
     /// [45, 135]); smaller angles are sharp corners, taken first.
     pub reference_angle: [f64; 2],
+    /// Front angles up to this (beyond the reference window) are taken
+    /// too, after every reference point of their band and layer: a row
+    /// whose end opened a little wider than the window goes on instead of
+    /// stopping (default 150).
+    pub row_angle: f64,
     /// Smallest new quad corner the guard accepts (default 30).
     pub min_corner: f64,
     /// Largest new quad corner the guard accepts (default 150).
@@ -56,8 +61,9 @@ pub struct MeshParams {
     /// With `Some(k)`, once every reference point left lies on layer `k`
     /// or deeper (strategy B's layers: the boundary is layer 0), the region
     /// left is filled with [`fill::fill_region`] instead of being extracted
-    /// further; a fill that fails is retried later while extraction goes on
-    /// (default `Some(2)`). `None`: extraction to the end.
+    /// further; a fill that fails is retried later while extraction goes on.
+    /// `None` (the default): extraction to the end, the fill only as the
+    /// last resort.
     pub fill_after_layers: Option<u32>,
     /// Pure model: the guard takes the model's element as predicted or
     /// rejects it (no snapping, no other type, no corrected Pn). A rejected
@@ -73,6 +79,7 @@ impl MeshParams {
         strategy: Strategy::B,
         leading_points: 3,
         reference_angle: [45.0, 135.0],
+        row_angle: 150.0,
         min_corner: 30.0,
         max_corner: 150.0,
         min_front_angle: 20.0,
@@ -82,7 +89,7 @@ impl MeshParams {
         seam_angle: 30.0,
         max_steps: None,
         fill: true,
-        fill_after_layers: Some(2),
+        fill_after_layers: None,
         pure_model: false,
     };
 }

@@ -1,18 +1,30 @@
 //! The reference-point queue (thesis §5.1, Figure 40): front slots whose
 //! angle makes them reference points, sharp corners first; strategy B
-//! orders them by layer, the newest first within a layer (so a row goes on
-//! from its last element), strategy A by recency alone. Entries are
-//! versioned: a slot whose angle changed is pushed again and its old entry
-//! skipped.
+//! orders them by the element size wanted there, in bands of [`BAND`]
+//! from the smallest, then by layer, the newest first within a layer (so a
+//! row goes on from its last element); strategy A by recency alone.
+//!
+//! The size bands make meshing go from fine to coarse: the rows around a
+//! finely divided hole spread out, and coarsen, before the coarse rows of
+//! the outer boundary move in, so that fronts meet where their spacing is
+//! alike (rows counted alike would let the coarse front run up to the
+//! hole). A row moving into coarser parts is coarsened by tucks. Where the
+//! size is uniform, every slot is in one band and the order is by layer.
+//! Entries are versioned: a slot whose angle changed is pushed again and
+//! its old entry skipped.
 
 use super::params::Strategy;
 use super::session::Mesher;
 use crate::front::SlotId;
 use std::cmp::Ordering;
 
+/// Strategy B takes sizes within this ratio of each other as alike.
+const BAND: f64 = 1.6;
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct Entry {
     pub(super) class: u8,
+    pub(super) band: u32,
     pub(super) layer: u32,
     pub(super) seq: u64,
     pub(super) slot: SlotId,
@@ -21,10 +33,14 @@ pub(super) struct Entry {
 
 impl Ord for Entry {
     fn cmp(&self, o: &Self) -> Ordering {
-        // Max-heap: sharp class first, lower layer first, newest first.
-        o.class
-            .cmp(&self.class)
+        // Max-heap: sharp corners first, then finer band first, lower
+        // layer first, reference points before wider row ends, newest
+        // first.
+        (o.class > 0)
+            .cmp(&(self.class > 0))
+            .then(o.band.cmp(&self.band))
             .then(o.layer.cmp(&self.layer))
+            .then(o.class.cmp(&self.class))
             .then(self.seq.cmp(&o.seq))
     }
 }
@@ -52,16 +68,16 @@ impl Mesher {
             0
         } else if a <= hi {
             1
+        } else if a <= self.params.row_angle {
+            2
         } else {
             return;
         };
         self.seq += 1;
-        let layer = match self.params.strategy {
-            Strategy::A => 0,
-            Strategy::B => sl.layer,
-        };
+        let (band, layer) = self.slot_key(s);
         self.queue.push(Entry {
             class,
+            band,
             layer,
             seq: self.seq,
             slot: s,
@@ -69,11 +85,26 @@ impl Mesher {
         });
     }
 
-    /// Layer of the first live entry of the queue (stale entries dropped).
-    pub(super) fn queue_layer(&mut self) -> Option<u32> {
+    /// A slot's place in strategy B's order: its size band and its layer
+    /// (both 0 under strategy A).
+    pub(super) fn slot_key(&self, s: SlotId) -> (u32, u32) {
+        match self.params.strategy {
+            Strategy::A => (0, 0),
+            Strategy::B => {
+                let sl = self.front.slot(s);
+                let h = self.size.at(self.mesh.nodes[sl.node as usize]);
+                let band = (h / self.size.range()[0]).ln() / BAND.ln();
+                (band.max(0.0) as u32, sl.layer)
+            }
+        }
+    }
+
+    /// Band and layer of the first live entry of the queue (stale entries
+    /// dropped).
+    pub(super) fn queue_top(&mut self) -> Option<(u32, u32)> {
         while let Some(e) = self.queue.peek() {
             if self.front.slot(e.slot).alive && self.version[e.slot as usize] == e.version {
-                return Some(e.layer);
+                return Some((e.band, e.layer));
             }
             self.queue.pop();
         }

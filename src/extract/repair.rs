@@ -246,9 +246,19 @@ impl Mesher {
             .map(|s| (self.world(s).distance(self.world(self.front.next(s))), s))
             .collect();
         edges.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        for &(len, s) in edges.iter().take(64) {
+        edges
+            .iter()
+            .take(64)
+            .find_map(|&(_, s)| self.square_on(s, limits))
+    }
+
+    /// A square element on the front edge from slot `s`, as high as the
+    /// edge is long (or 0.7 or 0.5 of that where the full one does not fit).
+    pub(super) fn square_on(&mut self, s: SlotId, limits: Limits) -> Option<StepReport> {
+        {
             let t = self.front.next(s);
             let (a, b) = (self.world(s), self.world(t));
+            let len = a.distance(b);
             let up = (b - a).perp() / len;
             for height in [1.0, 0.7, 0.5] {
                 let (a2, b2) = (a + up * len * height, b + up * len * height);

@@ -23,9 +23,9 @@ use std::f64::consts::PI;
 use std::ops::ControlFlow;
 use std::sync::Arc;
 
-/// Steps allowed before the region left is filled, per element a uniform
-/// mesh at the median boundary segment would have (plus one per boundary
-/// node and 200).
+/// Steps allowed before the region left is filled, per element a mesh
+/// following the size field would have (plus one per boundary node and
+/// 200).
 const FILL_BUDGET: f64 = 2.0;
 
 /// The element extraction loop over one boundary.
@@ -51,14 +51,17 @@ pub struct Mesher {
     pub(super) stats: StepStats,
     pub(super) scratch: Scratch,
     pub(super) step_limit: usize,
-    /// The deepest layer the queue has reached when loops left behind
-    /// were last looked for.
-    pub(super) row_layer: u32,
+    /// The coarsest band and deepest layer the queue had reached when loops
+    /// left behind were last looked for.
+    pub(super) row_key: (u32, u32),
     /// The element size wanted anywhere in the domain.
     pub(super) size: Arc<SizeField>,
     pub(super) rules: RulesModel,
     /// Loops to check for a first row (no reference point on them).
     pub(super) row_start: Vec<u32>,
+    /// Front edges (by start slot) to start a row on: stretches of the
+    /// boundary left behind.
+    pub(super) row_edges: Vec<SlotId>,
     pub(super) rip_ups: usize,
     /// Quads incident to each node.
     pub(super) incident: Vec<Vec<u32>>,
@@ -94,13 +97,12 @@ impl Mesher {
         let work = est.max(boundary.node_count());
         let step_limit = params.max_steps.unwrap_or(8 * work + 10_000);
         let size = Arc::new(SizeField::of_boundary(&boundary));
+        let quads = size.quad_estimate().min(1e9);
         let mut m = Mesher {
             step_limit,
-            row_layer: 0,
+            row_key: (0, 0),
             size,
-            fill_after: (FILL_BUDGET * (boundary.area() / (h * h)).min(1e9)) as usize
-                + boundary.node_count()
-                + 200,
+            fill_after: (FILL_BUDGET * quads) as usize + boundary.node_count() + 200,
             fill_retry_at: 0,
             replaying: false,
             rewound: false,
@@ -122,6 +124,7 @@ impl Mesher {
             scratch: Scratch::default(),
             rules: RulesModel::DEFAULT,
             row_start: Vec::new(),
+            row_edges: Vec::new(),
             rip_ups: 0,
             incident: Vec::new(),
             relaxes: 0,
@@ -140,6 +143,10 @@ impl Mesher {
         &self.mesh
     }
 
+    /// The element size field extraction follows.
+    pub fn size(&self) -> &SizeField {
+        &self.size
+    }
     /// The front.
     pub fn front(&self) -> &Front {
         &self.front
