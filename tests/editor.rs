@@ -362,7 +362,7 @@ fn correct_append_refit_and_finish() {
     h.get_by_label("Refit").click();
     h.step();
     settle(&mut h);
-    let f = h.state().document.refit.clone().expect("refit figures");
+    let f = h.state().doc().last_refit.clone().expect("refit figures");
     assert_eq!(f.corrections, 2);
     assert!(f.after.0.accuracy > 0.95 && f.after.1.r > 0.95, "{f:?}");
     let d = h.state().doc();
@@ -806,10 +806,13 @@ fn issue17_one_undo_takes_back_a_refit_and_the_rest_it_meshed() {
     assert!(h.state().doc().is_done());
     let done_steps = h.state().doc().steps();
     assert!(done_steps > 20);
+    h.get_by_label_contains("last refit");
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
     h.run();
     assert_eq!(status(&h), "undone: refit");
     assert_eq!(h.state().doc().steps(), 5);
+    // The refit's figures go with it.
+    assert!(h.query_by_label_contains("last refit").is_none());
     assert!(!h
         .state()
         .doc()
@@ -1070,19 +1073,33 @@ fn issue17_new_draw_save_and_fix_a_broken_file() {
         }
         click_at(&mut h, corners[0]);
     }
+    // The view stayed put while drawing (the tool bar keeps its height).
+    assert_eq!(h.state().view.canvas_rect, r);
     let d = h.state().doc();
     assert_eq!(d.draft.loops.len(), 2);
     assert!(d.problem.is_none(), "{:?}", d.problem);
+    let want = |s: Pos2| h.state().view.canvas.to_world(r, s);
+    assert!(d.draft.loops[1][0].distance(want(c + egui::vec2(-50.0, 50.0))) < 1e-9);
     assert_eq!(d.boundary().unwrap().loops.len(), 2);
     h.state_mut().apply(Command::StepN(20));
     assert_eq!(h.state().doc().steps(), 20);
+    // The hole was drawn counter-clockwise (the boundary turns it around):
+    // a project of the drawing reopens with the same nodes and steps.
+    let dir = tempfile::tempdir().unwrap();
+    let project = dir.path().join("drawn.quadex.json");
+    h.state_mut().apply(Command::SaveProject(project.clone()));
+    let (reopened, _) = Document::open(&project, Settings::default()).unwrap();
+    assert_eq!(reopened.steps(), 20);
+    assert_eq!(
+        reopened.mesher().unwrap().mesh(),
+        h.state().doc().mesher().unwrap().mesh()
+    );
     // The loops' numbers, as Resample names them.
     h.run();
     let texts: Vec<String> = painted(&h).into_iter().map(|t| t.0).collect();
     assert!(texts.iter().any(|t| t == "loop 0 (outer)"), "{texts:?}");
     assert!(texts.iter().any(|t| t == "loop 1 (hole)"), "{texts:?}");
     // Save the boundary as .poly and as .json; both read back.
-    let dir = tempfile::tempdir().unwrap();
     for name in ["drawn.poly", "drawn.json"] {
         let p = dir.path().join(name);
         h.state_mut().apply(Command::SaveBoundary(p.clone()));
@@ -1095,7 +1112,8 @@ fn issue17_new_draw_save_and_fix_a_broken_file() {
         assert_eq!(b.node_count(), 8);
     }
     // A broken file opens as a draft: its problem shown, its nodes marked
-    // (the drawing is work: the editor asks first).
+    // (the drawing is work, changed since the save: the editor asks first).
+    h.state_mut().apply(Command::Step);
     let odd = bench().join("bad/odd_count.poly");
     h.state_mut().apply(Command::Open(odd));
     h.run();

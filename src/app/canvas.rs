@@ -29,6 +29,9 @@ pub struct View {
     pub fitted: bool,
     /// The canvas size of the last frame.
     size: Vec2,
+    /// The world box the last fit was for (a resize fits it again, not
+    /// whatever the document holds by then).
+    fitted_box: Option<(Point, Point)>,
 }
 
 impl Default for View {
@@ -39,6 +42,7 @@ impl Default for View {
             fit_pending: true,
             fitted: false,
             size: Vec2::ZERO,
+            fitted_box: None,
         }
     }
 }
@@ -70,13 +74,21 @@ impl View {
         }
         self.fit_pending = false;
         self.fitted = true;
+        self.fitted_box = Some((lo, hi));
     }
 
-    /// Fits `bbox` when asked to, or when the canvas changed size and the
-    /// user has not moved the view since the last fit.
+    /// Fits `bbox` when asked to; when the canvas changed size and the
+    /// user has not moved the view since the last fit, fits what that fit
+    /// showed again.
     pub fn update(&mut self, rect: Rect, bbox: Option<Aabb>) {
         let resized = self.size != rect.size();
         self.size = rect.size();
+        if !self.fit_pending && resized && self.fitted {
+            if let Some((lo, hi)) = self.fitted_box {
+                self.fit(rect, lo, hi);
+                return;
+            }
+        }
         if self.fit_pending || (resized && self.fitted) {
             match bbox {
                 Some(bb) => self.fit(rect, bb.min, bb.max),

@@ -148,6 +148,8 @@ pub struct Document {
     pub training: TrainingSet,
     /// The boundary was drawn or edited in the editor.
     pub boundary_edited: bool,
+    /// Figures of the last refit (undone with it; not saved).
+    pub last_refit: Option<RefitFigures>,
 }
 
 /// Figures of the model before and after a refit, on the same samples.
@@ -216,6 +218,7 @@ impl Document {
             settings,
             meshing: None,
             boundary_edited: false,
+            last_refit: None,
         }
     }
 
@@ -623,12 +626,14 @@ impl Document {
         let after = fit::evaluate(&model, &set)?;
         m.mesher.set_model(Arc::new(model.clone()));
         m.refits.push((m.mesher.steps(), model));
-        Ok(RefitFigures {
+        let f = RefitFigures {
             samples: set.len(),
             corrections,
             before,
             after,
-        })
+        };
+        self.last_refit = Some(f.clone());
+        Ok(f)
     }
 
     /// The finished mesh (cleaned up, smoothed and checked), for export.
@@ -668,7 +673,7 @@ impl Document {
     /// The boundary (or the draft's loops) as a boundary document.
     fn boundary_doc(&self) -> BoundaryDoc {
         match self.boundary() {
-            Some(b) => BoundaryDoc::from_boundary(b, &self.name),
+            Some(b) => boundary_doc_numbered(b, &self.name),
             None => BoundaryDoc {
                 format: "quadex-boundary".into(),
                 version: 1,
@@ -681,6 +686,46 @@ impl Document {
                     .collect(),
             },
         }
+    }
+}
+
+/// `b` as a boundary document whose loops list the points in `b`'s own
+/// numbering (each loop's points as they are numbered, the loops in the
+/// order of their numbers), so that reading it back numbers every node
+/// as `b` does and a project's steps replay onto the same nodes.
+/// (`BoundaryDoc::from_boundary` lists each loop in its traversal order,
+/// which for a loop the validation turned around numbers it anew.) A
+/// boundary whose loops are not runs of consecutive numbers is written
+/// in traversal order.
+fn boundary_doc_numbered(b: &Boundary, name: &str) -> BoundaryDoc {
+    let mut runs: Vec<(usize, usize)> = b
+        .loops
+        .iter()
+        .map(|l| {
+            let lo = l.iter().copied().min().unwrap_or(0);
+            let hi = l.iter().copied().max().map_or(0, |m| m + 1);
+            (lo, hi)
+        })
+        .collect();
+    runs.sort_unstable();
+    let consecutive = b.loops.iter().all(|l| {
+        let (lo, hi) = (
+            l.iter().copied().min().unwrap_or(0),
+            l.iter().copied().max().map_or(0, |m| m + 1),
+        );
+        hi - lo == l.len()
+    }) && runs.first().is_some_and(|r| r.0 == 0)
+        && runs.windows(2).all(|w| w[0].1 == w[1].0)
+        && runs.last().is_some_and(|r| r.1 == b.points.len());
+    if !consecutive {
+        return BoundaryDoc::from_boundary(b, name);
+    }
+    BoundaryDoc {
+        loops: runs
+            .iter()
+            .map(|&(lo, hi)| b.points[lo..hi].iter().map(|p| p.to_array()).collect())
+            .collect(),
+        ..BoundaryDoc::from_boundary(b, name)
     }
 }
 

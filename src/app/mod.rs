@@ -216,8 +216,6 @@ pub struct DocumentState {
     version: u64,
     /// Bumped whenever the mesh as stepped changes.
     mesh_version: u64,
-    /// Figures of the last refit.
-    pub refit: Option<RefitFigures>,
 }
 
 /// The canvas view and what is drawn from the document, cached.
@@ -431,7 +429,7 @@ fn scene_of<'a>(d: &'a DocumentState, v: &'a ViewState, b: &Background) -> Scene
         busy: b.job.as_ref().is_some_and(Job::is_run),
         can_undo: d.history.can_undo(),
         can_redo: d.history.can_redo(),
-        refit: d.refit.as_ref(),
+        refit: d.doc.last_refit.as_ref(),
         mesh_version: d.mesh_version,
         targets: match &v.targets {
             Some((k, t)) if *k == d.mesh_version => t,
@@ -451,7 +449,6 @@ impl App {
                 dirty: false,
                 version: 0,
                 mesh_version: 0,
-                refit: None,
             },
             view: ViewState {
                 canvas: canvas::View::default(),
@@ -859,7 +856,6 @@ impl App {
                     figure(f.before.2.r, 3),
                     figure(f.after.2.r, 3),
                 );
-                self.document.refit = Some(f);
                 if mesh_rest && !self.document.doc.is_done() {
                     if self.background.threads {
                         self.start_run(usize::MAX, "meshing the rest", Record::WithLastEdit)?;
@@ -947,7 +943,6 @@ impl App {
         self.document.dirty = false;
         self.view.canvas.fit_pending = true;
         self.background.animating = None;
-        self.document.refit = None;
     }
 
     fn opened_message(&self, name: &str) -> String {

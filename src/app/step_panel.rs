@@ -246,7 +246,7 @@ impl super::View for StepPanel {
         });
         ui.separator();
         let Some(mesher) = doc.mesher() else {
-            ui.label("No mesh: the boundary is not valid yet (see Canvas tool below).");
+            ui.label("No mesh: the boundary is not valid yet (see Boundary below).");
             return out;
         };
         let stats = mesher.stats();

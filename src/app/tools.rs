@@ -543,7 +543,15 @@ impl Tools {
     /// of the Correct tool).
     pub fn toolbar(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
         let doc = s.doc;
-        ui.horizontal_wrapped(|ui| {
+        // One row whatever the tool says (a taller bar would shrink the
+        // canvas and move the drawing under the pointer): long texts are
+        // cut, in full on hover.
+        let note = |ui: &mut Ui, text: String, weak: bool| {
+            let t = egui::RichText::new(text.clone());
+            ui.add(egui::Label::new(if weak { t.weak() } else { t }).truncate())
+                .on_hover_text(text);
+        };
+        ui.horizontal(|ui| {
             ui.label(egui::RichText::new("Tool").strong());
             for t in Tool::ALL {
                 ui.selectable_value(&mut self.tool, t, t.name())
@@ -555,21 +563,21 @@ impl Tools {
                     if doc.last_element().is_some() && s.shown.kind == MeshKind::Stepped =>
                 {
                     let valid = s.targets.iter().filter(|t| t.valid).count();
-                    ui.label(if valid == 0 {
-                        "No front node near P0 gives a valid element here (the quad would be flat or fold): drag Pn instead.".to_string()
-                    } else {
-                        format!(
-                            "{} near P0 {} a valid element (green): click one to close the element onto it, or drag Pn.",
-                            super::plural(valid, "front node"),
-                            if valid == 1 { "gives" } else { "give" }
-                        )
-                    });
+                    note(
+                        ui,
+                        if valid == 0 {
+                            "No front node near P0 gives a valid element here (the quad would be flat or fold): drag Pn instead.".to_string()
+                        } else {
+                            format!(
+                                "{} near P0 {} a valid element (green): click one to close the element onto it, or drag Pn.",
+                                super::plural(valid, "front node"),
+                                if valid == 1 { "gives" } else { "give" }
+                            )
+                        },
+                        false,
+                    );
                 }
                 Tool::Draw if !self.drawing.is_empty() => {
-                    ui.label(format!(
-                        "{} placed; click the first node to close the loop",
-                        super::plural(self.drawing.len(), "node")
-                    ));
                     if ui
                         .button("Drop the loop")
                         .on_hover_text("Forget the nodes placed (Esc or right-click)")
@@ -577,16 +585,22 @@ impl Tools {
                     {
                         self.drawing.clear();
                     }
+                    note(
+                        ui,
+                        format!(
+                            "{} placed; click the first node to close the loop",
+                            super::plural(self.drawing.len(), "node")
+                        ),
+                        false,
+                    );
                 }
                 Tool::Split => {
                     ui.label("parts");
                     ui.add(egui::DragValue::new(&mut self.split_parts).range(2..=100))
                         .on_hover_text("A split cuts the segment clicked into this many equal parts");
-                    ui.label(egui::RichText::new(self.tool.hint()).weak());
+                    note(ui, self.tool.hint().to_string(), true);
                 }
-                t => {
-                    ui.label(egui::RichText::new(t.hint()).weak());
-                }
+                t => note(ui, t.hint().to_string(), true),
             }
         });
         Vec::new()
@@ -668,7 +682,7 @@ impl super::View for Tools {
                     format!("not a valid boundary yet: {e}"),
                 );
                 ui.label(if d.marked(e).is_empty() {
-                    "Fix it with the tools above, or undo."
+                    "Fix it with the tools above the canvas or a resample, or undo."
                 } else {
                     "The nodes at fault are circled in red; fix them with the tools above, or undo."
                 });
