@@ -1177,6 +1177,17 @@ fn issue17_the_canvas_keeps_room_and_refits_on_resize() {
         h.run();
         let cw = h.state().view.canvas_rect.width();
         assert!(cw >= share * w, "canvas {cw} px wide at {w} x {hh}");
+        // With a step's table in the panels, nothing wider than a panel
+        // pushes the canvas aside (rows that cannot wrap scroll).
+        let mut h = harness_sized(example_named("plate_hole.poly"), w, hh);
+        h.run();
+        h.state_mut().apply(Command::StepN(30));
+        h.run();
+        let r = h.state().view.canvas_rect;
+        assert!(
+            r.left() <= 0.24 * w + 1.0 && r.right() >= 0.72 * w - 1.0,
+            "canvas {r:?} at {w} x {hh}"
+        );
     }
     let mut h = harness(example());
     h.run();

@@ -309,6 +309,9 @@ pub struct Window {
     pub native_dialogs: bool,
     screenshot: Option<PathBuf>,
     screenshot_requested: bool,
+    /// The window size asked for on the command line (it wins over the
+    /// size remembered from the last run).
+    size: Option<egui::Vec2>,
     title: String,
     frame: u64,
 }
@@ -499,6 +502,7 @@ impl App {
                 native_dialogs: files::native_dialogs(),
                 screenshot: None,
                 screenshot_requested: false,
+                size: None,
                 title: String::new(),
                 frame: 0,
             },
@@ -538,6 +542,7 @@ impl App {
         }
         app.wait();
         app.window.screenshot = o.screenshot.clone();
+        app.window.size = o.size.map(egui::Vec2::from);
         Ok(app)
     }
 
@@ -1388,6 +1393,9 @@ impl App {
     /// One frame of the whole editor (also what the UI tests drive).
     pub fn ui(&mut self, ctx: &egui::Context) {
         self.window.frame += 1;
+        if let (1, Some(size)) = (self.window.frame, self.window.size) {
+            ctx.send_viewport_cmd(egui::ViewportCommand::InnerSize(size));
+        }
         if self.background.job.as_ref().is_some_and(Job::is_finished) {
             if let Some(mut j) = self.background.job.take() {
                 let done = j.wait();
@@ -1457,7 +1465,10 @@ impl App {
                 .min_width(170.0)
                 .max_width((0.24 * width).max(170.0))
                 .show(ctx, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| {
+                    // Both ways: content wider than the panel (a row that
+                    // cannot wrap in a narrow window) scrolls instead of
+                    // widening the panel over the canvas.
+                    egui::ScrollArea::both().show(ui, |ui| {
                         let scene = scene_of(&self.document, &self.view, &self.background);
                         let mut out = Vec::new();
                         out.extend(self.panels.step.ui(ui, &scene));
@@ -1485,7 +1496,7 @@ impl App {
                         }
                     });
                     ui.separator();
-                    egui::ScrollArea::vertical()
+                    egui::ScrollArea::both()
                         .id_salt("right_panel")
                         .show(ui, |ui| {
                             let scene = scene_of(&self.document, &self.view, &self.background);
@@ -1858,21 +1869,22 @@ impl App {
         ui.horizontal(|ui| {
             if let Some(j) = &self.background.job {
                 let (steps, front, frac) = j.progress();
-                let text = if j.is_run() {
-                    format!(
-                        "{} {}, {} left",
+                if j.is_run() {
+                    ui.add(
+                        egui::ProgressBar::new(frac)
+                            .desired_width(120.0)
+                            .show_percentage(),
+                    )
+                    .on_hover_text("The share of the front meshed so far");
+                    ui.label(format!(
+                        "{}: {}, {} left",
                         j.what,
                         plural(steps, "step"),
                         plural(front, "front node")
-                    )
-                } else {
-                    j.what.to_string()
-                };
-                if j.is_run() {
-                    ui.add(egui::ProgressBar::new(frac).desired_width(160.0).text(text));
+                    ));
                 } else {
                     ui.spinner();
-                    ui.label(text);
+                    ui.label(j.what);
                 }
                 ui.label(format!("{:.1} s", j.elapsed()));
                 if ui
@@ -2033,7 +2045,13 @@ impl App {
             ctx.request_repaint();
             return;
         }
-        if !self.window.screenshot_requested && self.window.frame >= SCREENSHOT_FRAME {
+        // The window at the size asked for first (eframe restores the
+        // size of the last run before the first frame).
+        let sized = self
+            .window
+            .size
+            .is_none_or(|want| (ctx.content_rect().size() - want).length() < 1.0);
+        if !self.window.screenshot_requested && self.window.frame >= SCREENSHOT_FRAME && sized {
             ctx.send_viewport_cmd(egui::ViewportCommand::Screenshot(Default::default()));
             self.window.screenshot_requested = true;
         }

@@ -143,16 +143,19 @@ impl super::View for QualityPanel {
             ),
         };
         ui.label(format!("{what}: {}{note}.", super::plural(q.quads, "quad")));
-        egui::ComboBox::from_label("colour quads by")
-            .selected_text(self.metric.map_or("nothing", Metric::name))
-            .show_ui(ui, |ui| {
-                ui.selectable_value(&mut self.metric, None, "nothing");
-                for m in Metric::ALL {
-                    ui.selectable_value(&mut self.metric, Some(m), m.name());
-                }
-            })
-            .response
-            .on_hover_text("The figure the canvas colours quads by (red bad, green good)");
+        ui.horizontal_wrapped(|ui| {
+            ui.label("colour quads by");
+            egui::ComboBox::from_id_salt("colour_quads_by")
+                .selected_text(self.metric.map_or("nothing", Metric::name))
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut self.metric, None, "nothing");
+                    for m in Metric::ALL {
+                        ui.selectable_value(&mut self.metric, Some(m), m.name());
+                    }
+                })
+                .response
+                .on_hover_text("The figure the canvas colours quads by (red bad, green good)");
+        });
         ui.label("Quads that miss the thesis criteria (angles in [45°, 135°], aspect and taper ≤ 10) are tinted and outlined dashed.");
         if q.quads == 0 {
             ui.label("No quads yet.");
@@ -162,15 +165,13 @@ impl super::View for QualityPanel {
             .num_columns(2)
             .striped(true)
             .show(ui, |ui| {
-                let rows: [(&str, String); 11] = [
+                let rows: [(&str, String); 12] = [
                     ("quads", q.quads.to_string()),
                     ("nodes", q.nodes.to_string()),
                     ("scaled Jacobian min", format!("{:.3}", q.sj_min)),
                     ("scaled Jacobian mean", format!("{:.3}", q.sj_mean)),
-                    (
-                        "angles",
-                        format!("{:.1}° – {:.1}°", q.min_angle, q.max_angle),
-                    ),
+                    ("smallest angle", format!("{:.1}°", q.min_angle)),
+                    ("largest angle", format!("{:.1}°", q.max_angle)),
                     (
                         "angles in [45°, 135°]",
                         format!("{:.1} %", 100.0 * q.frac_angles_45_135),

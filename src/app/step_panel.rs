@@ -100,7 +100,7 @@ impl super::View for StepPanel {
         let doc = scene.doc;
         ui.heading("Extraction");
         let mut s: Settings = doc.settings.clone();
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             let shown = std::path::Path::new(&s.model)
                 .file_name()
                 .map_or(s.model.clone(), |f| f.to_string_lossy().into_owned());
@@ -192,12 +192,15 @@ impl super::View for StepPanel {
                 Command::Animate(!animating),
                 &mut out,
             );
+            // A slider narrow enough to stay beside the button in a
+            // narrow panel (it does not wrap on its own).
+            ui.spacing_mut().slider_width = 60.0;
             ui.add(
                 egui::Slider::new(&mut self.speed, 1.0..=2000.0)
                     .logarithmic(true)
-                    .suffix(" steps/s"),
+                    .suffix("/s"),
             )
-            .on_hover_text("Speed of the animated run");
+            .on_hover_text("Speed of the animated run, in steps per second");
         });
         ui.horizontal_wrapped(|ui| {
             button_enabled(
@@ -217,8 +220,8 @@ impl super::View for StepPanel {
                 &mut out,
             );
         });
-        ui.checkbox(&mut self.preview, "show the next element (dashed)")
-            .on_hover_text("Draw the element the next step would cut, in cyan");
+        ui.checkbox(&mut self.preview, "show the next element")
+            .on_hover_text("Draw the element the next step would cut, dashed in cyan");
         ui.horizontal_wrapped(|ui| {
             button_enabled(
                 ui,

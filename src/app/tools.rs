@@ -443,15 +443,23 @@ impl Tools {
             for &p in &pts {
                 painter.circle_filled(p, 3.0, line);
             }
-            // The loop's number beside its topmost node.
+            // The loop's number above its topmost node, kept on the canvas.
             if let Some(top) = pts.iter().min_by(|a, b| a.y.total_cmp(&b.y)) {
-                painter.text(
-                    *top + egui::vec2(0.0, -8.0),
-                    egui::Align2::CENTER_BOTTOM,
+                let galley = painter.layout_no_wrap(
                     format!("loop {li} ({})", loop_role(&draft, li)),
                     egui::FontId::proportional(13.0),
                     cyan,
                 );
+                let size = galley.size();
+                let min = *top + egui::vec2(-0.5 * size.x, -8.0 - size.y);
+                let inner = rect.shrink(2.0);
+                let x = min
+                    .x
+                    .clamp(inner.left(), (inner.right() - size.x).max(inner.left()));
+                let y = min
+                    .y
+                    .clamp(inner.top(), (inner.bottom() - size.y).max(inner.top()));
+                painter.galley(Pos2::new(x, y), galley, cyan);
             }
         }
         if let Some(e) = &at.doc.problem {
