@@ -1,28 +1,42 @@
-"""Turns the output of .ci/judge_all.sh into the Markdown table of
-BENCHMARKS.md: per case the judge's verdict and figures, then medians."""
-import json, statistics, sys
+"""The Markdown table of BENCHMARKS.md from a sweep.py summary (and, given,
+gmsh_compare.py's gmsh_summary.json): per case quads, scaled Jacobian
+min/mean, irregular interior share, taper and aspect maxima, steps by kind,
+and Gmsh's figures beside ours.
 
-rows, done = [], []
-for line in open(sys.argv[1]):
-    if not (line.startswith("ok") or line.startswith("FAIL")):
+usage: table.py SUMMARY.json [GMSH_SUMMARY.json]"""
+import json
+import statistics
+import sys
+
+ours = json.load(open(sys.argv[1]))
+gmsh = {}
+if len(sys.argv) > 2:
+    gmsh = {r["case"]: r for r in json.load(open(sys.argv[2]))}
+
+
+def irr(r):
+    return 100 * r["irregular_interior"] / max(r["interior_nodes"], 1)
+
+
+short = {"Element": "E", "Square": "Sq", "Close4": "C4", "Close6": "C6", "Relax": "Rx",
+         "Seam": "Se", "Split": "Sp", "RipUp": "Rip", "Fill": "FILL"}
+print("| case | quads | SJ min | SJ mean | irregular % | taper max | aspect max | steps by kind "
+      "| Gmsh quads | Gmsh SJ mean | Gmsh irregular % |")
+print("|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|")
+for r in ours:
+    g = gmsh.get(r["case"])
+    gs = (f"{g['quads']} | {g['sj_mean']:.3f} | {irr(g):.1f}" if g and g.get("valid")
+          else ("invalid (triangles left) | | " if g else " | | "))
+    if not r.get("valid"):
+        print(f"| {r['case']} | not finished: {r.get('error', '')[:60]} | | | | | | | {gs} |")
         continue
-    name = line.split()[1].rstrip(":")
-    if "{" in line:
-        j = json.loads(line[line.index("{"):])
-        if j["valid"]:
-            done.append(j)
-            rows.append(f"| {name} | valid | {j['quads']} | {j['sj_min']:.3f} | {j['sj_mean']:.3f} | "
-                        f"{100 * j['frac_angles_45_135']:.1f} | {j['irregular_interior']} |")
-        else:
-            rows.append(f"| {name} | INVALID: {'; '.join(j['reasons'])} | | | | | |")
-    else:
-        msg = line.split(":", 2)[-1].strip() or "time limit"
-        rows.append(f"| {name} | not finished: {msg} | | | | | |")
-print("| case | judge | quads | SJ min | SJ mean | % quads in [45°,135°] | irregular interior |")
-print("|---|---|---:|---:|---:|---:|---:|")
-print("\n".join(rows))
-if done:
-    print(f"\n{len(done)} of {len(rows)} cases meshed and valid. Over those: median of mean SJ "
-          f"{statistics.median(j['sj_mean'] for j in done):.3f}, median share in [45°,135°] "
-          f"{100 * statistics.median(j['frac_angles_45_135'] for j in done):.1f} %, "
-          f"{sum(j['sj_min'] < 0.2 for j in done)} cases with a quad under SJ 0.2.")
+    kinds = " ".join(f"{short.get(k, k)} {v}" for k, v in r.get("kinds", {}).items())
+    print(f"| {r['case']} | {r['quads']} | {r['sj_min']:.3f} | {r['sj_mean']:.3f} | {irr(r):.1f} | "
+          f"{r['taper_max']:.2f} | {r['aspect_max']:.2f} | {kinds} | {gs} |")
+ok = [r for r in ours if r.get("valid")]
+print()
+print(f"Valid: {len(ok)} of {len(ours)}; with a Fill step: {sum(1 for r in ok if r.get('fill'))}; "
+      f"median SJ mean {statistics.median(r['sj_mean'] for r in ok):.3f}; "
+      f"median irregular {statistics.median(irr(r) for r in ok):.1f} %; "
+      f"worst taper {max(r['taper_max'] for r in ok):.2f}; "
+      f"worst aspect {max(r['aspect_max'] for r in ok):.2f}.")

@@ -61,6 +61,25 @@ fn main() {
             eprintln!("invariant broken after step {steps}: {e}");
             break;
         }
+        if flag("--tiny") {
+            // Front edges far shorter than the size there.
+            let (f, nodes) = (m.front(), &m.mesh().nodes);
+            for lid in f.live_loops() {
+                for sl in f.loop_slots(lid) {
+                    let (a, b) = (f.node(sl), f.node(f.next(sl)));
+                    let (pa, pb) = (nodes[a as usize], nodes[b as usize]);
+                    if pa.distance(pb) < 0.05 * m.size().at(pa) {
+                        eprintln!("step {steps}: tiny edge {a}-{b} {:.2e}", pa.distance(pb));
+                        for v in [a, b] {
+                            for &q in m.quads_at(v) {
+                                let q = m.mesh().quads[q as usize];
+                                eprintln!("  quad {q:?} {:?}", q.map(|k| nodes[k as usize]));
+                            }
+                        }
+                    }
+                }
+            }
+        }
     }
     if flag("--sizes") {
         for k in 0..m.boundary().points.len().min(8) {
@@ -115,7 +134,7 @@ fn main() {
                     let p = mesh.nodes[v as usize];
                     let b = if mesh.is_boundary(v) { "*" } else { "" };
                     format!(
-                        "{v}{b}({:.4},{:.4}) {:.1}°",
+                        "{v}{b}({:.7},{:.7}) {:.1}°",
                         p.x,
                         p.y,
                         f.angle(sl, &mesh.nodes).to_degrees()

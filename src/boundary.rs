@@ -111,6 +111,14 @@ pub struct Boundary {
     pub labels: Vec<i64>,
 }
 
+/// The rounding error of `a + b` (Knuth's TwoSum): zero exactly when the
+/// sum is exact.
+fn two_sum_error(a: f64, b: f64) -> f64 {
+    let s = a + b;
+    let bb = s - a;
+    (a - (s - bb)) + (b - bb)
+}
+
 /// The largest magnitude of the coordinates of `pts`.
 #[inline]
 fn magnitude<const N: usize>(pts: [Point; N]) -> f64 {
@@ -378,6 +386,31 @@ impl Boundary {
     }
 
     /// Bounding box of all nodes.
+    /// The same boundary moved next to the origin, and the offset to add
+    /// back. Per axis the offset is the smallest coordinate when every
+    /// coordinate minus it is exact (always so when the coordinates lie
+    /// within a factor 2 of it, Sterbenz's lemma: a domain far from the
+    /// origin), zero otherwise. Geometry is then computed at the domain's
+    /// own scale, and a domain moved by an offset that keeps its
+    /// coordinates exact meshes to the same local coordinates.
+    pub fn to_local(&self) -> (Boundary, Point) {
+        let bb = self.bbox();
+        let exact = |o: f64, v: f64| two_sum_error(v, -o) == 0.0;
+        let axis = |o: f64, get: fn(&Point) -> f64| {
+            if o != 0.0 && self.points.iter().all(|p| exact(o, get(p))) {
+                o
+            } else {
+                0.0
+            }
+        };
+        let o = Point::new(axis(bb.min.x, |p| p.x), axis(bb.min.y, |p| p.y));
+        let mut local = self.clone();
+        for p in &mut local.points {
+            *p -= o;
+        }
+        (local, o)
+    }
+
     pub fn bbox(&self) -> Aabb {
         Aabb::of(self.points.iter().copied()).unwrap_or(Aabb {
             min: Point::ZERO,

@@ -75,8 +75,9 @@ enum Command {
         /// No region fill: a run extraction cannot finish stops with an error.
         #[arg(long)]
         no_fill: bool,
-        /// Layers extracted from the boundary before the region left is
-        /// filled directly (default 2); `all`: extraction to the end.
+        /// `all` (the default): extraction to the end, the region fill only
+        /// as the last resort; K: K layers extracted from the boundary, then
+        /// the region left filled directly.
         #[arg(long, value_parser = parse_layers)]
         layers: Option<Layers>,
         /// Write the quality figures and step counts as JSON.
@@ -372,6 +373,8 @@ fn run(c: Command) -> Result<()> {
             };
             let t0 = Instant::now();
             let name = model.name().to_string();
+            // Meshed next to the origin, moved back when written.
+            let (boundary, origin) = boundary.to_local();
             let mut mesher = Mesher::new(boundary, model, params);
             let bar = progress_bar(mesher.front().len());
             mesher
@@ -382,8 +385,9 @@ fn run(c: Command) -> Result<()> {
                     }
                 })
                 .with_context(|| format!("{}", input.display()))?;
-            let mesh = pipeline::finish(&mesher, &finish)
+            let mut mesh = pipeline::finish(&mesher, &finish)
                 .with_context(|| format!("{}", input.display()))?;
+            pipeline::to_world(&mut mesh, origin);
             if let Some(b) = bar {
                 b.finish_and_clear();
             }

@@ -446,7 +446,7 @@ impl Front {
     /// uncovered region touches itself at a node, each incoming edge is
     /// paired with the outgoing edge that bounds the same wedge.
     pub fn loops_of_unmeshed(mesh: &crate::mesh::QuadMesh) -> Vec<Vec<u32>> {
-        use std::collections::{BTreeMap, BTreeSet};
+        use std::collections::BTreeSet;
         let mut used: BTreeSet<(u32, u32)> = BTreeSet::new();
         for q in &mesh.quads {
             for k in 0..4 {
@@ -470,6 +470,15 @@ impl Front {
                 edges.push((b, a));
             }
         }
+        Front::link_loops(edges, &mesh.nodes)
+    }
+
+    /// The loops of a set of directed edges that bound a region (region on
+    /// the left), where the region may touch itself at a node: each incoming
+    /// edge is paired with the outgoing edge that bounds the same wedge.
+    /// Deterministic: loops start from the smallest edge left.
+    pub fn link_loops(mut edges: Vec<(u32, u32)>, nodes: &[Point]) -> Vec<Vec<u32>> {
+        use std::collections::BTreeMap;
         edges.sort_unstable();
         let mut out: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
         for (k, &(a, _)) in edges.iter().enumerate() {
@@ -481,15 +490,15 @@ impl Front {
         let mut taken = vec![false; edges.len()];
         for (k, &(x, a)) in edges.iter().enumerate() {
             let Some(cands) = out.get(&a) else { continue };
-            let pa = mesh.nodes[a as usize];
-            let px = mesh.nodes[x as usize];
+            let pa = nodes[a as usize];
+            let px = nodes[x as usize];
             let best = cands
                 .iter()
                 .copied()
                 .filter(|&c| !taken[c])
                 .min_by(|&c, &d| {
-                    let ac = ccw_angle(pa, mesh.nodes[edges[c].1 as usize], px);
-                    let ad = ccw_angle(pa, mesh.nodes[edges[d].1 as usize], px);
+                    let ac = ccw_angle(pa, nodes[edges[c].1 as usize], px);
+                    let ad = ccw_angle(pa, nodes[edges[d].1 as usize], px);
                     ac.total_cmp(&ad)
                 });
             if let Some(c) = best {

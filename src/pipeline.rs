@@ -97,7 +97,20 @@ pub fn mesh_boundary(
     params: &Params,
     progress: impl FnMut(usize),
 ) -> Result<(QuadMesh, StepStats), MeshError> {
-    let mut m = Mesher::new(boundary.clone(), model, params.extract.clone());
+    let (local, origin) = boundary.to_local();
+    let mut m = Mesher::new(local, model, params.extract.clone());
     m.run(progress)?;
-    Ok((finish(&m, &params.finish)?, m.stats().clone()))
+    let mut mesh = finish(&m, &params.finish)?;
+    to_world(&mut mesh, origin);
+    Ok((mesh, m.stats().clone()))
+}
+
+/// Moves a mesh made from [`Boundary::to_local`]'s boundary back by its
+/// offset (exact at the boundary nodes).
+pub fn to_world(mesh: &mut QuadMesh, origin: crate::geom::Point) {
+    if origin != crate::geom::Point::ZERO {
+        for p in &mut mesh.nodes {
+            *p += origin;
+        }
+    }
 }

@@ -57,6 +57,17 @@ impl Shape {
     }
 
     /// The aspect ratio: the larger ratio of opposite edges.
+    /// Longest over shortest side (covers the thesis's aspect and taper).
+    pub fn side_ratio(&self) -> f64 {
+        let (lo, hi) = self
+            .edges
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &l| {
+                (lo.min(l), hi.max(l))
+            });
+        hi / lo.max(f64::MIN_POSITIVE)
+    }
+
     pub fn aspect(&self) -> f64 {
         let len = self.edges;
         (len[0] / len[2])

@@ -2,12 +2,14 @@
 //! the two largest disks are left to the benchmark) with default settings.
 //! Every mesh produced must tile its domain exactly (checked after
 //! smoothing), keep the boundary nodes and be all-quad, and every case must
-//! finish. With the shipped default model (the command line's default) no
-//! quad may have a scaled Jacobian below 0.2.
+//! finish by extraction alone (no region fill). With the shipped default
+//! model (the command line's default) no quad may have a scaled Jacobian
+//! below 0.2 or sides more than 10 times apart (the thesis's aspect and
+//! taper limit).
 
 mod common;
 
-use quadex::extract::{MeshParams, Mesher, StepOutcome};
+use quadex::extract::{MeshParams, Mesher, StepKind, StepOutcome};
 use quadex::model::RulesModel;
 use std::sync::Arc;
 
@@ -29,9 +31,18 @@ fn benchmark_cases_mesh_validly() {
                 Ok(()) => {
                     let mesh =
                         quadex::pipeline::finish(&m, &quadex::FinishParams::DEFAULT).unwrap();
-                    let worst = quadex::MeshQuality::of(&mesh).sj_min;
-                    if worst < 0.2 {
-                        failures.push((name.clone(), format!("scaled Jacobian {worst}")));
+                    let q = quadex::MeshQuality::of(&mesh);
+                    if q.sj_min < 0.2 {
+                        failures.push((name.clone(), format!("scaled Jacobian {}", q.sj_min)));
+                    }
+                    if q.taper_max > 10.0 || q.aspect_max > 10.0 {
+                        failures.push((
+                            name.clone(),
+                            format!("taper {} aspect {}", q.taper_max, q.aspect_max),
+                        ));
+                    }
+                    if m.stats().count(StepKind::Fill) > 0 {
+                        failures.push((name.clone(), "region fill".into()));
                     }
                     mesh.check_finished()
                         .unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -53,8 +64,8 @@ fn benchmark_cases_mesh_validly() {
 }
 
 /// On small cases the front and the partial mesh are checked after every
-/// step, with the default fill inside the second layer and with extraction
-/// to the end.
+/// step, with extraction to the end (the default) and with the fill inside
+/// the second layer.
 #[test]
 fn invariants_hold_after_every_step() {
     let names = [
@@ -64,11 +75,10 @@ fn invariants_hold_after_every_step() {
         "circle",
         "wedge30",
         "annulus",
+        "plate_hole",
+        "star8",
     ];
-    for (name, layers) in names
-        .iter()
-        .flat_map(|n| [(n, MeshParams::DEFAULT.fill_after_layers), (n, None)])
-    {
+    for (name, layers) in names.iter().flat_map(|n| [(n, None), (n, Some(2))]) {
         let b = quadex::io::read_boundary(&common::bench().join(format!("boundaries/{name}.poly")))
             .unwrap();
         let params = MeshParams {
@@ -161,4 +171,54 @@ fn output_is_deterministic() {
         quadex::io::MeshFormat::Msh41.render(&mesh)
     };
     assert_eq!(run(), run());
+}
+
+/// The textbook cases finish by extraction alone even with the fill turned
+/// off: a plate with a hole, the annulus, an aerofoil in a box and a star.
+#[test]
+fn textbook_cases_finish_without_fill() {
+    for name in ["plate_hole", "annulus", "naca0012", "star8"] {
+        let b = quadex::io::read_boundary(&common::bench().join(format!("boundaries/{name}.poly")))
+            .unwrap();
+        let model = Arc::new(quadex::model::default_model().unwrap());
+        let params = MeshParams {
+            fill: false,
+            ..MeshParams::DEFAULT
+        };
+        let mut m = Mesher::new(b, model, params);
+        m.run(|_| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(m.stats().count(StepKind::Fill), 0, "{name}");
+        let mesh = quadex::pipeline::finish(&m, &quadex::FinishParams::DEFAULT).unwrap();
+        mesh.check_finished()
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let q = quadex::MeshQuality::of(&mesh);
+        assert!(q.sj_min >= 0.5, "{name}: scaled Jacobian {}", q.sj_min);
+    }
+}
+
+/// `--layers K` holds for both reference-point strategies: the region
+/// inside the first layers is filled, and extraction to the end needs no
+/// fill.
+#[test]
+fn both_strategies_follow_the_layer_count() {
+    use quadex::extract::Strategy;
+    let b = quadex::io::read_boundary(&common::bench().join("boundaries/plate_hole.poly")).unwrap();
+    for strategy in [Strategy::A, Strategy::B] {
+        let run = |layers: Option<u32>| {
+            let params = MeshParams {
+                strategy,
+                fill_after_layers: layers,
+                ..MeshParams::DEFAULT
+            };
+            let model = Arc::new(quadex::model::default_model().unwrap());
+            let mut m = Mesher::new(b.clone(), model, params);
+            m.run(|_| {}).unwrap();
+            m.stats().clone()
+        };
+        let two = run(Some(1));
+        let all = run(None);
+        assert_eq!(two.count(StepKind::Fill), 1, "{strategy:?} with one layer");
+        assert_eq!(all.count(StepKind::Fill), 0, "{strategy:?} to the end");
+        assert!(two.steps < all.steps, "{strategy:?}");
+    }
 }

@@ -13,6 +13,7 @@
 //! A small loop that does not close as it stands has its movable nodes
 //! settled first ([`Mesher::settle_small`]).
 
+use super::guard::MAX_SIDE_RATIO;
 use super::report::{StepKind, StepReport};
 use super::session::Mesher;
 use crate::front::SlotId;
@@ -232,7 +233,11 @@ impl Mesher {
                     if !is_measurably_convex(c) {
                         return None;
                     }
-                    let sj = Shape::of(c).scaled_jacobian;
+                    let shape = Shape::of(c);
+                    // A quad squeezed towards a triangle keeps good
+                    // angles but not its sides: both count.
+                    let sides = (MAX_SIDE_RATIO / shape.side_ratio()).min(1.0);
+                    let sj = shape.scaled_jacobian.min(sides);
                     worst = worst.min(sj);
                     sum += sj;
                 }

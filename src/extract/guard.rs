@@ -55,6 +55,9 @@ pub struct Passed {
 pub const CLEAR_GOOD: f64 = 0.7;
 /// Room below which a candidate leaves a gap only a sliver could fill.
 pub const CLEAR_NONE: f64 = 0.25;
+/// Longest over shortest side of a new quad, at most (the thesis's aspect
+/// and taper limit is 10; smoothing afterwards moves nodes a little).
+pub const MAX_SIDE_RATIO: f64 = 8.0;
 
 /// Checks a candidate quad. `consumed` are the front edges (by start slot)
 /// that become sides of the quad; `size` is the local element size.
@@ -81,6 +84,28 @@ pub fn check(
     if !is_strictly_convex(p) {
         return None;
     }
+    // New edges: quad sides that are not consumed front edges.
+    let consumed_edges: Vec<(u32, u32)> = consumed
+        .iter()
+        .map(|&s| (front.node(s), front.node(front.next(s))))
+        .collect();
+    let is_consumed = |k: usize| match (ids[k], ids[(k + 1) % 4]) {
+        (Some(a), Some(b)) => consumed_edges.contains(&(b, a)) || consumed_edges.contains(&(a, b)),
+        _ => false,
+    };
+    // Side lengths within the thesis's ratio (aspect and taper ≤ 10), unless
+    // the front edges the quad takes already differ that much.
+    let q = crate::quality::Shape::of(p);
+    let sides = q.side_ratio();
+    if sides > MAX_SIDE_RATIO {
+        let taken = (0..4).filter(|&k| is_consumed(k)).map(|k| q.edges[k]);
+        let (lo, hi) = taken.fold((f64::INFINITY, 0.0f64), |(lo, hi), l| {
+            (lo.min(l), hi.max(l))
+        });
+        if sides > hi / lo {
+            return None;
+        }
+    }
     // Corner limits and what the front keeps.
     let mut front_factor: f64 = 1.0;
     for k in 0..4 {
@@ -105,15 +130,6 @@ pub fn check(
             }
         }
     }
-    // New edges: quad sides that are not consumed front edges.
-    let consumed_edges: Vec<(u32, u32)> = consumed
-        .iter()
-        .map(|&s| (front.node(s), front.node(front.next(s))))
-        .collect();
-    let is_consumed = |k: usize| match (ids[k], ids[(k + 1) % 4]) {
-        (Some(a), Some(b)) => consumed_edges.contains(&(b, a)) || consumed_edges.contains(&(a, b)),
-        _ => false,
-    };
     // Front edges near the quad: within the room that counts as enough, so
     // the same query finds what crosses the quad and what comes close.
     let reach = Point::splat(CLEAR_GOOD * size);
@@ -181,7 +197,6 @@ pub fn check(
             }
         }
     }
-    let q = crate::quality::Shape::of(p);
     let stretch = (1.0 / q.aspect()).sqrt();
     let room = ((clearance / size - CLEAR_NONE) / (CLEAR_GOOD - CLEAR_NONE)).clamp(0.0, 1.0);
     // New sides far from the local size cost a little: a tie-breaker

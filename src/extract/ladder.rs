@@ -6,6 +6,10 @@
 
 use super::candidate::Chosen;
 use super::guard::Limits;
+use super::params::Strategy;
+
+/// Rip-ups a run may take.
+const RIP_UPS: usize = 64;
 use super::report::{MeshError, Remedy, StepReport};
 use super::session::Mesher;
 use crate::front::SlotId;
@@ -78,7 +82,21 @@ impl Mesher {
         }
         // 2. The region inside the first layers is filled directly.
         if let Some(k) = self.params.fill_after_layers {
-            if self.params.fill && self.queue_top().is_some_and(|(_, l)| l >= k) {
+            // Strategy B's queue is ordered by layer; strategy A's is not,
+            // so there the front's reference points are looked at.
+            let layer = match self.params.strategy {
+                Strategy::B => self.queue_top().map(|(_, l)| l),
+                Strategy::A => {
+                    let row = self.params.row_angle.to_radians();
+                    self.front
+                        .live_loops()
+                        .flat_map(|l| self.front.loop_slots(l))
+                        .filter(|&s| self.front.angle(s, &self.mesh.nodes) <= row)
+                        .map(|s| self.front.slot(s).layer)
+                        .min()
+                }
+            };
+            if self.params.fill && layer.is_some_and(|l| l >= k) {
                 if let Some(r) = self.fill_rest() {
                     return Ok(r);
                 }
@@ -208,10 +226,15 @@ impl Mesher {
         }
         // 10. Give the smallest stuck loop room: remove the elements around it.
         if let Some(&lid) = loops.first() {
-            if self.rip_ups < 64 {
+            if self.rip_ups < RIP_UPS {
                 let r = self.rip_up(lid, 1 + self.rip_ups % 4);
                 self.rip_ups += 1;
-                return Ok(r);
+                if r.removed > 0 || !r.quads.is_empty() {
+                    return Ok(r);
+                }
+                // Nothing around the loop to remove and no split: rip-ups
+                // cannot help any more.
+                self.rip_ups = RIP_UPS;
             }
         }
         // 11. Fill the region left.

@@ -3,7 +3,7 @@
 //! loop into two even loops (the extension of TP, thesis §1.3.2),
 //! relaxation of a stuck loop and rip-up of the elements around it.
 
-use super::guard::{self, Corner, Limits};
+use super::guard::{self, Corner, Limits, MAX_SIDE_RATIO};
 use super::report::{StepKind, StepReport};
 use super::session::Mesher;
 use crate::front::{Front, SlotId};
@@ -20,31 +20,56 @@ impl Mesher {
             mark[self.front.node(s) as usize] = true;
         }
         r.reference = Some(self.front.node(self.front.loops[lid as usize].head));
+        // The region left grows by the quads removed: its bounding edges are
+        // the front's edges and the removed quads' edges, a pair met in
+        // both directions cancelling (only the front and the removed quads
+        // are looked at, not the whole mesh).
+        // A chord that split a loop (an edge in both directions, no quad on
+        // either side) goes too: the loops it parted become one again.
+        let mut edges: std::collections::BTreeSet<(u32, u32)> = Default::default();
+        let toggle = |edges: &mut std::collections::BTreeSet<(u32, u32)>, (a, b): (u32, u32)| {
+            if !edges.remove(&(b, a)) {
+                edges.insert((a, b));
+            }
+        };
+        for l in self.front.live_loops() {
+            for s in self.front.loop_slots(l) {
+                toggle(
+                    &mut edges,
+                    (self.front.node(s), self.front.node(self.front.next(s))),
+                );
+            }
+        }
+        let mut removed = vec![false; self.mesh.quads.len()];
         for _ in 0..rings {
-            let hit: Vec<usize> = (0..self.mesh.quads.len())
-                .filter(|&k| self.mesh.quads[k].iter().any(|&v| mark[v as usize]))
+            let mut hit: Vec<usize> = (0..mark.len())
+                .filter(|&v| mark[v])
+                .flat_map(|v| self.incident[v].iter().map(|&q| q as usize))
+                .filter(|&q| !removed[q])
                 .collect();
+            hit.sort_unstable();
+            hit.dedup();
             for &k in &hit {
-                for &v in &self.mesh.quads[k] {
-                    mark[v as usize] = true;
+                removed[k] = true;
+                let q = self.mesh.quads[k];
+                for j in 0..4 {
+                    let (a, b) = (q[j], q[(j + 1) % 4]);
+                    mark[a as usize] = true;
+                    toggle(&mut edges, (a, b));
                 }
             }
-            let before = self.mesh.quads.len();
-            let mut k = 0;
-            self.mesh.quads.retain(|_| {
-                let keep = hit.binary_search(&k).is_err();
-                k += 1;
-                keep
-            });
-            r.removed += before - self.mesh.quads.len();
         }
+        let before = self.mesh.quads.len();
+        let mut k = 0;
+        self.mesh.quads.retain(|_| {
+            let keep = !removed[k];
+            k += 1;
+            keep
+        });
+        r.removed += before - self.mesh.quads.len();
         self.rebuild_incidence();
-        let loops = Front::loops_of_unmeshed(&self.mesh);
-        self.front = Front::new(
-            &loops,
-            &self.mesh.nodes,
-            2.0 * self.boundary.median_segment(),
-        );
+        let loops = Front::link_loops(edges.into_iter().collect(), &self.mesh.nodes);
+        self.front = Front::new(&loops, &self.mesh.nodes, self.grid_cell);
         self.queue.clear();
         self.version.clear();
         for s in 0..self.front.slots.len() as SlotId {
@@ -192,19 +217,22 @@ impl Mesher {
                 continue;
             }
             let quads = self.incident[v as usize].clone();
-            let before: Vec<f64> = quads
+            let before: Vec<(f64, f64)> = quads
                 .iter()
                 .map(|&k| {
-                    crate::quality::Shape::of(self.mesh.corners(&self.mesh.quads[k as usize]))
-                        .scaled_jacobian
+                    let s =
+                        crate::quality::Shape::of(self.mesh.corners(&self.mesh.quads[k as usize]));
+                    (s.scaled_jacobian, s.side_ratio())
                 })
                 .collect();
             self.front.unfile_edges_at(s, &self.mesh.nodes);
             self.mesh.nodes[v as usize] = new;
-            let mut ok = quads.iter().zip(&before).all(|(&k, &b)| {
+            let mut ok = quads.iter().zip(&before).all(|(&k, &(sj, sides))| {
                 let p = self.mesh.corners(&self.mesh.quads[k as usize]);
+                let s = crate::quality::Shape::of(p);
                 crate::geom::is_strictly_convex(p)
-                    && crate::quality::Shape::of(p).scaled_jacobian >= b.min(0.3)
+                    && s.scaled_jacobian >= sj.min(0.3)
+                    && s.side_ratio() <= sides.max(MAX_SIDE_RATIO)
             });
             if ok {
                 let prev_node = self.front.node(self.front.prev(s));

@@ -68,6 +68,8 @@ pub struct Mesher {
     pub(super) relaxes: usize,
     /// Relaxations since the last other step.
     pub(super) relax_streak: usize,
+    /// Cell width of the front's edge grid.
+    pub(super) grid_cell: f64,
     /// Steps after which the region left is filled.
     pub(super) fill_after: usize,
     /// No fill is tried before this step (set after a fill fails).
@@ -87,8 +89,11 @@ impl Mesher {
     /// A mesher over `boundary` with `model` and `params`.
     pub fn new(boundary: Boundary, model: Arc<dyn Model>, params: MeshParams) -> Mesher {
         let mesh = QuadMesh::from_boundary(&boundary);
-        let h = boundary.median_segment();
-        let front = Front::new(&mesh.loops, &mesh.nodes, 2.0 * h);
+        let size = Arc::new(SizeField::of_boundary(&boundary));
+        // The front's edge grid as fine as the finest elements (the grid
+        // caps its cell count), so a query near fine elements stays short.
+        let grid_cell = 2.0 * size.range()[0];
+        let front = Front::new(&mesh.loops, &mesh.nodes, grid_cell);
         let mut min_seg = f64::INFINITY;
         for (a, b) in boundary.segments() {
             min_seg = min_seg.min(boundary.points[a].distance(boundary.points[b]));
@@ -96,10 +101,10 @@ impl Mesher {
         let est = (boundary.area() / (min_seg * min_seg)).min(1e9) as usize;
         let work = est.max(boundary.node_count());
         let step_limit = params.max_steps.unwrap_or(8 * work + 10_000);
-        let size = Arc::new(SizeField::of_boundary(&boundary));
         let quads = size.quad_estimate().min(1e9);
         let mut m = Mesher {
             step_limit,
+            grid_cell,
             row_key: (0, 0),
             size,
             fill_after: (FILL_BUDGET * quads) as usize + boundary.node_count() + 200,
