@@ -94,6 +94,7 @@ enum Command {
     /// The editor (the default with no subcommand). With --screenshot it
     /// renders after loading (and stepping), saves a PNG of the window and
     /// exits.
+    #[cfg(feature = "gui")]
     Gui {
         /// Boundary to open (default: the shipped example).
         #[arg(long)]
@@ -170,6 +171,7 @@ enum Command {
     },
 }
 
+#[cfg(feature = "gui")]
 fn parse_size(s: &str) -> Result<[f32; 2], String> {
     let (w, h) = s.split_once('x').ok_or("size is WIDTHxHEIGHT")?;
     match (w.parse::<f32>(), h.parse::<f32>()) {
@@ -178,6 +180,7 @@ fn parse_size(s: &str) -> Result<[f32; 2], String> {
     }
 }
 
+#[cfg(feature = "gui")]
 fn gui(o: quadex::app::GuiOptions) -> Result<()> {
     quadex::app::run(o).map_err(|e| InputError(anyhow!("{e}")).into())
 }
@@ -209,7 +212,13 @@ struct InputError(anyhow::Error);
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let res = match cli.command {
+        #[cfg(feature = "gui")]
         None => gui(quadex::app::GuiOptions::default()),
+        #[cfg(not(feature = "gui"))]
+        None => {
+            eprintln!("quadex: built without the editor (cargo feature `gui`); see `quadex --help` for the command line");
+            return ExitCode::from(2);
+        }
         Some(c) => run(c),
     };
     match res {
@@ -293,6 +302,7 @@ struct Report<'a> {
 
 fn run(c: Command) -> Result<()> {
     match c {
+        #[cfg(feature = "gui")]
         Command::Gui {
             open,
             steps,

@@ -24,8 +24,10 @@
 //! [`factors`] (critical factors, §4.2), [`domains`] (seeded awkward test
 //! domains), [`mapped`] (transfinite mapped meshing) and
 //! [`reference`](mod@reference) (the meshes the shipped model learns from).
-//! [`app`] is the desktop editor, the only module that uses egui.
+//! `app` is the desktop editor, the only module that uses egui (behind the
+//! default cargo feature `gui`).
 
+#[cfg(feature = "gui")]
 pub mod app;
 pub mod boundary;
 pub mod boundary_edit;

@@ -11,7 +11,6 @@
 use crate::fit::{fit_model, FitError, FitParams};
 use crate::geom::Point;
 use crate::io::msh::read_msh;
-use crate::io::read_mesh;
 use crate::mapped::{graded, map_grid, merge, Block};
 use crate::mesh::{InvariantError, QuadMesh};
 use crate::model::{Form, ModelFile};
@@ -185,20 +184,52 @@ pub const DEFAULT_MODEL_FORM: Form = Form::Quadratic;
 /// there (see the README).
 pub const DEFAULT_MODEL_TURN: [f64; 2] = [35.0, 300.0];
 
-/// The folder the reference meshes ship in.
+/// The folder the reference meshes ship in (the generator writes there;
+/// the binary carries them, see [`SHIPPED`]).
 pub fn shipped_dir() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/reference")
 }
 
-/// The shipped reference meshes as `(file name, mesh)` pairs, read back
-/// from [`shipped_dir`] in the order of [`NAMES`].
+/// The shipped reference meshes as built into the binary, `(name, MSH
+/// text)` in the order of [`NAMES`]: an installed `quadex` (the editor's
+/// refit) needs no files beside it.
+pub const SHIPPED: [(&str, &str); 7] = [
+    (
+        "graded_rect",
+        include_str!("../assets/reference/graded_rect.msh"),
+    ),
+    (
+        "curved_quad",
+        include_str!("../assets/reference/curved_quad.msh"),
+    ),
+    (
+        "skewed_quad",
+        include_str!("../assets/reference/skewed_quad.msh"),
+    ),
+    (
+        "ogrid_disk",
+        include_str!("../assets/reference/ogrid_disk.msh"),
+    ),
+    (
+        "annulus_sector",
+        include_str!("../assets/reference/annulus_sector.msh"),
+    ),
+    ("lshape", include_str!("../assets/reference/lshape.msh")),
+    (
+        "peer_boundary6",
+        include_str!("../assets/reference/peer_boundary6.msh"),
+    ),
+];
+
+/// The shipped reference meshes as `(file name, mesh)` pairs, read from
+/// the copies built into the binary ([`SHIPPED`], the files of
+/// [`shipped_dir`] at build time) in the order of [`NAMES`].
 pub fn read_shipped() -> Result<Vec<(String, QuadMesh)>, ReferenceError> {
-    NAMES
+    SHIPPED
         .iter()
-        .map(|&name| {
-            let file = format!("{name}.msh");
-            read_mesh(&shipped_dir().join(&file))
-                .map(|m| (file, m))
+        .map(|&(name, text)| {
+            read_msh(text)
+                .map(|m| (format!("{name}.msh"), m))
                 .map_err(|e| ReferenceError::Boundary {
                     name,
                     msg: e.to_string(),
@@ -233,4 +264,19 @@ pub fn default_model(
 /// Every reference mesh with its name.
 pub fn all() -> Result<Vec<(&'static str, QuadMesh)>, ReferenceError> {
     NAMES.iter().map(|&n| build(n).map(|m| (n, m))).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_built_in_meshes_are_the_shipped_files() {
+        let names: Vec<&str> = SHIPPED.iter().map(|(n, _)| *n).collect();
+        assert_eq!(names, NAMES);
+        for (name, text) in SHIPPED {
+            let file = std::fs::read_to_string(shipped_dir().join(format!("{name}.msh"))).unwrap();
+            assert!(file == text, "{name}");
+        }
+    }
 }

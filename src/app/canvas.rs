@@ -1,20 +1,21 @@
 //! The canvas: pan and zoom, a grid with coordinates, the domain filled
 //! (spade's constrained triangulation, so concave shapes and holes draw
 //! right), the mesh as one batched shape, the front, and the last step's
-//! reference point, leading points, predicted Pn and element.
+//! reference point, leading points, predicted Pn and element, labelled
+//! without overlaps.
 
 use super::quality_panel::Metric;
-use crate::extract::{Remedy, StepReport};
+use crate::extract::{Remedy, StepKind, StepReport};
 use crate::front::EdgeGrid;
 use crate::geom::{point_in_polygon, Aabb, Point};
 use crate::mesh::QuadMesh;
 use crate::quality::QuadQuality;
 use crate::Boundary;
 use egui::epaint::{Mesh, Vertex, WHITE_UV};
-use egui::{Color32, Pos2, Rect, Sense, Shape, Stroke, Ui};
+use egui::{Color32, Pos2, Rect, Response, Shape, Stroke, Ui, Vec2};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-/// The world-to-screen map: `screen = origin + zoom · (x, −y)`.
+/// The world-to-screen map: `screen = centre of the canvas + zoom · (x, −y)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
     /// World point at the canvas centre.
@@ -23,6 +24,14 @@ pub struct View {
     pub zoom: f64,
     /// Fit the boundary on the next frame.
     pub fit_pending: bool,
+    /// The view is as the last fit left it (no pan or zoom since): a
+    /// resized canvas fits again.
+    pub fitted: bool,
+    /// The canvas size of the last frame.
+    size: Vec2,
+    /// The world box the last fit was for (a resize fits it again, not
+    /// whatever the document holds by then).
+    fitted_box: Option<(Point, Point)>,
 }
 
 impl Default for View {
@@ -31,6 +40,9 @@ impl Default for View {
             center: Point::ZERO,
             zoom: 1.0,
             fit_pending: true,
+            fitted: false,
+            size: Vec2::ZERO,
+            fitted_box: None,
         }
     }
 }
@@ -57,7 +69,118 @@ impl View {
         let size = (hi - lo).max(Point::splat(1e-300));
         self.center = (lo + hi) * 0.5;
         self.zoom = 0.9 * (rect.width() as f64 / size.x).min(rect.height() as f64 / size.y);
+        if !(self.zoom.is_finite() && self.zoom > 0.0) {
+            self.zoom = 1.0;
+        }
         self.fit_pending = false;
+        self.fitted = true;
+        self.fitted_box = Some((lo, hi));
+    }
+
+    /// Fits `bbox` when asked to; when the canvas changed size and the
+    /// user has not moved the view since the last fit, fits what that fit
+    /// showed again.
+    pub fn update(&mut self, rect: Rect, bbox: Option<Aabb>) {
+        let resized = self.size != rect.size();
+        self.size = rect.size();
+        if !self.fit_pending && resized && self.fitted {
+            if let Some((lo, hi)) = self.fitted_box {
+                self.fit(rect, lo, hi);
+                return;
+            }
+        }
+        if self.fit_pending || (resized && self.fitted) {
+            match bbox {
+                Some(bb) => self.fit(rect, bb.min, bb.max),
+                None => {
+                    // Nothing drawn yet: a unit square in view.
+                    self.fit(rect, Point::new(0.0, 0.0), Point::new(1.0, 1.0));
+                }
+            }
+        }
+    }
+
+    /// Pans by a screen displacement.
+    pub fn pan(&mut self, d: Vec2) {
+        self.center -= Point::new(d.x as f64, -d.y as f64) / self.zoom;
+        self.fitted = false;
+    }
+
+    /// Zooms by `factor` about the screen point `at`.
+    pub fn zoom_about(&mut self, rect: Rect, at: Pos2, factor: f64) {
+        let before = self.to_world(rect, at);
+        self.zoom *= factor;
+        let after = self.to_world(rect, at);
+        self.center += before - after;
+        self.fitted = false;
+    }
+}
+
+/// The pointer on the canvas this frame, in screen and world coordinates.
+#[derive(Clone, Copy, Debug)]
+pub struct Pointer {
+    pub rect: Rect,
+    /// Where the pointer is, when over the canvas (or dragging from it).
+    pub pos: Option<Pos2>,
+    pub world: Option<Point>,
+    /// Where the press of the current drag started.
+    pub press_origin: Option<Pos2>,
+    /// A primary drag started, goes on, or ended this frame.
+    pub drag_started: bool,
+    pub dragging: bool,
+    pub drag_stopped: bool,
+    /// A primary click without a drag, where it was.
+    pub clicked: Option<Pos2>,
+    /// A secondary click (drops the loop being drawn).
+    pub secondary_clicked: bool,
+    /// The canvas has the pointer (nothing above it).
+    pub hovered: bool,
+}
+
+impl Pointer {
+    /// The pointer as the canvas response `r` saw it.
+    pub fn of(r: &Response, ui: &Ui) -> Pointer {
+        let primary = r.dragged_by(egui::PointerButton::Primary);
+        let pos = r.hover_pos().or_else(|| {
+            (r.dragged() || r.drag_stopped())
+                .then(|| r.interact_pointer_pos())
+                .flatten()
+        });
+        Pointer {
+            rect: r.rect,
+            pos,
+            world: None,
+            press_origin: ui.input(|i| i.pointer.press_origin()),
+            drag_started: r.drag_started_by(egui::PointerButton::Primary),
+            dragging: primary,
+            drag_stopped: r.drag_stopped_by(egui::PointerButton::Primary),
+            clicked: r.clicked().then(|| r.interact_pointer_pos()).flatten(),
+            secondary_clicked: r.secondary_clicked(),
+            hovered: r.hovered(),
+        }
+    }
+
+    /// Fills in the world positions for `view`.
+    pub fn in_view(mut self, view: &View) -> Pointer {
+        self.world = self.pos.map(|p| view.to_world(self.rect, p));
+        self
+    }
+}
+
+/// Pans with a drag no tool took (any button; the middle and secondary
+/// buttons always pan) and zooms with the wheel about the pointer.
+pub fn pan_zoom(view: &mut View, r: &Response, ui: &Ui, primary_taken: bool) {
+    let pan = r.dragged_by(egui::PointerButton::Middle)
+        || r.dragged_by(egui::PointerButton::Secondary)
+        || (r.dragged_by(egui::PointerButton::Primary) && !primary_taken);
+    if pan {
+        view.pan(r.drag_delta());
+    }
+    if let Some(h) = r.hover_pos() {
+        let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+        if scroll != 0.0 {
+            view.zoom_about(r.rect, h, (scroll as f64 / 200.0).exp());
+        }
     }
 }
 
@@ -169,6 +292,22 @@ pub struct MeshCache {
     poor: Vec<u32>,
     /// Mean edge length in world units.
     mean_edge: f64,
+    /// The quads by place, for hovering.
+    pub index: QuadIndex,
+    /// What [`MeshCache::screen`] was built for.
+    screen_key: Option<ScreenKey>,
+    /// The mesh, the boundary and the front as screen-space shapes.
+    screen: Vec<Shape>,
+}
+
+/// What the screen-space shapes of the mesh depend on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct ScreenKey {
+    mesh: Option<(u64, usize, Option<Metric>)>,
+    center: Point,
+    zoom: f64,
+    rect: Rect,
+    edge_color: Color32,
 }
 
 impl MeshCache {
@@ -214,67 +353,45 @@ impl MeshCache {
             total / edges.len() as f64
         };
         self.edges = edges;
+        self.index = QuadIndex::of(m);
     }
 }
 
-/// What the canvas shows besides the mesh.
+/// What the canvas shows.
 pub struct Overlay<'a> {
-    /// Changes whenever the mesh does (the canvas caches per version).
+    /// Changes whenever the mesh shown or its figures do (the canvas
+    /// caches per key).
     pub version: u64,
-    pub boundary: &'a Boundary,
+    pub boundary: Option<&'a Boundary>,
     pub domain: &'a [[Point; 3]],
     pub mesh: &'a QuadMesh,
     /// Figures of each quad of `mesh` (empty: not computed).
     pub qualities: &'a [QuadQuality],
-    /// `mesh`'s quads by place, for hovering.
-    pub index: &'a QuadIndex,
-    /// Front loops as node ids.
-    pub front: Vec<Vec<u32>>,
+    /// Front loops as node ids of `mesh`.
+    pub front: &'a [Vec<u32>],
+    /// The last step, drawn on `mesh` (the mesh as stepped).
     pub last: Option<&'a StepReport>,
     /// Colour quads by this metric (plain when `None`).
     pub metric: Option<Metric>,
-    /// Boundary nodes to mark (problems of live validation).
-    pub marked: &'a [Point],
 }
 
-/// What the user did on the canvas this frame.
-pub struct CanvasResponse {
-    /// World position under the pointer.
-    pub hover: Option<Point>,
-    /// The quad under the pointer.
-    pub hovered_quad: Option<usize>,
-    /// Primary click without a drag, in world coordinates.
-    pub clicked: Option<Point>,
-    /// The egui response of the canvas, for tools.
-    pub rect: Rect,
-}
+/// Steps whose element is drawn highlighted: those that make a few quads
+/// (a fill or a rip-up can make the whole mesh at once).
+const MAX_HIGHLIGHT: usize = 12;
 
-/// Draws the canvas and handles pan (drag) and zoom (wheel about the
-/// cursor). Returns the world position under the pointer, if any.
-pub fn ui(ui: &mut Ui, view: &mut View, cache: &mut MeshCache, o: &Overlay) -> CanvasResponse {
-    let (resp, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
-    let rect = resp.rect;
-    if view.fit_pending {
-        if let Some(bb) = crate::geom::Aabb::of(o.boundary.points.iter().copied()) {
-            view.fit(rect, bb.min, bb.max);
-        }
-    }
-    if resp.dragged() {
-        let d = resp.drag_delta();
-        view.center -= Point::new(d.x as f64, -d.y as f64) / view.zoom;
-    }
-    let hover = resp.hover_pos();
-    if let Some(h) = hover {
-        let scroll = ui.input(|i| i.smooth_scroll_delta.y);
-        if scroll != 0.0 {
-            let before = view.to_world(rect, h);
-            view.zoom *= (scroll as f64 / 200.0).exp();
-            let after = view.to_world(rect, h);
-            view.center += before - after;
-        }
-    }
+/// Draws the canvas: background and grid, domain, mesh, front, last step.
+/// Returns the quad under the pointer.
+pub fn draw(
+    ui: &Ui,
+    painter: &egui::Painter,
+    view: &View,
+    cache: &mut MeshCache,
+    o: &Overlay,
+    pointer: &Pointer,
+) -> Option<usize> {
+    let rect = painter.clip_rect();
     painter.rect_filled(rect, 0.0, ui.visuals().extreme_bg_color);
-    draw_grid(&painter, rect, view, ui.visuals().weak_text_color());
+    draw_grid(painter, rect, view, ui.visuals().weak_text_color());
     let to = |p: Point| view.to_screen(rect, p);
 
     // Domain.
@@ -285,11 +402,54 @@ pub fn ui(ui: &mut Ui, view: &mut View, cache: &mut MeshCache, o: &Overlay) -> C
     }
     painter.add(Shape::mesh(fill));
 
-    // Quads and their edges, one shape each. Nodes are mapped once; quads
-    // off the canvas are skipped; edges are left out when they would be
-    // under 3 pixels long on average (the fill alone shows the mesh).
+    // Quads, their edges, the boundary and the front: built in screen
+    // space once per mesh, colouring and view, and kept while none of them
+    // changes (a still frame with a large mesh rebuilds nothing).
     cache.refresh(o);
+    let key = ScreenKey {
+        mesh: cache.key,
+        center: view.center,
+        zoom: view.zoom,
+        rect,
+        edge_color: ui.visuals().text_color(),
+    };
+    if cache.screen_key.as_ref() != Some(&key) {
+        cache.screen = screen_shapes(cache, o, view, rect, key.edge_color);
+        cache.screen_key = Some(key);
+    }
+    painter.extend(cache.screen.iter().cloned());
+
+    if let Some(r) = o.last {
+        draw_step(painter, r, o.mesh, &to);
+    }
+    let hovered_quad = pointer
+        .world
+        .filter(|_| pointer.hovered)
+        .and_then(|p| cache.index.quad_at(o.mesh, p));
+    if let Some(k) = hovered_quad {
+        let s = o.mesh.corners(&o.mesh.quads[k]).map(to);
+        painter.add(Shape::closed_line(
+            s.to_vec(),
+            Stroke::new(2.0, Color32::WHITE),
+        ));
+    }
+    hovered_quad
+}
+
+/// The mesh (quads filled in their colours, those that miss the thesis
+/// criteria tinted, edges when they are 3 pixels long or more on average),
+/// the boundary and the front, as screen-space shapes. Nodes are mapped
+/// once; quads and edges off the canvas are left out.
+fn screen_shapes(
+    cache: &MeshCache,
+    o: &Overlay,
+    view: &View,
+    rect: Rect,
+    text_color: Color32,
+) -> Vec<Shape> {
+    let to = |p: Point| view.to_screen(rect, p);
     let screen: Vec<Pos2> = o.mesh.nodes.iter().map(|&p| to(p)).collect();
+    let mut shapes = Vec::new();
     let mut quads = Mesh::default();
     for (q, &color) in o.mesh.quads.iter().zip(&cache.colors) {
         let s = q.map(|v| screen[v as usize]);
@@ -297,12 +457,13 @@ pub fn ui(ui: &mut Ui, view: &mut View, cache: &mut MeshCache, o: &Overlay) -> C
             push_fan(&mut quads, &s, color);
         }
     }
-    painter.add(Shape::mesh(quads));
+    shapes.push(Shape::mesh(quads));
     let show_edges = cache.mean_edge * view.zoom >= 3.0;
     // Quads that miss the thesis criteria: tinted, and outlined dashed
     // when edges are drawn.
     let mut tint = Mesh::default();
     let poor_color = Color32::from_rgba_unmultiplied(200, 60, 220, 90);
+    let mut dashed = Vec::new();
     for &k in &cache.poor {
         let s = o.mesh.quads[k as usize].map(|v| screen[v as usize]);
         if rect.intersects(Rect::from_points(&s)) {
@@ -310,7 +471,7 @@ pub fn ui(ui: &mut Ui, view: &mut View, cache: &mut MeshCache, o: &Overlay) -> C
             if show_edges {
                 let mut ring = s.to_vec();
                 ring.push(s[0]);
-                painter.extend(Shape::dashed_line(
+                dashed.extend(Shape::dashed_line(
                     &ring,
                     Stroke::new(1.5, Color32::from_rgb(230, 90, 255)),
                     4.0,
@@ -319,72 +480,48 @@ pub fn ui(ui: &mut Ui, view: &mut View, cache: &mut MeshCache, o: &Overlay) -> C
             }
         }
     }
-    painter.add(Shape::mesh(tint));
+    shapes.extend(dashed);
+    shapes.push(Shape::mesh(tint));
     if show_edges {
         let mut edges = Mesh::default();
-        let edge_color = ui.visuals().text_color().gamma_multiply(0.7);
+        let edge_color = text_color.gamma_multiply(0.7);
         for e in &cache.edges {
             let (a, b) = (screen[e[0] as usize], screen[e[1] as usize]);
             if rect.intersects(Rect::from_two_pos(a, b)) {
                 push_segment(&mut edges, a, b, 1.0, edge_color);
             }
         }
-        painter.add(Shape::mesh(edges));
+        shapes.push(Shape::mesh(edges));
     }
-
     // Boundary and front.
     let mut lines = Mesh::default();
-    for l in &o.boundary.loops {
-        for k in 0..l.len() {
-            let (a, b) = (
-                o.boundary.points[l[k]],
-                o.boundary.points[l[(k + 1) % l.len()]],
-            );
-            push_segment(&mut lines, to(a), to(b), 1.5, Color32::from_gray(200));
+    if let Some(b) = o.boundary {
+        for l in &b.loops {
+            for k in 0..l.len() {
+                let (a, c) = (b.points[l[k]], b.points[l[(k + 1) % l.len()]]);
+                push_segment(&mut lines, to(a), to(c), 1.5, Color32::from_gray(200));
+            }
         }
     }
     let front_color = Color32::from_rgb(255, 150, 40);
-    for l in &o.front {
+    for l in o.front {
         for k in 0..l.len() {
-            let (a, b) = (
-                o.mesh.nodes[l[k] as usize],
-                o.mesh.nodes[l[(k + 1) % l.len()] as usize],
-            );
-            push_segment(&mut lines, to(a), to(b), 3.0, front_color);
+            let (a, b) = (screen[l[k] as usize], screen[l[(k + 1) % l.len()] as usize]);
+            push_segment(&mut lines, a, b, 3.0, front_color);
         }
     }
-    painter.add(Shape::mesh(lines));
+    shapes.push(Shape::mesh(lines));
+    shapes
+}
 
-    for &p in o.marked {
-        painter.circle_stroke(to(p), 7.0, Stroke::new(2.0, Color32::from_rgb(255, 60, 60)));
-    }
-
-    if let Some(r) = o.last {
-        draw_step(&painter, r, o.mesh, &to);
-    }
-    let world = hover.map(|h| view.to_world(rect, h));
-    let hovered_quad = world.and_then(|p| o.index.quad_at(o.mesh, p));
-    if let (Some(k), Some(q)) = (hovered_quad, hovered_quad.and_then(|k| o.qualities.get(k))) {
-        let s = o.mesh.quads[k].map(|v| screen[v as usize]);
-        painter.add(Shape::closed_line(
-            s.to_vec(),
-            Stroke::new(2.0, Color32::WHITE),
-        ));
-        resp.clone()
+/// The quad tooltip while hovering quad `k` of the mesh.
+pub fn quad_hover(r: &Response, k: usize, qualities: &[QuadQuality]) {
+    if let Some(q) = qualities.get(k) {
+        r.clone()
             .on_hover_ui_at_pointer(|ui| quad_tooltip(ui, k, q));
-    }
-    CanvasResponse {
-        hover: world,
-        hovered_quad,
-        clicked: resp
-            .clicked()
-            .then(|| resp.interact_pointer_pos().map(|p| view.to_world(rect, p)))
-            .flatten(),
-        rect,
     }
 }
 
-/// The quad of `mesh` containing `p` (a scan: called once per frame).
 /// The quads of a mesh filed in a uniform grid by their bounding boxes, to
 /// find the quad under the pointer without a scan of the whole mesh.
 #[derive(Default)]
@@ -496,45 +633,102 @@ fn round_label(v: f64, step: f64) -> f64 {
     (v * f).round() / f
 }
 
-/// The last step: its element outlined, the reference point, the leading
-/// points labelled l1..lN and r1..rN, and the model's Pn.
+/// Places labels beside points without overlaps: each label goes on the
+/// side of its point away from `away` if that is free, else on the first
+/// free side of eight; a label with no free side is left out.
+struct Labels<'p> {
+    painter: &'p egui::Painter,
+    taken: Vec<Rect>,
+}
+
+impl Labels<'_> {
+    /// Reserves the area of a drawn point.
+    fn block(&mut self, p: Pos2, r: f32) {
+        self.taken
+            .push(Rect::from_center_size(p, egui::vec2(2.0 * r, 2.0 * r)));
+    }
+
+    fn place(&mut self, p: Pos2, away: Vec2, text: &str, color: Color32) -> bool {
+        let font = egui::FontId::proportional(13.0);
+        let galley = self.painter.layout_no_wrap(text.to_string(), font, color);
+        let size = galley.size();
+        let first = if away.length() > 1e-3 {
+            away.normalized()
+        } else {
+            egui::vec2(1.0, -1.0).normalized()
+        };
+        let mut dirs = vec![first];
+        for k in 0..8 {
+            let a = k as f32 * std::f32::consts::FRAC_PI_4;
+            dirs.push(egui::vec2(a.cos(), a.sin()));
+        }
+        for d in dirs {
+            // The label's centre, far enough along `d` for its box to
+            // clear the point.
+            let reach = 7.0 + 0.5 * (size.x * d.x.abs() + size.y * d.y.abs());
+            let rect = Rect::from_center_size(p + d * reach, size);
+            if !self.taken.iter().any(|t| t.intersects(rect)) {
+                self.taken.push(rect);
+                self.painter.galley(rect.min, galley, color);
+                return true;
+            }
+        }
+        false
+    }
+}
+
+/// The last step: its element outlined (when it is a few quads), the
+/// reference point, the leading points labelled l1..lN and r1..rN, and the
+/// model's Pn; labels go outside the element and never overlap (those
+/// that find no room are left out, the outermost first).
 fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn Fn(Point) -> Pos2) {
     let highlight = Color32::from_rgb(255, 230, 60);
-    for q in &r.quads {
-        let s = mesh.corners(q).map(to);
-        painter.add(Shape::closed_line(s.to_vec(), Stroke::new(2.5, highlight)));
-    }
-    let font = egui::FontId::proportional(13.0);
-    let n = r.leading.len() / 2;
-    for (i, &v) in r.leading.iter().enumerate() {
-        let p = to(mesh.nodes[v as usize]);
-        if i == n {
-            painter.circle_filled(p, 6.0, Color32::from_rgb(230, 50, 50));
-            painter.text(
-                p + egui::vec2(8.0, -8.0),
-                egui::Align2::LEFT_BOTTOM,
-                "P0",
-                font.clone(),
-                Color32::from_rgb(255, 120, 120),
-            );
-        } else {
-            let label = if i < n {
-                format!("l{}", n - i)
-            } else {
-                format!("r{}", i - n)
-            };
-            painter.circle_filled(p, 4.0, Color32::from_rgb(80, 170, 255));
-            painter.text(
-                p + egui::vec2(6.0, -6.0),
-                egui::Align2::LEFT_BOTTOM,
-                label,
-                font.clone(),
-                Color32::from_rgb(150, 210, 255),
-            );
+    let small = r.quads.len() <= MAX_HIGHLIGHT && r.kind != StepKind::Fill;
+    let mut centre = Vec2::ZERO;
+    let mut corners = 0.0;
+    if small {
+        for q in &r.quads {
+            let s = mesh.corners(q).map(to);
+            for p in s {
+                centre += p.to_vec2();
+                corners += 1.0;
+            }
+            painter.add(Shape::closed_line(s.to_vec(), Stroke::new(2.5, highlight)));
         }
     }
-    if let Some(pn) = r.predicted_pn {
-        let p = to(pn);
+    let n = r.leading.len() / 2;
+    let Some(&p0) = r.leading.get(n) else { return };
+    let at = |v: u32| mesh.nodes.get(v as usize).map(|&p| to(p));
+    let Some(s0) = at(p0) else { return };
+    let centre = if corners > 0.0 {
+        (centre / corners).to_pos2()
+    } else {
+        s0 + egui::vec2(-10.0, 10.0)
+    };
+    let mut labels = Labels {
+        painter,
+        taken: Vec::new(),
+    };
+    // Points first, so that no label covers one.
+    let p0_color = Color32::from_rgb(230, 50, 50);
+    let lead_color = Color32::from_rgb(80, 170, 255);
+    painter.circle_filled(s0, 6.0, p0_color);
+    labels.block(s0, 6.0);
+    let mut leading = Vec::new();
+    for i in 1..=n {
+        for (v, name) in [
+            (r.leading.get(n - i), format!("l{i}")),
+            (r.leading.get(n + i), format!("r{i}")),
+        ] {
+            if let Some(s) = v.and_then(|&v| at(v)) {
+                painter.circle_filled(s, 4.0, lead_color);
+                labels.block(s, 4.0);
+                leading.push((s, name));
+            }
+        }
+    }
+    let pn = r.predicted_pn.map(|p| {
+        let s = to(p);
         let c = if r.remedy == Remedy::None {
             Color32::from_rgb(120, 255, 120)
         } else {
@@ -542,20 +736,23 @@ fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn 
         };
         let d = 6.0;
         painter.line_segment(
-            [p - egui::vec2(d, d), p + egui::vec2(d, d)],
+            [s - egui::vec2(d, d), s + egui::vec2(d, d)],
             Stroke::new(2.0, c),
         );
         painter.line_segment(
-            [p - egui::vec2(d, -d), p + egui::vec2(d, -d)],
+            [s - egui::vec2(d, -d), s + egui::vec2(d, -d)],
             Stroke::new(2.0, c),
         );
-        painter.text(
-            p + egui::vec2(8.0, 8.0),
-            egui::Align2::LEFT_TOP,
-            "Pn",
-            font,
-            c,
-        );
+        labels.block(s, d);
+        (s, c)
+    });
+    labels.place(s0, s0 - centre, "P0", Color32::from_rgb(255, 120, 120));
+    if let Some((s, c)) = pn {
+        labels.place(s, s - s0, "Pn", c);
+    }
+    let label_color = Color32::from_rgb(150, 210, 255);
+    for (s, name) in leading {
+        labels.place(s, s - centre, &name, label_color);
     }
 }
 
@@ -565,10 +762,8 @@ mod tests {
 
     #[test]
     fn the_quad_index_finds_what_a_scan_finds() {
-        let b = crate::io::read_boundary(
-            &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/annulus.poly"),
-        )
-        .unwrap();
+        let b = crate::io::poly::parse_poly(super::super::assets::example("annulus.poly").unwrap())
+            .unwrap();
         let model = std::sync::Arc::new(crate::model::RulesModel::DEFAULT);
         let (mesh, _) = crate::mesh_boundary(&b, model, &crate::Params::DEFAULT, |_| {}).unwrap();
         let index = QuadIndex::of(&mesh);

@@ -1,9 +1,12 @@
-//! Every intent of the user as data: menus, shortcuts and buttons all make
-//! a [`Command`] and the app applies it in one place ([`super::App::apply`]).
+//! Every intent of the user as data: menus, shortcuts, buttons and canvas
+//! gestures all make a [`Command`] and the app applies it in one place
+//! ([`super::App::apply`]).
 
 use super::document::Settings;
+use crate::boundary_edit::Draft;
 use crate::geom::Point;
 use crate::model::{ElementType, Form};
+use egui::{Key, KeyboardShortcut, Modifiers};
 use std::path::PathBuf;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -16,16 +19,34 @@ pub enum Command {
     RunToEnd,
     /// Undo the last edit or step.
     Undo,
+    /// Take the last undone edit or step again.
+    Redo,
     /// Start the mesh again.
     Reset,
     /// Fit the boundary into the canvas.
     FitView,
-    /// Open a boundary file.
+    /// An empty document to draw a boundary in.
+    New,
+    /// Open a boundary, project or mesh file (asks first when the
+    /// document holds unsaved work).
     Open(PathBuf),
+    /// Open a shipped example (built into the binary).
+    OpenExample(&'static str),
+    /// Save the project (to the file it came from, else ask where).
+    Save,
+    /// Save the project to this file.
+    SaveProject(PathBuf),
+    /// Save the boundary (`.poly`, or `.json` for any draft).
+    SaveBoundary(PathBuf),
     /// Export the finished mesh (format from the extension).
     Export(PathBuf),
-    /// New model / strategy / points / pure-model settings (restarts).
+    /// Ask for a file, then act on it.
+    Dialog(Dialog),
+    /// New model / strategy / points / pure-model settings (restarts), or
+    /// new finishing settings (the steps stay).
     SetSettings(Settings),
+    /// Mesh with the fitted model in this file (restarts).
+    UseModel(PathBuf),
     /// Append the last step's element to the training set as it is.
     AppendLast,
     /// Replace the last element by this one and append its sample.
@@ -36,21 +57,17 @@ pub enum Command {
         /// Type 0 closed onto this front node instead of a new one.
         snap_to: Option<u32>,
     },
-    /// Refit the model on the reference samples and the user's, and mesh
-    /// the rest with it.
-    Refit(Form),
-    /// Take the last undone edit or step again.
-    Redo,
+    /// Refit the model on the reference samples and the user's; with
+    /// `mesh_rest`, mesh the rest with it (one undo takes both back).
+    Refit { form: Form, mesh_rest: bool },
     /// Step on their own at the animation speed, or stop.
     Animate(bool),
-    /// Stop the run in the background (the steps taken so far stay).
+    /// Stop the background run; the document stays as before it.
     Cancel,
-    /// Save the project (to the file it came from, else ask where).
-    Save,
-    /// Save the project to this file.
-    SaveProject(PathBuf),
-    /// Ask for a file with a dialog, then act on it.
-    Dialog(Dialog),
+    /// Close the window (asks first when there is unsaved work).
+    Quit,
+    /// Compute the finished mesh (after its pass was cancelled or failed).
+    Finish,
     /// Append the samples of a training-set file (CSV or JSON).
     ImportSamples(PathBuf),
     /// Write the user's samples (CSV, or JSON by extension).
@@ -61,17 +78,17 @@ pub enum Command {
     CollectFromMesh,
     /// Collect samples from a quad mesh file (`.msh`).
     CollectFromFile(PathBuf),
-    /// Mesh with the fitted model in this file (restarts).
-    UseModel(PathBuf),
-    /// Replace the boundary (an edit on the canvas); the mesh restarts.
-    SetBoundary(Box<crate::Boundary>),
+    /// The boundary as edited on the canvas (valid or not: an invalid
+    /// draft shows its problem and has no mesh until it is fixed).
+    SetDraft { draft: Draft, what: &'static str },
 }
 
-/// What a file dialog is asked for.
+/// What a file prompt is asked for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dialog {
     Open,
     SaveProjectAs,
+    SaveBoundaryAs,
     ExportMesh,
     ImportSamples,
     ExportSamples,
@@ -82,29 +99,46 @@ pub enum Dialog {
 
 impl Command {
     /// The keyboard shortcut shown beside the command, if it has one.
-    pub fn shortcut(&self) -> Option<egui::KeyboardShortcut> {
-        use egui::{Key, KeyboardShortcut, Modifiers};
+    pub fn shortcut(&self) -> Option<KeyboardShortcut> {
+        let k = KeyboardShortcut::new;
         match self {
-            Command::Step => Some(KeyboardShortcut::new(Modifiers::NONE, Key::Space)),
-            Command::StepN(_) => Some(KeyboardShortcut::new(Modifiers::SHIFT, Key::Space)),
-            Command::RunToEnd => Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::Enter)),
-            Command::Undo => Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::Z)),
-            Command::Redo => Some(KeyboardShortcut::new(
-                Modifiers::COMMAND.plus(Modifiers::SHIFT),
-                Key::Z,
-            )),
-            Command::Save => Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::S)),
-            Command::Dialog(Dialog::Open) => {
-                Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::O))
-            }
-            Command::Dialog(Dialog::ExportMesh) => {
-                Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::E))
-            }
-            Command::Animate(_) => Some(KeyboardShortcut::new(Modifiers::NONE, Key::P)),
-            Command::Cancel => Some(KeyboardShortcut::new(Modifiers::NONE, Key::Escape)),
-            Command::Reset => Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::R)),
-            Command::FitView => Some(KeyboardShortcut::new(Modifiers::NONE, Key::F)),
+            Command::Step => Some(k(Modifiers::NONE, Key::Space)),
+            Command::StepN(_) => Some(k(Modifiers::SHIFT, Key::Space)),
+            Command::RunToEnd => Some(k(Modifiers::COMMAND, Key::Enter)),
+            Command::Undo => Some(k(Modifiers::COMMAND, Key::Z)),
+            Command::Redo => Some(k(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::Z)),
+            Command::New => Some(k(Modifiers::COMMAND, Key::N)),
+            Command::Save => Some(k(Modifiers::COMMAND, Key::S)),
+            Command::Dialog(Dialog::Open) => Some(k(Modifiers::COMMAND, Key::O)),
+            Command::Dialog(Dialog::ExportMesh) => Some(k(Modifiers::COMMAND, Key::E)),
+            Command::Animate(_) => Some(k(Modifiers::NONE, Key::P)),
+            Command::Cancel => Some(k(Modifiers::NONE, Key::Escape)),
+            Command::Quit => Some(k(Modifiers::COMMAND, Key::Q)),
+            Command::Reset => Some(k(Modifiers::COMMAND, Key::R)),
+            Command::FitView => Some(k(Modifiers::NONE, Key::F)),
             _ => None,
         }
+    }
+
+    /// Other shortcuts that do the same (Ctrl+Y redoes, as on Windows).
+    pub fn alternative_shortcut(&self) -> Option<KeyboardShortcut> {
+        match self {
+            Command::Redo => Some(KeyboardShortcut::new(Modifiers::COMMAND, Key::Y)),
+            _ => None,
+        }
+    }
+
+    /// True for the commands that replace the whole document (the editor
+    /// asks first when it holds unsaved work).
+    pub fn replaces_document(&self) -> bool {
+        matches!(
+            self,
+            Command::New | Command::Open(_) | Command::OpenExample(_)
+        )
+    }
+
+    /// True for what may be done while a run goes on in the background.
+    pub fn allowed_while_running(&self) -> bool {
+        matches!(self, Command::Cancel | Command::FitView | Command::Quit)
     }
 }

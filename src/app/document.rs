@@ -1,29 +1,34 @@
-//! The editor's document: the boundary, the mesher stepping over it with
-//! the chosen model and settings, the last step's report, the training set
-//! the user's corrections go to, and the models refits made. A document is
-//! saved whole as a project file ([`Project`]). Everything here goes
-//! through the core's public API (`Mesher`, `model::load`, `fit`, `io`).
+//! The editor's document: the boundary as the user draws, reads and edits
+//! it (a [`Draft`], valid or not), and once it is a valid boundary the
+//! mesher stepping over it ([`Meshing`]) with the chosen model and
+//! settings, the last step's report and the models refits made; the
+//! training set the user's corrections go to. A document is saved whole
+//! as a project file ([`Project`]). Everything here goes through the
+//! core's public API (`Mesher`, `model::load`, `fit`, `io`).
 
+use super::error::{AtPath, EditorError, ProjectError};
+use crate::boundary::BoundaryError;
+use crate::boundary_edit::Draft;
 use crate::cleanup::CleanupParams;
 use crate::extract::{
     Action, Correction, MeshParams, Mesher, StepKind, StepOutcome, StepReport, Strategy,
 };
 use crate::fit::{self, Figures, FitParams, TypeFigures};
+use crate::geom::Point;
 use crate::io;
 use crate::io::boundary_json::BoundaryDoc;
 use crate::mesh::QuadMesh;
-use crate::model;
 use crate::model::fitted::FittedModel;
-use crate::model::Form;
+use crate::model::{self, ElementType, Form};
 use crate::pipeline::FinishParams;
 use crate::remesh::RemeshParams;
-use crate::samples::CollectParams;
-use crate::samples::TrainingSet;
+use crate::samples::{CollectParams, Sample, TrainingSet};
 use crate::smooth::SmoothParams;
 use crate::Boundary;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// What the user chose to mesh with.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -79,30 +84,72 @@ impl Settings {
             smooth: self.smooth,
         }
     }
+
+    /// True when `other` differs from these settings only in what
+    /// finishing does (the steps stay).
+    pub fn same_steps(&self, other: &Settings) -> bool {
+        Settings {
+            smooth: self.smooth,
+            cleanup: self.cleanup,
+            remesh: self.remesh,
+            ..other.clone()
+        } == *self
+    }
 }
 
-/// The boundary being meshed and the state of its mesh. Cloning is what
-/// the editor's undo keeps; the reference samples are shared.
+/// The mesh being made over a valid boundary.
 #[derive(Clone)]
-pub struct Document {
+pub struct Meshing {
     pub boundary: Boundary,
-    /// The file the boundary came from.
-    pub source: Option<PathBuf>,
-    pub settings: Settings,
     pub mesher: Mesher,
-    /// The report of the last step taken (cleared by undo and reset).
+    /// The report of the last step taken (after undo: of the step now
+    /// last, so that it can be corrected).
     pub last: Option<StepReport>,
-    /// Samples from accepted and corrected elements.
-    pub training: TrainingSet,
     /// Models set by refits, with the number of steps taken before each.
     pub refits: Vec<(usize, FittedModel)>,
-    /// The reference meshes' samples a refit starts from (loaded at the
-    /// first refit).
-    base: Option<Arc<TrainingSet>>,
-    /// A mesh read from a file (`.msh`), its boundary being the document's
-    /// boundary: shown, checked and exported as the document's mesh until
-    /// the boundary is stepped.
+    /// A mesh read from a file (`.msh`), its boundary being this one:
+    /// shown, checked and exported as the document's mesh until the
+    /// boundary is stepped.
     imported: Option<Arc<QuadMesh>>,
+}
+
+impl Meshing {
+    fn new(boundary: Boundary, settings: &Settings) -> Result<Meshing, EditorError> {
+        let m = model::load(&settings.model).map_err(|cause| EditorError::Model {
+            spec: settings.model.clone(),
+            cause,
+        })?;
+        Ok(Meshing {
+            mesher: Mesher::new(boundary.clone(), Arc::from(m), settings.params()),
+            boundary,
+            last: None,
+            refits: Vec::new(),
+            imported: None,
+        })
+    }
+}
+
+/// The document. Cloning is what the editor's undo keeps.
+#[derive(Clone)]
+pub struct Document {
+    /// The loops as drawn, read or edited, valid or not.
+    pub draft: Draft,
+    /// Why the draft is not a valid boundary (`None`: it is one, and
+    /// [`Document::meshing`] holds its mesh).
+    pub problem: Option<BoundaryError>,
+    /// The file the document came from (a boundary, mesh or project).
+    pub source: Option<PathBuf>,
+    /// The name shown in the title (the file's name, an example's name,
+    /// or "untitled").
+    pub name: String,
+    pub settings: Settings,
+    pub meshing: Option<Meshing>,
+    /// Samples from accepted and corrected elements, and collected ones.
+    pub training: TrainingSet,
+    /// The boundary was drawn or edited in the editor.
+    pub boundary_edited: bool,
+    /// Figures of the last refit (undone with it; not saved).
+    pub last_refit: Option<RefitFigures>,
 }
 
 /// Figures of the model before and after a refit, on the same samples.
@@ -114,54 +161,208 @@ pub struct RefitFigures {
     pub after: (TypeFigures, Figures, Figures),
 }
 
+/// A front node the last element could be closed onto instead, and
+/// whether that gives a valid element.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Target {
+    pub node: u32,
+    pub at: Point,
+    /// Type 1 for P_r2, type 2 for P_l2, else type 0 closed onto the node.
+    pub element_type: ElementType,
+    pub valid: bool,
+}
+
+impl Target {
+    /// The correction that closes the element onto this node.
+    pub fn command(&self) -> super::Command {
+        super::Command::CorrectLast {
+            element_type: self.element_type,
+            pn: self.at,
+            snap_to: (self.element_type == ElementType::New).then_some(self.node),
+        }
+    }
+}
+
+/// What a project replays into the editor's history, in order: runs of
+/// steps, and the documents as they were before each refit.
+pub enum Replayed {
+    Steps(usize),
+    Refit(Box<Document>),
+}
+
+/// A kind of step as the panels name it.
+pub fn kind_name(k: StepKind) -> &'static str {
+    match k {
+        StepKind::Element => "element",
+        StepKind::Square => "square cut",
+        StepKind::Close4 => "4-node loop closed",
+        StepKind::Close6 => "6-node loop closed",
+        StepKind::Relax => "loop relaxed",
+        StepKind::Seam => "seam",
+        StepKind::Split => "loop split",
+        StepKind::RipUp => "rip-up",
+        StepKind::Fill => "fill of the region left",
+        StepKind::Correction => "correction",
+    }
+}
+
 impl Document {
-    /// A fresh document over `boundary`; fails when the model cannot be
-    /// loaded.
+    /// An empty document: nothing drawn yet.
+    pub fn empty(settings: Settings) -> Document {
+        Document {
+            problem: Some(BoundaryError::Empty),
+            draft: Draft::default(),
+            source: None,
+            name: "untitled".into(),
+            training: TrainingSet::new(settings.points),
+            settings,
+            meshing: None,
+            boundary_edited: false,
+            last_refit: None,
+        }
+    }
+
+    /// A document over `draft` (meshing when it is a valid boundary); fails
+    /// only when the model cannot be loaded.
+    pub fn from_draft(
+        draft: Draft,
+        source: Option<PathBuf>,
+        name: &str,
+        settings: Settings,
+    ) -> Result<Document, EditorError> {
+        let mut doc = Document::empty(settings);
+        doc.source = source;
+        doc.name = name.to_string();
+        doc.set_draft(draft)?;
+        doc.boundary_edited = false;
+        Ok(doc)
+    }
+
+    /// A document over a valid boundary.
     pub fn new(
         boundary: Boundary,
         source: Option<PathBuf>,
         settings: Settings,
-    ) -> Result<Document, String> {
-        let mesher = Self::mesher(&boundary, &settings)?;
-        Ok(Document {
-            boundary,
-            source,
-            training: TrainingSet::new(settings.points),
-            settings,
-            mesher,
-            last: None,
-            refits: Vec::new(),
-            base: None,
-            imported: None,
-        })
+    ) -> Result<Document, EditorError> {
+        let name = source
+            .as_deref()
+            .map(file_name)
+            .unwrap_or_else(|| "untitled".into());
+        let mut doc = Document::empty(settings);
+        doc.draft = Draft::of(&boundary);
+        doc.problem = None;
+        doc.meshing = Some(Meshing::new(boundary, &doc.settings)?);
+        doc.source = source;
+        doc.name = name;
+        Ok(doc)
+    }
+
+    /// The shipped example `name` (built into the binary).
+    pub fn example(name: &str, settings: Settings) -> Result<Document, EditorError> {
+        let text =
+            super::assets::example(name).ok_or(EditorError::UnknownExample(name.to_string()))?;
+        let path = PathBuf::from(name);
+        let (points, loops, _) = io::poly::parse_poly_loops(text).at(&path)?;
+        let draft = Draft {
+            loops: loops
+                .iter()
+                .map(|l| l.iter().map(|&i| points[i]).collect())
+                .collect(),
+        };
+        Document::from_draft(draft, None, name, settings)
     }
 
     /// A document over the boundary of a quad mesh, showing that mesh.
     pub fn from_mesh(
         mesh: QuadMesh,
-        source: Option<PathBuf>,
+        path: &Path,
         settings: Settings,
-    ) -> Result<Document, String> {
-        mesh.check_invariants(true).map_err(|e| e.to_string())?;
+    ) -> Result<Document, EditorError> {
+        mesh.check_invariants(true)
+            .map_err(|cause| EditorError::MeshFile {
+                path: path.to_path_buf(),
+                cause,
+            })?;
         let nb = mesh.n_boundary();
         let loops = mesh
             .loops
             .iter()
             .map(|l| l.iter().map(|&v| v as usize).collect())
             .collect();
-        let boundary = Boundary::new(mesh.nodes[..nb].to_vec(), loops, None)
-            .map_err(|e| format!("its boundary: {e}"))?;
-        let mut doc = Document::new(boundary, source, settings)?;
-        doc.imported = Some(Arc::new(mesh));
+        let boundary = Boundary::new(mesh.nodes[..nb].to_vec(), loops, None).map_err(|cause| {
+            EditorError::MeshBoundary {
+                path: path.to_path_buf(),
+                cause,
+            }
+        })?;
+        let mut doc = Document::new(boundary, Some(path.to_path_buf()), settings)?;
+        if let Some(m) = doc.meshing.as_mut() {
+            m.imported = Some(Arc::new(mesh));
+        }
         Ok(doc)
+    }
+
+    /// Opens a boundary file (`.poly`, `.json`: a boundary that is not
+    /// valid opens as a draft to fix, its problem shown), a project
+    /// (with what its steps put in the history), or a quad mesh (`.msh`,
+    /// `.msh22`: its boundary, with the mesh shown).
+    pub fn open(path: &Path, settings: Settings) -> Result<(Document, Vec<Replayed>), EditorError> {
+        if is_project(path) {
+            return Document::open_project(path);
+        }
+        if is_mesh_file(path) {
+            let m = io::read_mesh(path).at(path)?;
+            return Ok((Document::from_mesh(m, path, settings)?, Vec::new()));
+        }
+        let loops = io::read_boundary_loops(path).at(path)?;
+        let doc = Document::from_draft(
+            Draft { loops },
+            Some(path.to_path_buf()),
+            &file_name(path),
+            settings,
+        )?;
+        Ok((doc, Vec::new()))
+    }
+
+    pub fn boundary(&self) -> Option<&Boundary> {
+        self.meshing.as_ref().map(|m| &m.boundary)
+    }
+
+    pub fn mesher(&self) -> Option<&Mesher> {
+        self.meshing.as_ref().map(|m| &m.mesher)
+    }
+
+    /// The last step's report (see [`Meshing::last`]).
+    pub fn last(&self) -> Option<&StepReport> {
+        self.meshing.as_ref()?.last.as_ref()
+    }
+
+    /// The last step, when it is an element that can be corrected.
+    pub fn last_element(&self) -> Option<&StepReport> {
+        self.last()
+            .filter(|r| matches!(r.kind, StepKind::Element | StepKind::Correction))
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> usize {
+        self.mesher().map_or(0, Mesher::steps)
+    }
+
+    /// Models set by refits.
+    pub fn refits(&self) -> &[(usize, FittedModel)] {
+        self.meshing.as_ref().map_or(&[], |m| &m.refits)
     }
 
     /// The mesh read from a file, while it is what the document shows (no
     /// step taken on its boundary yet).
     pub fn imported(&self) -> Option<&QuadMesh> {
-        self.imported
-            .as_deref()
-            .filter(|_| self.mesher.steps() == 0)
+        let m = self.meshing.as_ref()?;
+        m.imported.as_deref().filter(|_| m.mesher.steps() == 0)
+    }
+
+    /// True when the run is complete.
+    pub fn is_done(&self) -> bool {
+        self.mesher().is_some_and(Mesher::is_done)
     }
 
     /// True when there is a complete mesh to show and export: the run is
@@ -170,230 +371,382 @@ impl Document {
         self.is_done() || self.imported().is_some()
     }
 
-    fn mesher(boundary: &Boundary, settings: &Settings) -> Result<Mesher, String> {
-        let m = model::load(&settings.model).map_err(|e| format!("{}: {e}", settings.model))?;
-        Ok(Mesher::new(
-            boundary.clone(),
-            Arc::from(m),
-            settings.params(),
-        ))
+    /// True when closing or replacing the document loses something the
+    /// user made: samples, corrections, refits, a drawn or edited boundary
+    /// (automatic steps can be taken again).
+    pub fn has_work(&self) -> bool {
+        !self.training.is_empty()
+            || !self.refits().is_empty()
+            || self.boundary_edited
+            || self.mesher().is_some_and(|m| {
+                m.actions()
+                    .iter()
+                    .any(|a| matches!(a, Action::Correction(_)))
+            })
     }
 
-    /// Opens a boundary file (`.poly`, `.json`), a project, or a quad mesh
-    /// (`.msh`, `.msh22`: its boundary, with the mesh shown); the message
-    /// names the file and the problem.
-    pub fn open(path: &Path, settings: Settings) -> Result<Document, String> {
-        if is_project(path) {
-            return Document::open_project(path);
+    fn meshing_mut(&mut self) -> Result<&mut Meshing, EditorError> {
+        match self.meshing.as_mut() {
+            Some(m) => Ok(m),
+            None => Err(EditorError::NoBoundary(
+                self.problem.clone().unwrap_or(BoundaryError::Empty),
+            )),
         }
-        if is_mesh_file(path) {
-            let m = io::read_mesh(path).map_err(|e| format!("{}: {e}", path.display()))?;
-            return Document::from_mesh(m, Some(path.to_path_buf()), settings)
-                .map_err(|e| format!("{}: {e}", path.display()));
-        }
-        let b = io::read_boundary(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        Document::new(b, Some(path.to_path_buf()), settings)
-    }
-
-    /// The document's name for the title bar.
-    pub fn name(&self) -> String {
-        self.source
-            .as_ref()
-            .and_then(|p| p.file_name())
-            .map(|f| f.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "untitled".into())
     }
 
     /// One step; `Ok(false)` when the mesh is already complete.
-    pub fn step(&mut self) -> Result<bool, String> {
-        match self.mesher.step().map_err(|e| e.to_string())? {
+    pub fn step(&mut self) -> Result<bool, EditorError> {
+        let m = self.meshing_mut()?;
+        match m.mesher.step()? {
             StepOutcome::Stepped(r) => {
-                self.last = Some(*r);
+                m.last = Some(*r);
                 Ok(true)
             }
             StepOutcome::Done => Ok(false),
         }
     }
 
-    pub fn undo(&mut self) -> bool {
-        self.last = None;
-        self.mesher.undo()
+    /// Undoes the last step; the step before becomes the last one, with its
+    /// report (replayed), so that it can be corrected.
+    pub fn undo_step(&mut self) -> bool {
+        let Some(m) = self.meshing.as_mut() else {
+            return false;
+        };
+        if !m.mesher.undo() {
+            return false;
+        }
+        m.last = None;
+        if m.mesher.steps() > 0 {
+            let mut probe = m.mesher.clone();
+            if probe.undo() {
+                m.last = probe.redo().ok().flatten();
+            }
+        }
+        true
     }
 
     /// Takes the last undone step again; `Ok(false)` when there is none.
-    pub fn redo(&mut self) -> Result<bool, String> {
-        match self.mesher.redo().map_err(|e| e.to_string())? {
+    pub fn redo_step(&mut self) -> Result<bool, EditorError> {
+        let m = self.meshing_mut()?;
+        match m.mesher.redo()? {
             Some(r) => {
-                self.last = Some(r);
+                m.last = Some(r);
                 Ok(true)
             }
             None => Ok(false),
         }
     }
 
-    /// A fresh mesh: no steps, no last report, no refitted models.
-    fn restart(&mut self, mesher: Mesher) {
-        self.mesher = mesher;
-        self.last = None;
-        self.refits.clear();
-    }
-
     /// Starts the mesh again with the current settings.
-    pub fn reset(&mut self) -> Result<(), String> {
-        let mesher = Self::mesher(&self.boundary, &self.settings)?;
-        self.restart(mesher);
+    pub fn reset(&mut self) -> Result<(), EditorError> {
+        let boundary = self.meshing_mut()?.boundary.clone();
+        self.meshing = Some(Meshing::new(boundary, &self.settings)?);
         Ok(())
     }
 
-    /// A new boundary (edited in the editor); the mesh starts again.
-    pub fn set_boundary(&mut self, boundary: Boundary) -> Result<(), String> {
-        let mesher = Self::mesher(&boundary, &self.settings)?;
-        self.boundary = boundary;
-        self.restart(mesher);
+    /// A new draft (an edit on the canvas): when it is a valid boundary the
+    /// mesh starts again over it, else the problem is kept and there is no
+    /// mesh until the draft is fixed. Fails only when the model cannot be
+    /// loaded (nothing changes then).
+    pub fn set_draft(&mut self, draft: Draft) -> Result<(), EditorError> {
+        let (meshing, problem) = match draft.to_boundary() {
+            Ok(b) => (Some(Meshing::new(b, &self.settings)?), None),
+            Err(e) => (None, Some(e)),
+        };
+        self.draft = draft;
+        self.meshing = meshing;
+        self.problem = problem;
+        self.boundary_edited = true;
         Ok(())
     }
 
-    /// Changes the settings and starts again (unless only cleanup and
-    /// smoothing changed: they apply to the finished mesh); returns whether
-    /// the mesh restarted. On failure nothing changes.
-    pub fn set_settings(&mut self, settings: Settings) -> Result<bool, String> {
-        let finishing_only = Settings {
-            smooth: self.settings.smooth,
-            cleanup: self.settings.cleanup,
-            remesh: self.settings.remesh,
-            ..settings.clone()
-        } == self.settings;
-        if finishing_only {
-            // Cleanup and smoothing act on the finished mesh only.
+    /// Changes the settings and starts again (unless only what finishing
+    /// does changed: the steps stay); returns whether the mesh restarted.
+    /// On failure nothing changes.
+    pub fn set_settings(&mut self, settings: Settings) -> Result<bool, EditorError> {
+        if self.settings.same_steps(&settings) || self.meshing.is_none() {
+            if self.meshing.is_none() {
+                model::load(&settings.model).map_err(|cause| EditorError::Model {
+                    spec: settings.model.clone(),
+                    cause,
+                })?;
+            }
             self.settings = settings;
             return Ok(false);
         }
-        let mesher = Self::mesher(&self.boundary, &settings)?;
+        let boundary = self.meshing_mut()?.boundary.clone();
+        let meshing = Meshing::new(boundary, &settings)?;
         self.settings = settings;
-        self.restart(mesher);
+        self.meshing = Some(meshing);
         Ok(true)
     }
 
     /// Appends the sample of the last step (an element the user accepts).
-    pub fn append_last(&mut self) -> Result<usize, String> {
-        let r = self.last.as_ref().ok_or("no step to take a sample from")?;
-        let s = self
-            .mesher
-            .sample_of(r)
-            .ok_or("the last step is not an element")?;
+    pub fn append_last(&mut self) -> Result<usize, EditorError> {
+        let r = self.last().ok_or(EditorError::NoStep)?;
+        if self.last_element().is_none() {
+            return Err(EditorError::NotAnElement(kind_name(r.kind)));
+        }
+        let m = self.mesher().ok_or(EditorError::NoStep)?;
+        let s = m.sample_of(r).ok_or(EditorError::NotAnElement("step"))?;
         self.push_sample(s)
     }
 
-    fn push_sample(&mut self, s: crate::samples::Sample) -> Result<usize, String> {
-        if self.training.points != 2 * s.n() + 1 {
+    fn push_sample(&mut self, s: Sample) -> Result<usize, EditorError> {
+        if self.training.points != 2 * s.n() + 1 && self.training.is_empty() {
             self.training = TrainingSet::new(2 * s.n() + 1);
         }
-        self.training.push(s).map_err(|e| e.to_string())?;
+        self.training.push(s)?;
         Ok(self.training.len())
+    }
+
+    /// The mesher as it was before the last step (the last step undone).
+    pub fn before_last(&self) -> Option<Mesher> {
+        let mut m = self.mesher()?.clone();
+        m.undo().then_some(m)
     }
 
     /// Replaces the last element by the user's (type 0 closes onto front
     /// node `snap_to` when given): the step is undone, the correction
-    /// committed at the same reference point, and its sample appended. If the correction is not a valid element, nothing changes.
+    /// committed at the same reference point, and its sample appended.
+    /// `before` is the mesher before the last step when the caller has it
+    /// (else it is replayed). If the correction is not a valid element,
+    /// nothing changes.
     pub fn correct_last(
         &mut self,
-        element_type: crate::model::ElementType,
-        pn: crate::geom::Point,
+        element_type: ElementType,
+        pn: Point,
         snap_to: Option<u32>,
-    ) -> Result<usize, String> {
-        let r = self.last.clone().ok_or("no step to correct")?;
+        before: Option<Mesher>,
+    ) -> Result<usize, EditorError> {
+        let r = self.last().ok_or(EditorError::NoStep)?;
         if !matches!(r.kind, StepKind::Element | StepKind::Correction) {
-            return Err("only an element step can be corrected".into());
+            return Err(EditorError::NotAnElement(kind_name(r.kind)));
         }
-        let reference = r.reference.ok_or("the last step has no reference point")?;
+        let reference = r.reference.ok_or(EditorError::NoStep)?;
         let c = Correction {
             reference,
             element_type,
             pn: Some(pn),
             snap_to,
         };
-        let saved = self.mesher.clone();
-        self.mesher.undo();
-        match self.mesher.correct(&c) {
-            Ok(report) => {
-                let sample = self.mesher.sample_of(&report);
-                self.last = Some(report);
-                match sample {
-                    Some(s) => self.push_sample(s),
-                    None => Ok(self.training.len()),
-                }
-            }
-            Err(e) => {
-                // Leave the mesh as it was.
-                self.mesher = saved;
-                Err(e.to_string())
-            }
+        let mut mesher = match before {
+            Some(b) => b,
+            None => self.before_last().ok_or(EditorError::NoStep)?,
+        };
+        let report = mesher.correct(&c)?;
+        let sample = mesher.sample_of(&report);
+        let m = self.meshing_mut()?;
+        m.mesher = mesher;
+        m.last = Some(report);
+        match sample {
+            Some(s) => self.push_sample(s),
+            None => Ok(self.training.len()),
         }
     }
 
-    /// The reference meshes' samples at the current input points (the
-    /// method's defaults), loaded once.
-    pub fn base_set(&mut self) -> Result<Arc<TrainingSet>, String> {
-        let points = self.training.points;
-        if self.base.as_ref().is_none_or(|b| b.points != points) {
-            let meshes = crate::reference::read_shipped().map_err(|e| e.to_string())?;
-            self.base = Some(Arc::new(TrainingSet::collect(
-                &meshes,
-                points,
-                &CollectParams::DEFAULT,
-            )));
+    /// The front nodes near the last element's reference point that the
+    /// element could be closed onto instead (P_r2 as type 1, P_l2 as type 2,
+    /// any other as type 0 with that node as Pn), each checked on `before`,
+    /// the mesher before the last step.
+    pub fn closing_targets(&self, before: &mut Mesher) -> Vec<Target> {
+        let Some(r) = self.last_element() else {
+            return Vec::new();
+        };
+        let n = r.leading.len() / 2;
+        if n == 0 {
+            return Vec::new();
         }
-        self.base
-            .clone()
-            .ok_or_else(|| "no reference samples".into())
+        let nodes = &before.mesh().nodes;
+        let at = |v: u32| nodes.get(v as usize).copied();
+        let (Some(p0), Some(l1), Some(r1)) =
+            (at(r.leading[n]), at(r.leading[n - 1]), at(r.leading[n + 1]))
+        else {
+            return Vec::new();
+        };
+        let (p0_id, l1_id, r1_id) = (r.leading[n], r.leading[n - 1], r.leading[n + 1]);
+        let l2 = (n >= 2).then(|| r.leading[n - 2]);
+        let r2 = r.leading.get(n + 2).copied();
+        let reach = 3.0 * p0.distance(l1).max(p0.distance(r1));
+        let f = before.front();
+        let mut near: Vec<(u32, Point)> = f
+            .live_loops()
+            .flat_map(|l| f.loop_nodes(l))
+            .filter(|&v| v != p0_id && v != l1_id && v != r1_id)
+            .filter_map(|v| at(v).map(|p| (v, p)))
+            .filter(|(_, p)| p.distance(p0) <= reach)
+            .collect();
+        near.sort_unstable_by_key(|(v, _)| *v);
+        near.dedup_by_key(|(v, _)| *v);
+        near.into_iter()
+            .map(|(v, p)| {
+                let element_type = if Some(v) == r2 {
+                    ElementType::Right
+                } else if Some(v) == l2 {
+                    ElementType::Left
+                } else {
+                    ElementType::New
+                };
+                let c = Correction {
+                    reference: p0_id,
+                    element_type,
+                    pn: Some(p),
+                    snap_to: (element_type == ElementType::New).then_some(v),
+                };
+                Target {
+                    node: v,
+                    at: p,
+                    element_type,
+                    valid: before.check_correction(&c).is_ok(),
+                }
+            })
+            .collect()
     }
 
     /// The reference samples and the user's, as a refit sees them.
-    pub fn refit_set(&mut self) -> Result<TrainingSet, String> {
-        let mut set = (*self.base_set()?).clone();
-        set.merge(self.training.clone())
-            .map_err(|e| e.to_string())?;
+    pub fn refit_set(&self) -> Result<TrainingSet, EditorError> {
+        let mut set = (*reference_samples(self.training.points)?).clone();
+        set.merge(self.training.clone())?;
         Ok(set)
     }
 
     /// Refits a model of `form` on the reference samples plus the user's,
-    /// meshes the rest of the mesh with it, and returns the figures of the
-    /// old and the new model on those samples.
-    pub fn refit(&mut self, form: Form) -> Result<RefitFigures, String> {
+    /// sets it to mesh the rest of the mesh with, and returns the figures
+    /// of the old and the new model on those samples.
+    pub fn refit(&mut self, form: Form) -> Result<RefitFigures, EditorError> {
         let corrections = self.training.len();
         let set = self.refit_set()?;
+        let m = self.meshing_mut()?;
         let params = FitParams {
             folds: 0,
             ..FitParams::DEFAULT
         };
-        let before =
-            fit::evaluate(self.mesher.model().as_ref(), &set).map_err(|e| e.to_string())?;
-        let model = fit::refit(&set, form, &params).map_err(|e| e.to_string())?;
-        let after = fit::evaluate(&model, &set).map_err(|e| e.to_string())?;
-        self.mesher.set_model(Arc::new(model.clone()));
-        self.refits.push((self.mesher.steps(), model));
-        Ok(RefitFigures {
+        let before = fit::evaluate(m.mesher.model().as_ref(), &set)?;
+        let model = fit::refit(&set, form, &params)?;
+        let after = fit::evaluate(&model, &set)?;
+        m.mesher.set_model(Arc::new(model.clone()));
+        m.refits.push((m.mesher.steps(), model));
+        let f = RefitFigures {
             samples: set.len(),
             corrections,
             before,
             after,
-        })
+        };
+        self.last_refit = Some(f.clone());
+        Ok(f)
     }
 
-    pub fn is_done(&self) -> bool {
-        self.mesher.is_done()
-    }
-
-    /// The finished mesh (smoothed and checked), for export.
-    pub fn finished(&self) -> Result<QuadMesh, String> {
+    /// The finished mesh (cleaned up, smoothed and checked), for export.
+    pub fn finished(&self) -> Result<QuadMesh, EditorError> {
         if let Some(m) = self.imported() {
             return Ok(m.clone());
         }
-        if !self.is_done() {
-            return Err("the mesh is not finished: run to the end first".into());
+        match self.mesher() {
+            Some(m) if m.is_done() => Ok(crate::pipeline::finish(m, &self.settings.finishing())?),
+            _ => Err(EditorError::NotFinished),
         }
-        crate::pipeline::finish(&self.mesher, &self.settings.finishing()).map_err(|e| e.to_string())
     }
+
+    /// Writes the boundary as `.poly` (a valid boundary) or `.json` (the
+    /// loops as they are, valid or not).
+    pub fn save_boundary(&self, path: &Path) -> Result<(), EditorError> {
+        let json = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        let text = if json {
+            serde_json::to_string_pretty(&self.boundary_doc())
+                .map_err(|e| EditorError::Window(e.to_string()))?
+        } else {
+            match self.boundary() {
+                Some(b) => io::poly::write_poly(b),
+                None => {
+                    return Err(EditorError::NoBoundary(
+                        self.problem.clone().unwrap_or(BoundaryError::Empty),
+                    ))
+                }
+            }
+        };
+        io::write_atomic(path, text.as_bytes())?;
+        Ok(())
+    }
+
+    /// The boundary (or the draft's loops) as a boundary document.
+    fn boundary_doc(&self) -> BoundaryDoc {
+        match self.boundary() {
+            Some(b) => boundary_doc_numbered(b, &self.name),
+            None => BoundaryDoc {
+                format: "quadex-boundary".into(),
+                version: 1,
+                name: self.name.clone(),
+                loops: self
+                    .draft
+                    .loops
+                    .iter()
+                    .map(|l| l.iter().map(|p| p.to_array()).collect())
+                    .collect(),
+            },
+        }
+    }
+}
+
+/// `b` as a boundary document whose loops list the points in `b`'s own
+/// numbering (each loop's points as they are numbered, the loops in the
+/// order of their numbers), so that reading it back numbers every node
+/// as `b` does and a project's steps replay onto the same nodes.
+/// (`BoundaryDoc::from_boundary` lists each loop in its traversal order,
+/// which for a loop the validation turned around numbers it anew.) A
+/// boundary whose loops are not runs of consecutive numbers is written
+/// in traversal order.
+fn boundary_doc_numbered(b: &Boundary, name: &str) -> BoundaryDoc {
+    let mut runs: Vec<(usize, usize)> = b
+        .loops
+        .iter()
+        .map(|l| {
+            let lo = l.iter().copied().min().unwrap_or(0);
+            let hi = l.iter().copied().max().map_or(0, |m| m + 1);
+            (lo, hi)
+        })
+        .collect();
+    runs.sort_unstable();
+    let consecutive = b.loops.iter().all(|l| {
+        let (lo, hi) = (
+            l.iter().copied().min().unwrap_or(0),
+            l.iter().copied().max().map_or(0, |m| m + 1),
+        );
+        hi - lo == l.len()
+    }) && runs.first().is_some_and(|r| r.0 == 0)
+        && runs.windows(2).all(|w| w[0].1 == w[1].0)
+        && runs.last().is_some_and(|r| r.1 == b.points.len());
+    if !consecutive {
+        return BoundaryDoc::from_boundary(b, name);
+    }
+    BoundaryDoc {
+        loops: runs
+            .iter()
+            .map(|&(lo, hi)| b.points[lo..hi].iter().map(|p| p.to_array()).collect())
+            .collect(),
+        ..BoundaryDoc::from_boundary(b, name)
+    }
+}
+
+/// The reference meshes' samples at `points` input points (the method's
+/// defaults), collected once per run of the program and shared.
+pub fn reference_samples(points: usize) -> Result<Arc<TrainingSet>, EditorError> {
+    static CACHE: OnceLock<Mutex<BTreeMap<usize, Arc<TrainingSet>>>> = OnceLock::new();
+    let cache = CACHE.get_or_init(Default::default);
+    if let Some(s) = cache.lock().ok().and_then(|c| c.get(&points).cloned()) {
+        return Ok(s);
+    }
+    let meshes = crate::reference::read_shipped()?;
+    let set = Arc::new(TrainingSet::collect(
+        &meshes,
+        points,
+        &CollectParams::DEFAULT,
+    ));
+    if let Ok(mut c) = cache.lock() {
+        c.insert(points, set.clone());
+    }
+    Ok(set)
 }
 
 /// A training-set edit from the editor's Training set panel.
@@ -413,54 +766,49 @@ impl Document {
     /// Appends the samples of a CSV or JSON training-set file (the input
     /// points must match the set's, unless the set is empty); returns how
     /// many were added.
-    pub fn import_samples(&mut self, path: &Path) -> Result<usize, String> {
-        let set = TrainingSet::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        self.add_samples(set)
-            .map_err(|e| format!("{}: {e}", path.display()))
+    pub fn import_samples(&mut self, path: &Path) -> Result<usize, EditorError> {
+        let set = TrainingSet::read(path).at(path)?;
+        self.add_samples(set).at(path)
     }
 
-    fn add_samples(&mut self, set: TrainingSet) -> Result<usize, String> {
+    fn add_samples(&mut self, set: TrainingSet) -> Result<usize, crate::samples::SamplesError> {
         let n = set.len();
         if self.training.is_empty() {
             self.training = set;
         } else {
-            self.training.merge(set).map_err(|e| e.to_string())?;
+            self.training.merge(set)?;
         }
         Ok(n)
     }
 
     /// Writes the user's samples (CSV, or JSON for a `.json` path).
-    pub fn export_samples(&self, path: &Path) -> Result<(), String> {
-        self.training
-            .write(path)
-            .map_err(|e| format!("{}: {e}", path.display()))
+    pub fn export_samples(&self, path: &Path) -> Result<(), EditorError> {
+        self.training.write(path).at(path)
     }
 
     /// Collects samples from a finished mesh (the current one, or a mesh
     /// file) at the set's input points and appends them; returns how many.
-    pub fn collect_samples(&mut self, name: &str, mesh: QuadMesh) -> Result<usize, String> {
+    pub fn collect_samples(&mut self, name: &str, mesh: QuadMesh) -> Result<usize, EditorError> {
         let set = TrainingSet::collect(
             &[(name.to_string(), mesh)],
             self.training.points,
             &CollectParams::DEFAULT,
         );
-        self.add_samples(set)
+        Ok(self.add_samples(set)?)
     }
 
     /// Collects from a quad mesh file (`.msh`).
-    pub fn collect_from_file(&mut self, path: &Path) -> Result<usize, String> {
-        let mesh = io::read_mesh(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let name = path
-            .file_name()
-            .map(|f| f.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        self.collect_samples(&name, mesh)
+    pub fn collect_from_file(&mut self, path: &Path) -> Result<usize, EditorError> {
+        let mesh = io::read_mesh(path).at(path)?;
+        self.collect_samples(&file_name(path), mesh)
     }
 }
 
 /// A project file: the whole document in one JSON file. The mesh is kept
 /// both as the actions that built it (replayed on opening, so stepping and
-/// undo carry on) and as nodes and quads for other readers.
+/// undo carry on) and as nodes and quads for other readers. A document
+/// whose boundary is not valid yet is saved with its loops as they are and
+/// opens as that draft again.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Project {
     pub format: String,
@@ -487,68 +835,128 @@ impl Document {
         Project {
             format: PROJECT_FORMAT.into(),
             version: 1,
-            boundary: BoundaryDoc::from_boundary(&self.boundary, &self.name()),
+            boundary: self.boundary_doc(),
             settings: self.settings.clone(),
-            actions: self.mesher.actions().to_vec(),
-            refits: self.refits.clone(),
+            actions: self
+                .mesher()
+                .map(|m| m.actions().to_vec())
+                .unwrap_or_default(),
+            refits: self.refits().to_vec(),
             training: self.training.clone(),
-            mesh: self.mesher.mesh().clone(),
-            imported: self.imported.as_deref().cloned(),
+            mesh: self.mesher().map(|m| m.mesh().clone()).unwrap_or_default(),
+            imported: self
+                .meshing
+                .as_ref()
+                .and_then(|m| m.imported.as_deref().cloned()),
         }
     }
 
     /// Saves the document as a project file (written whole or not at all).
-    pub fn save_project(&self, path: &Path) -> Result<(), String> {
-        let json = serde_json::to_string(&self.project()).map_err(|e| e.to_string())?;
-        io::write_atomic(path, json.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
+    pub fn save_project(&self, path: &Path) -> Result<(), EditorError> {
+        let json = serde_json::to_string(&self.project()).map_err(|e| EditorError::Project {
+            path: path.to_path_buf(),
+            cause: ProjectError::Json(e.to_string()),
+        })?;
+        io::write_atomic(path, json.as_bytes())?;
+        Ok(())
     }
 
     /// A document from a project: the boundary checked, the actions
-    /// replayed with the refitted models set where they were.
-    pub fn from_project(p: Project, source: Option<PathBuf>) -> Result<Document, String> {
+    /// replayed with the refitted models set where they were; also what
+    /// the replay puts in the history (runs of steps, and the document
+    /// before each refit), so that undo carries on.
+    pub fn from_project(
+        p: Project,
+        source: Option<PathBuf>,
+    ) -> Result<(Document, Vec<Replayed>), ProjectError> {
         if p.format != PROJECT_FORMAT {
-            return Err(format!("not a quadex project (format \"{}\")", p.format));
+            return Err(ProjectError::Format(p.format));
         }
-        let boundary = p.boundary.to_boundary().map_err(|e| e.to_string())?;
-        let mut doc = Document::new(boundary, source, p.settings)?;
+        let name = source
+            .as_deref()
+            .map(file_name)
+            .unwrap_or_else(|| "untitled".into());
+        let loops: Vec<Vec<Point>> = p
+            .boundary
+            .loops
+            .iter()
+            .map(|l| l.iter().map(|&[x, y]| Point::new(x, y)).collect())
+            .collect();
+        let draft = Draft { loops };
+        let mut doc =
+            Document::from_draft(draft, source, &name, p.settings).map_err(|e| match e {
+                EditorError::Model { cause, .. } => ProjectError::Model(cause),
+                other => ProjectError::Json(other.to_string()),
+            })?;
+        doc.training = p.training;
+        let mut replayed = Vec::new();
+        let Some(mut meshing) = doc.meshing.take() else {
+            // A draft: nothing was stepped.
+            return match (&doc.problem, p.actions.is_empty()) {
+                (Some(e), false) => Err(ProjectError::Boundary(e.clone())),
+                _ => Ok((doc, replayed)),
+            };
+        };
+        // The document as it is before a refit (the rest of `doc` holds no
+        // mesh while replaying, so the copy is the mesher's).
+        let snapshot = |meshing: &Meshing, doc: &Document| {
+            Replayed::Refit(Box::new(Document {
+                meshing: Some(meshing.clone()),
+                ..doc.clone()
+            }))
+        };
         let mut refits = p.refits.into_iter().peekable();
+        let mut run = 0;
         for (i, a) in p.actions.iter().enumerate() {
             while let Some((_, m)) = refits.next_if(|(at, _)| *at <= i) {
-                doc.set_refit(m);
+                if run > 0 {
+                    replayed.push(Replayed::Steps(std::mem::take(&mut run)));
+                }
+                replayed.push(snapshot(&meshing, &doc));
+                meshing.mesher.set_model(Arc::new(m.clone()));
+                meshing.refits.push((meshing.mesher.steps(), m));
             }
-            doc.last = doc
+            meshing.last = meshing
                 .mesher
                 .take(a)
-                .map_err(|e| format!("step {} of the project does not replay: {e}", i + 1))?;
+                .map_err(|cause| ProjectError::Replay { step: i + 1, cause })?;
+            run += 1;
+        }
+        if run > 0 {
+            replayed.push(Replayed::Steps(run));
         }
         for (_, m) in refits {
-            doc.set_refit(m);
+            replayed.push(snapshot(&meshing, &doc));
+            meshing.mesher.set_model(Arc::new(m.clone()));
+            meshing.refits.push((meshing.mesher.steps(), m));
         }
-        if doc.mesher.mesh() != &p.mesh {
-            return Err("the project's mesh differs from its replayed steps".into());
+        if meshing.mesher.mesh() != &p.mesh {
+            return Err(ProjectError::MeshDiffers);
         }
-        doc.training = p.training;
         if let Some(m) = p.imported {
-            m.check_invariants(true)
-                .map_err(|e| format!("the project's imported mesh: {e}"))?;
-            doc.imported = Some(Arc::new(m));
+            m.check_invariants(true).map_err(ProjectError::Imported)?;
+            meshing.imported = Some(Arc::new(m));
         }
-        Ok(doc)
-    }
-
-    fn set_refit(&mut self, m: FittedModel) {
-        self.mesher.set_model(Arc::new(m.clone()));
-        self.refits.push((self.mesher.steps(), m));
+        doc.meshing = Some(meshing);
+        Ok((doc, replayed))
     }
 
     /// Opens a project file.
-    pub fn open_project(path: &Path) -> Result<Document, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let p: Project =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-        Document::from_project(p, Some(path.to_path_buf()))
-            .map_err(|e| format!("{}: {e}", path.display()))
+    pub fn open_project(path: &Path) -> Result<(Document, Vec<Replayed>), EditorError> {
+        let bytes = std::fs::read(path).map_err(ProjectError::Io).at(path)?;
+        let text = io::decode_text(&bytes);
+        let p: Project = serde_json::from_str(&text)
+            .map_err(|e| ProjectError::Json(io::quote_long(&e.to_string())))
+            .at(path)?;
+        Document::from_project(p, Some(path.to_path_buf())).at(path)
     }
+}
+
+/// The file name of `path`, for titles and sample sources.
+pub fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|f| f.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string())
 }
 
 /// True for a file named as a quad mesh (`.msh`, `.msh22`, `.msh2`).
@@ -568,9 +976,9 @@ pub fn is_project(path: &Path) -> bool {
     let json = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    json && std::fs::read_to_string(path)
+    json && std::fs::read(path)
         .ok()
-        .and_then(|t| serde_json::from_str::<Format>(&t).ok())
+        .and_then(|t| serde_json::from_str::<Format>(&io::decode_text(&t)).ok())
         .and_then(|f| f.format)
         .is_some_and(|f| f == PROJECT_FORMAT)
 }

@@ -2,9 +2,11 @@
 //! mesher itself (it replays its actions, so a step costs nothing to keep);
 //! every other edit (a correction, a training-set change, a refit, new
 //! settings, a boundary edit, an opened file) keeps the document as it was
-//! before, and undoing it swaps the two.
+//! before, and undoing it swaps the two. Steps a refit's run takes belong
+//! to the refit: one undo takes both back.
 
-use super::document::Document;
+use super::document::{Document, Replayed};
+use super::error::EditorError;
 
 /// One undoable edit.
 enum Entry {
@@ -25,6 +27,14 @@ pub struct History {
 /// Whole documents kept for undo, at most; older ones are dropped with
 /// the steps below them.
 pub const MAX_STATES: usize = 50;
+
+/// What an undo or redo did to the document.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Undone {
+    pub name: &'static str,
+    /// A step, as opposed to a whole-document edit.
+    pub step: bool,
+}
 
 impl History {
     /// Records `n` steps just taken.
@@ -51,6 +61,18 @@ impl History {
         }
     }
 
+    /// Records what opening a project replayed (after the "open" edit), so
+    /// that its steps and refits undo one by one.
+    pub fn replayed(&mut self, entries: Vec<Replayed>) {
+        for e in entries {
+            match e {
+                Replayed::Steps(n) => push_steps(&mut self.undo, n),
+                Replayed::Refit(before) => self.undo.push(Entry::State(before, "refit")),
+            }
+        }
+        self.redo.clear();
+    }
+
     pub fn can_undo(&self) -> bool {
         !self.undo.is_empty()
     }
@@ -60,34 +82,37 @@ impl History {
     }
 
     /// Undoes the last edit or step; returns what was undone.
-    pub fn undo(&mut self, doc: &mut Document) -> Option<&'static str> {
+    pub fn undo(&mut self, doc: &mut Document) -> Option<Undone> {
         match self.undo.pop()? {
             Entry::Steps(n) => {
                 if n > 1 {
                     self.undo.push(Entry::Steps(n - 1));
                 }
-                if !doc.undo() {
+                if !doc.undo_step() {
                     return None;
                 }
                 push_steps(&mut self.redo, 1);
-                Some("step")
+                Some(Undone {
+                    name: "step",
+                    step: true,
+                })
             }
             Entry::State(before, name) => {
                 let after = std::mem::replace(doc, *before);
                 self.redo.push(Entry::State(Box::new(after), name));
-                Some(name)
+                Some(Undone { name, step: false })
             }
         }
     }
 
     /// Redoes the last undone edit or step; returns what was redone.
-    pub fn redo(&mut self, doc: &mut Document) -> Result<Option<&'static str>, String> {
+    pub fn redo(&mut self, doc: &mut Document) -> Result<Option<Undone>, EditorError> {
         let Some(e) = self.redo.pop() else {
             return Ok(None);
         };
         match e {
             Entry::Steps(n) => {
-                if !doc.redo()? {
+                if !doc.redo_step()? {
                     self.redo.clear();
                     return Ok(None);
                 }
@@ -95,12 +120,15 @@ impl History {
                     self.redo.push(Entry::Steps(n - 1));
                 }
                 push_steps(&mut self.undo, 1);
-                Ok(Some("step"))
+                Ok(Some(Undone {
+                    name: "step",
+                    step: true,
+                }))
             }
             Entry::State(after, name) => {
                 let before = std::mem::replace(doc, *after);
                 self.undo.push(Entry::State(Box::new(before), name));
-                Ok(Some(name))
+                Ok(Some(Undone { name, step: false }))
             }
         }
     }

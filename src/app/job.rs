@@ -1,15 +1,43 @@
-//! Long runs off the UI thread: stepping to the end (or N steps) and the
-//! finishing pass (cleanup and smoothing, `Mesher::finish`) run on a copy of
-//! the mesher in a thread of their own, with a progress count the panel
-//! shows and a Cancel that stops between steps. The steps taken before a
-//! Cancel are kept.
+//! Long work off the UI thread: a run (to the end, or N steps, with
+//! `Mesher::run_with`) and the finishing pass (cleanup, remeshing and
+//! smoothing, `pipeline::finish`) on a copy of the mesher, in a thread of
+//! their own, with a progress count the status bar shows.
+//!
+//! Cancel is immediate: the editor drops the job and keeps the document as
+//! it was before the run; the thread is told to stop after the step it is
+//! taking (a step, the fill of a large region in particular, is not
+//! interrupted) and its result is thrown away.
 
-use crate::extract::{Mesher, StepOutcome, StepReport};
+use crate::extract::{Mesher, StepReport};
 use crate::mesh::QuadMesh;
 use crate::pipeline::{self, FinishParams};
+use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
+
+/// What a job does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Work {
+    /// Up to `max_steps` steps, then (when the mesh is complete and
+    /// `finish` is given) the finishing pass.
+    Run {
+        max_steps: usize,
+        finish: Option<FinishParams>,
+    },
+    /// The finishing pass only.
+    Finish(FinishParams),
+}
+
+/// How the steps of a run go into the history.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Record {
+    /// As steps, undone one by one.
+    Steps,
+    /// As part of the edit just made (a refit that meshes the rest: one
+    /// undo takes back the refit and its steps).
+    WithLastEdit,
+}
 
 /// What a finished job hands back.
 pub struct JobDone {
@@ -17,15 +45,14 @@ pub struct JobDone {
     /// The report of the last step taken, if any.
     pub last: Option<StepReport>,
     pub steps: usize,
-    pub cancelled: bool,
     /// The step that failed.
-    pub error: Option<String>,
-    /// The finished mesh (when the run completed the mesh and was asked to
-    /// finish it).
-    pub finished: Option<Result<QuadMesh, String>>,
+    pub error: Option<crate::extract::MeshError>,
+    /// The finished mesh (when the mesh is complete and finishing was
+    /// asked for).
+    pub finished: Option<Result<QuadMesh, crate::extract::MeshError>>,
 }
 
-/// A run in the background.
+/// Work in the background.
 pub struct Job {
     handle: Option<JoinHandle<JobDone>>,
     cancel: Arc<AtomicBool>,
@@ -33,18 +60,23 @@ pub struct Job {
     front: Arc<AtomicUsize>,
     /// What runs, for the progress line.
     pub what: &'static str,
+    pub work: Work,
+    pub record: Record,
+    /// The mesh version the job started from, and for finishing the
+    /// parameters (what its result belongs to).
+    pub key: super::FinishKey,
     start_front: usize,
     started: std::time::Instant,
 }
 
 impl Job {
-    /// Takes up to `max_steps` steps on `mesher`, then, if the mesh is
-    /// complete and `finish` gives the cleanup and smoothing, finishes it.
+    /// Starts `work` on `mesher` in a thread.
     pub fn start(
         mut mesher: Mesher,
-        max_steps: usize,
-        finish: Option<FinishParams>,
+        work: Work,
         what: &'static str,
+        record: Record,
+        key: super::FinishKey,
     ) -> Job {
         let cancel = Arc::new(AtomicBool::new(false));
         let steps = Arc::new(AtomicUsize::new(0));
@@ -52,34 +84,34 @@ impl Job {
         let front = Arc::new(AtomicUsize::new(start_front));
         let (c, s, f) = (cancel.clone(), steps.clone(), front.clone());
         let handle = std::thread::spawn(move || {
-            let (mut last, mut taken, mut cancelled, mut error) = (None, 0, false, None);
-            while taken < max_steps && !mesher.is_done() {
-                if c.load(Ordering::Relaxed) {
-                    cancelled = true;
-                    break;
-                }
-                match mesher.step() {
-                    Ok(StepOutcome::Stepped(r)) => {
-                        last = Some(*r);
-                        taken += 1;
-                        s.store(taken, Ordering::Relaxed);
-                        f.store(mesher.front().len(), Ordering::Relaxed);
+            let (mut last, mut taken, mut error) = (None, 0, None);
+            let finish = match work {
+                Work::Run { max_steps, finish } => {
+                    if max_steps > 0 && !c.load(Ordering::Relaxed) {
+                        let res = mesher.run_with(|r, left| {
+                            taken += 1;
+                            last = Some(r.clone());
+                            s.store(taken, Ordering::Relaxed);
+                            f.store(left, Ordering::Relaxed);
+                            if taken >= max_steps || c.load(Ordering::Relaxed) {
+                                ControlFlow::Break(())
+                            } else {
+                                ControlFlow::Continue(())
+                            }
+                        });
+                        error = res.err();
                     }
-                    Ok(StepOutcome::Done) => break,
-                    Err(e) => {
-                        error = Some(e.to_string());
-                        break;
-                    }
+                    finish
                 }
-            }
+                Work::Finish(p) => Some(p),
+            };
             let finished = finish
-                .filter(|_| mesher.is_done() && !cancelled)
-                .map(|f| pipeline::finish(&mesher, &f).map_err(|e| e.to_string()));
+                .filter(|_| mesher.is_done() && !c.load(Ordering::Relaxed))
+                .map(|p| pipeline::finish(&mesher, &p));
             JobDone {
                 mesher,
                 last,
                 steps: taken,
-                cancelled,
                 error,
                 finished,
             }
@@ -90,14 +122,24 @@ impl Job {
             steps,
             front,
             what,
+            work,
+            record,
+            key,
             start_front,
             started: std::time::Instant::now(),
         }
     }
 
-    /// Asks the run to stop after the step it is taking.
-    pub fn cancel(&self) {
+    /// True for a run (stepping), false for the finishing pass alone.
+    pub fn is_run(&self) -> bool {
+        matches!(self.work, Work::Run { .. })
+    }
+
+    /// Asks the thread to stop after the step it is taking, and gives back
+    /// the thread to be joined later (its result is of no use any more).
+    pub fn cancel(mut self) -> Option<JoinHandle<JobDone>> {
         self.cancel.store(true, Ordering::Relaxed);
+        self.handle.take()
     }
 
     /// Steps taken so far, front nodes left, and a rough fraction done
@@ -118,20 +160,14 @@ impl Job {
         self.started.elapsed().as_secs_f64()
     }
 
-    /// The result once the thread is done (`None` while it runs).
-    pub fn poll(&mut self) -> Option<Result<JobDone, String>> {
-        if !self.handle.as_ref()?.is_finished() {
-            return None;
-        }
-        self.wait()
+    /// True when the thread is done.
+    pub fn is_finished(&self) -> bool {
+        self.handle.as_ref().is_none_or(|h| h.is_finished())
     }
 
-    /// Blocks until the thread is done.
-    pub fn wait(&mut self) -> Option<Result<JobDone, String>> {
-        let h = self.handle.take()?;
-        Some(
-            h.join()
-                .map_err(|_| "the background run failed".to_string()),
-        )
+    /// Blocks until the thread is done and takes its result (`None` when
+    /// it panicked).
+    pub fn wait(&mut self) -> Option<JobDone> {
+        self.handle.take()?.join().ok()
     }
 }

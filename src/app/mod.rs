@@ -1,14 +1,22 @@
 //! The desktop editor (eframe/egui): a view and a controller over the core.
-//! [`App`] holds the [`Document`] (boundary, mesher, training set), its
-//! [`History`] for undo and redo, the canvas [`View`], the panels' own state
-//! and a status line; every user intent is a [`Command`] applied in
+//!
+//! [`App`] holds five groups: the document ([`DocumentState`]: the
+//! [`Document`], its [`History`] for undo and redo, the file it is saved
+//! to), the view ([`ViewState`]: the canvas view and the caches drawn
+//! from the document), the panels ([`Panels`]: each a [`View`] that draws
+//! itself from a [`Scene`] and returns [`Command`]s), the background work
+//! ([`Background`]: runs and the finishing pass in a thread, the animated
+//! run) and the window plumbing ([`Window`]: status line, questions, file
+//! prompts, screenshots). Every user intent is a [`Command`] applied in
 //! [`App::apply`]. No meshing logic lives here: the editor drives `Mesher`
-//! through its public step API like the CLI and the tests do. Long runs go
-//! to a background [`job::Job`].
+//! through its public step API like the command line and the tests do.
+//! What is remembered between runs is one serde struct, [`Prefs`].
 
+pub mod assets;
 pub mod canvas;
 pub mod command;
 pub mod document;
+pub mod error;
 pub mod files;
 pub mod history;
 pub mod job;
@@ -20,22 +28,25 @@ pub mod step_panel;
 pub mod tools;
 pub mod train_panel;
 
-use crate::geom::Point;
+use crate::extract::Mesher;
+use crate::geom::{Aabb, Point};
 use crate::mesh::QuadMesh;
-use canvas::{MeshCache, Overlay, View};
+use crate::pipeline::FinishParams;
 pub use command::{Command, Dialog};
-pub use document::{Document, Settings};
-use files::Recent;
+pub use document::{Document, RefitFigures, Settings, Target};
+pub use error::EditorError;
+use files::{Prompt, Recent};
 pub use history::History;
-use job::Job;
+use job::{Job, JobDone, Record, Work};
 use model_panel::ModelPanel;
 use quality_panel::{MeshStats, QualityPanel};
 use samples_panel::SamplesPanel;
 use serde::{Deserialize, Serialize};
 use smooth_panel::SmoothPanel;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use step_panel::StepPanel;
-use tools::Tools;
+use tools::{Tool, Tools};
 use train_panel::TrainPanel;
 
 /// How the editor starts (`quadex gui`).
@@ -55,16 +66,58 @@ pub struct GuiOptions {
     pub panel: Option<String>,
 }
 
-/// The shipped example the editor opens by default.
-pub fn example_path() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/annulus.poly")
-}
-
 /// Frames drawn before a screenshot is taken (layout and view settle).
 const SCREENSHOT_FRAME: u64 = 3;
 
 /// Steps ×N above this run in the background.
 const BACKGROUND_STEPS: usize = 200;
+
+/// A finishing-settings change waits this long for the next before the
+/// finished mesh is computed again (a dragged value changes every frame).
+const FINISH_DEBOUNCE: std::time::Duration = std::time::Duration::from_millis(250);
+
+/// A panel: draws itself from the scene and returns what the user asked
+/// for (the shape of `egui_demo_lib`'s `View`).
+pub trait View {
+    fn ui(&mut self, ui: &mut egui::Ui, scene: &Scene) -> Vec<Command>;
+}
+
+/// Which mesh is on the canvas and in the Quality panel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshKind {
+    /// The mesh as stepped (no cleanup or smoothing).
+    Stepped,
+    /// The finished mesh of the current settings.
+    Finished,
+    /// The finished mesh of earlier finishing settings, while the current
+    /// ones are computed.
+    Updating,
+    /// A mesh read from a file.
+    Imported,
+}
+
+/// The mesh shown.
+pub struct Shown<'a> {
+    pub mesh: &'a QuadMesh,
+    pub kind: MeshKind,
+}
+
+/// What the panels see: the document and what the editor derived from it.
+pub struct Scene<'a> {
+    pub doc: &'a Document,
+    pub shown: Shown<'a>,
+    /// Figures of the shown mesh.
+    pub stats: &'a MeshStats,
+    pub animating: bool,
+    pub busy: bool,
+    pub can_undo: bool,
+    pub can_redo: bool,
+    pub refit: Option<&'a RefitFigures>,
+    /// Changes whenever the mesh as stepped does.
+    pub mesh_version: u64,
+    /// Front nodes the last element could close onto.
+    pub targets: &'a [Target],
+}
 
 /// The panels on the right.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -88,6 +141,15 @@ impl Tab {
         }
     }
 
+    fn hint(self) -> &'static str {
+        match self {
+            Tab::Quality => "Figures and histograms of the mesh shown",
+            Tab::Model => "How well the model fits the samples, and the critical factors",
+            Tab::Samples => "Your training samples: filter, delete, import, export, collect",
+            Tab::Smoothing => "Cleanup, remeshing and smoothing of the finished mesh",
+        }
+    }
+
     fn parse(s: &str) -> Option<Tab> {
         match s {
             "quality" => Some(Tab::Quality),
@@ -99,9 +161,10 @@ impl Tab {
     }
 }
 
-/// What the editor remembers between runs (eframe persistence): settings
-/// and view choices, not the document.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+/// What the editor remembers between runs (eframe persistence), in one
+/// struct: settings, recent files and the panels' choices, not the
+/// document.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Prefs {
     pub settings: Settings,
@@ -109,116 +172,367 @@ pub struct Prefs {
     pub step: StepPanel,
     pub quality: QualityPanel,
     pub tab: Tab,
+    pub show_left: bool,
+    pub show_right: bool,
 }
 
-/// The finished mesh (cleaned up and smoothed) of one document version.
+impl Default for Prefs {
+    fn default() -> Self {
+        Prefs {
+            settings: Settings::default(),
+            recent: Recent::default(),
+            step: StepPanel::default(),
+            quality: QualityPanel::default(),
+            tab: Tab::default(),
+            show_left: true,
+            show_right: true,
+        }
+    }
+}
+
+/// What a finished mesh belongs to: the mesh as stepped and the finishing
+/// settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FinishKey {
+    pub mesh_version: u64,
+    pub params: FinishParams,
+}
+
+/// A finished mesh (cleaned up, remeshed, smoothed).
 struct Finished {
-    version: u64,
+    key: FinishKey,
     mesh: QuadMesh,
 }
 
-pub struct App {
+/// The document and its files.
+pub struct DocumentState {
     pub doc: Document,
     pub history: History,
-    pub view: View,
-    pub prefs: Prefs,
-    train_panel: TrainPanel,
-    pub tools: Tools,
-    /// The element the next step would cut, with the document version it
-    /// belongs to.
-    preview: Option<(u64, Vec<[Point; 4]>)>,
-    model_panel: ModelPanel,
-    samples_panel: SamplesPanel,
-    smooth_panel: SmoothPanel,
-    /// Figures of the last refit.
-    pub refit: Option<document::RefitFigures>,
-    /// Export path typed in the export box.
-    pub export_path: String,
-    /// The last message for the user (errors from files and steps).
-    pub status: String,
     /// The project file the document was opened from or saved to.
     pub project_path: Option<PathBuf>,
     /// Changes since the last save.
     pub dirty: bool,
-    /// Long runs go to a thread (off in some tests).
-    pub background: bool,
-    job: Option<Job>,
-    /// Animated run: steps owed to the animation.
-    animating: Option<f64>,
-    /// Domain triangles of the boundary on the canvas.
-    domain: canvas::DomainCache,
-    mesh_cache: MeshCache,
-    stats: MeshStats,
     /// Bumped whenever the document changes.
     version: u64,
-    finished: Option<Finished>,
-    finished_failed: Option<u64>,
-    hover: Option<Point>,
+    /// Bumped whenever the mesh as stepped changes.
+    mesh_version: u64,
+}
+
+/// The canvas view and what is drawn from the document, cached.
+pub struct ViewState {
+    pub canvas: canvas::View,
     /// Where the canvas was drawn last (screen points).
     pub canvas_rect: egui::Rect,
-    /// The close-without-saving question is open.
-    confirm_close: bool,
+    domain: canvas::DomainCache,
+    mesh: canvas::MeshCache,
+    stats: MeshStats,
+    stats_key: Option<(u64, MeshKind, usize)>,
+    finished: Option<Finished>,
+    /// The finishing pass failed or was cancelled for this key.
+    finish_failed: Option<FinishKey>,
+    /// The element the next step would cut, by mesh version.
+    preview: Option<(u64, Vec<[Point; 4]>)>,
+    /// The mesher before the last step, by mesh version.
+    before_last: Option<(u64, Mesher)>,
+    /// Front nodes the last element could close onto, by mesh version.
+    targets: Option<(u64, Vec<Target>)>,
+    /// Front loops of the mesh as stepped, by mesh version.
+    front: (u64, Vec<Vec<u32>>),
+    /// The world position under the pointer.
+    pub hover: Option<Point>,
+    empty: QuadMesh,
+}
+
+/// The panels' own states.
+pub struct Panels {
+    pub step: StepPanel,
+    pub train: TrainPanel,
+    pub tools: Tools,
+    pub model: ModelPanel,
+    pub samples: SamplesPanel,
+    pub smooth: SmoothPanel,
+    pub quality: QualityPanel,
+    pub tab: Tab,
+    pub show_left: bool,
+    pub show_right: bool,
+    /// The path in the Export box.
+    pub export_path: String,
+    /// The Export box holds the default path (it follows the document).
+    export_default: Option<String>,
+}
+
+/// Work off the UI thread, and the animated run on it.
+pub struct Background {
+    job: Option<Job>,
+    /// Threads of cancelled jobs, joined when they end.
+    orphans: Vec<std::thread::JoinHandle<JobDone>>,
+    /// Animated run: steps owed to the animation.
+    animating: Option<f64>,
+    /// An export waiting for the finishing pass.
+    pending_export: Option<PathBuf>,
+    /// Runs and finishing go to threads (off: they run on the UI thread).
+    pub threads: bool,
+    /// When the finishing settings last changed.
+    settings_changed: Option<std::time::Instant>,
+}
+
+/// A question the editor asks before going on.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Ask {
+    /// Unsaved work would be lost by this command.
+    Discard(Command),
+    /// Unsaved work would be lost by closing the window.
+    Close,
+}
+
+/// What follows a save the user asked for in a question.
+#[derive(Clone, Debug, PartialEq)]
+enum Then {
+    Run(Command),
+    Close,
+}
+
+/// The window: status line, questions, file prompts, screenshots.
+pub struct Window {
+    /// The last message for the user.
+    pub status: String,
+    pub ask: Option<Ask>,
+    prompt: Option<Prompt>,
+    /// What to do after the next successful save (a question answered
+    /// "Save").
+    after_save: Option<Then>,
+    /// Close the window on the next frame.
+    close_now: bool,
+    pub recent: Recent,
     close_allowed: bool,
+    /// The desktop offers file dialogs (else the prompt in the window).
+    pub native_dialogs: bool,
     screenshot: Option<PathBuf>,
     screenshot_requested: bool,
+    /// The window size asked for on the command line (it wins over the
+    /// size remembered from the last run).
+    size: Option<egui::Vec2>,
+    title: String,
     frame: u64,
+}
+
+pub struct App {
+    pub document: DocumentState,
+    pub view: ViewState,
+    pub panels: Panels,
+    pub background: Background,
+    pub window: Window,
+}
+
+/// "1 quad", "2 quads".
+pub fn plural(n: usize, what: &str) -> String {
+    if n == 1 {
+        format!("1 {what}")
+    } else {
+        format!("{n} {what}s")
+    }
+}
+
+/// "1st", "2nd", "3rd", "4th", "11th", "22nd".
+pub fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
+}
+
+/// A fit figure with `decimals`, or "n/a" when it is not finite.
+pub fn figure(v: f64, decimals: usize) -> String {
+    if v.is_finite() {
+        format!("{v:.decimals$}")
+    } else {
+        "n/a".into()
+    }
+}
+
+/// The stem of a document name: `plate.quadex.json` gives `plate`.
+fn stem(name: &str) -> String {
+    let s = name.split('.').next().unwrap_or("");
+    if s.is_empty() {
+        "untitled".into()
+    } else {
+        s.to_string()
+    }
+}
+
+/// True when the two documents have the same mesh as stepped (the same
+/// boundary, model, parameters and actions, and the same imported mesh).
+fn same_mesh(a: &Document, b: &Document) -> bool {
+    let imported = |d: &Document| d.imported().map(|m| m as *const QuadMesh);
+    if imported(a) != imported(b) {
+        return false;
+    }
+    match (a.mesher(), b.mesher()) {
+        (Some(x), Some(y)) => {
+            std::ptr::eq(
+                Arc::as_ptr(x.model()) as *const (),
+                Arc::as_ptr(y.model()) as *const (),
+            ) && x.params() == y.params()
+                && x.boundary() == y.boundary()
+                && x.actions() == y.actions()
+        }
+        (None, None) => true,
+        _ => false,
+    }
+}
+
+/// The mesh on the canvas and the Quality panel: a mesh read from a file;
+/// the finished mesh (of these settings, or of the previous ones while
+/// they are computed); else the mesh as stepped.
+fn shown_of<'a>(
+    d: &'a DocumentState,
+    finished: &'a Option<Finished>,
+    empty: &'a QuadMesh,
+) -> Shown<'a> {
+    let doc = &d.doc;
+    if let Some(m) = doc.imported() {
+        return Shown {
+            mesh: m,
+            kind: MeshKind::Imported,
+        };
+    }
+    if doc.is_done() {
+        if let Some(f) = finished
+            .as_ref()
+            .filter(|f| f.key.mesh_version == d.mesh_version)
+        {
+            let kind = if f.key.params == doc.settings.finishing() {
+                MeshKind::Finished
+            } else {
+                MeshKind::Updating
+            };
+            return Shown {
+                mesh: &f.mesh,
+                kind,
+            };
+        }
+    }
+    Shown {
+        mesh: doc.mesher().map_or(empty, |m| m.mesh()),
+        kind: MeshKind::Stepped,
+    }
+}
+
+/// What the panels see this frame.
+fn scene_of<'a>(d: &'a DocumentState, v: &'a ViewState, b: &Background) -> Scene<'a> {
+    Scene {
+        doc: &d.doc,
+        shown: shown_of(d, &v.finished, &v.empty),
+        stats: &v.stats,
+        animating: b.animating.is_some(),
+        busy: b.job.as_ref().is_some_and(Job::is_run),
+        can_undo: d.history.can_undo(),
+        can_redo: d.history.can_redo(),
+        refit: d.doc.last_refit.as_ref(),
+        mesh_version: d.mesh_version,
+        targets: match &v.targets {
+            Some((k, t)) if *k == d.mesh_version => t,
+            _ => &[],
+        },
+    }
 }
 
 impl App {
     /// The editor over `doc`.
     pub fn new(doc: Document) -> App {
         App {
-            export_path: std::env::temp_dir()
-                .join("quadex_mesh.msh")
-                .display()
-                .to_string(),
-            doc,
-            history: History::default(),
-            view: View::default(),
-            prefs: Prefs::default(),
-            train_panel: TrainPanel::default(),
-            tools: Tools::default(),
-            preview: None,
-            model_panel: ModelPanel::default(),
-            samples_panel: SamplesPanel::default(),
-            smooth_panel: SmoothPanel::default(),
-            refit: None,
-            status: String::new(),
-            project_path: None,
-            dirty: false,
-            background: true,
-            job: None,
-            animating: None,
-            domain: canvas::DomainCache::default(),
-            mesh_cache: MeshCache::default(),
-            stats: MeshStats::default(),
-            version: 0,
-            finished: None,
-            finished_failed: None,
-            hover: None,
-            canvas_rect: egui::Rect::NOTHING,
-            confirm_close: false,
-            close_allowed: false,
-            screenshot: None,
-            screenshot_requested: false,
-            frame: 0,
+            document: DocumentState {
+                doc,
+                history: History::default(),
+                project_path: None,
+                dirty: false,
+                version: 0,
+                mesh_version: 0,
+            },
+            view: ViewState {
+                canvas: canvas::View::default(),
+                canvas_rect: egui::Rect::NOTHING,
+                domain: canvas::DomainCache::default(),
+                mesh: canvas::MeshCache::default(),
+                stats: MeshStats::default(),
+                stats_key: None,
+                finished: None,
+                finish_failed: None,
+                preview: None,
+                before_last: None,
+                targets: None,
+                front: (u64::MAX, Vec::new()),
+                hover: None,
+                empty: QuadMesh::default(),
+            },
+            panels: Panels {
+                step: StepPanel::default(),
+                train: TrainPanel::default(),
+                tools: Tools::default(),
+                model: ModelPanel::default(),
+                samples: SamplesPanel::default(),
+                smooth: SmoothPanel::default(),
+                quality: QualityPanel::default(),
+                tab: Tab::default(),
+                show_left: true,
+                show_right: true,
+                export_path: String::new(),
+                export_default: None,
+            },
+            background: Background {
+                job: None,
+                orphans: Vec::new(),
+                animating: None,
+                pending_export: None,
+                threads: true,
+                settings_changed: None,
+            },
+            window: Window {
+                status: String::new(),
+                ask: None,
+                prompt: None,
+                after_save: None,
+                close_now: false,
+                recent: Recent::default(),
+                close_allowed: false,
+                native_dialogs: files::native_dialogs(),
+                screenshot: None,
+                screenshot_requested: false,
+                size: None,
+                title: String::new(),
+                frame: 0,
+            },
         }
     }
 
     /// The editor as `quadex gui` starts it: the file (or the shipped
     /// example) opened with the remembered settings, then the requested
     /// steps taken.
-    pub fn from_options(o: &GuiOptions, prefs: Prefs) -> Result<App, String> {
-        let path = o.open.clone().unwrap_or_else(example_path);
+    pub fn from_options(o: &GuiOptions, prefs: Prefs) -> Result<App, EditorError> {
+        let settings = prefs.settings.clone();
         // Remembered settings that no longer load (a model file gone) give
         // way to the defaults.
-        let doc = Document::open(&path, prefs.settings.clone())
-            .or_else(|_| Document::open(&path, Settings::default()))?;
-        let mut app = App::new(doc);
-        app.prefs = prefs;
-        app.note_opened(&path);
+        let opened = match &o.open {
+            Some(path) => Document::open(path, settings)
+                .or_else(|_| Document::open(path, Settings::default()))?,
+            None => (
+                Document::example(assets::DEFAULT_EXAMPLE, settings)
+                    .or_else(|_| Document::example(assets::DEFAULT_EXAMPLE, Settings::default()))?,
+                Vec::new(),
+            ),
+        };
+        let mut app = App::new(opened.0);
+        app.document.history.replayed(opened.1);
+        app.set_prefs(prefs);
+        if let Some(path) = &o.open {
+            app.note_opened(path);
+        }
         if let Some(t) = o.panel.as_deref() {
-            app.prefs.tab = Tab::parse(t).ok_or_else(|| format!("unknown panel `{t}`"))?;
+            app.panels.tab = Tab::parse(t).ok_or_else(|| EditorError::UnknownPanel(t.into()))?;
         }
         if let Some(n) = o.steps {
             app.apply(Command::StepN(n));
@@ -227,142 +541,264 @@ impl App {
             app.apply(Command::RunToEnd);
         }
         app.wait();
-        app.screenshot = o.screenshot.clone();
+        app.window.screenshot = o.screenshot.clone();
+        app.window.size = o.size.map(egui::Vec2::from);
         Ok(app)
     }
 
-    /// True while a run is going in the background.
-    pub fn busy(&self) -> bool {
-        self.job.is_some()
+    /// The remembered state.
+    pub fn prefs(&self) -> Prefs {
+        Prefs {
+            settings: self.document.doc.settings.clone(),
+            recent: self.window.recent.clone(),
+            step: self.panels.step.clone(),
+            quality: self.panels.quality.clone(),
+            tab: self.panels.tab,
+            show_left: self.panels.show_left,
+            show_right: self.panels.show_right,
+        }
     }
 
-    /// Waits for the background run, if any, and takes its result.
+    /// Takes the remembered state (the settings are the document's own).
+    pub fn set_prefs(&mut self, p: Prefs) {
+        self.window.recent = p.recent;
+        self.panels.step = p.step;
+        self.panels.quality = p.quality;
+        self.panels.tab = p.tab;
+        self.panels.show_left = p.show_left;
+        self.panels.show_right = p.show_right;
+    }
+
+    pub fn doc(&self) -> &Document {
+        &self.document.doc
+    }
+
+    pub fn status(&self) -> &str {
+        &self.window.status
+    }
+
+    /// True while a run goes on in the background.
+    pub fn busy(&self) -> bool {
+        self.background.job.as_ref().is_some_and(Job::is_run)
+    }
+
+    /// True while the finishing pass goes on in the background.
+    pub fn finishing(&self) -> bool {
+        self.background.job.as_ref().is_some_and(|j| !j.is_run())
+    }
+
+    /// True while threads of cancelled runs still work.
+    pub fn cancelled_running(&mut self) -> bool {
+        self.background.orphans.retain(|h| !h.is_finished());
+        !self.background.orphans.is_empty()
+    }
+
+    /// Waits for the background work, if any, and takes its result; then
+    /// finishes the mesh if it is complete (as the frames would).
     pub fn wait(&mut self) {
-        if let Some(mut j) = self.job.take() {
-            if let Some(r) = j.wait() {
-                self.job_done(r);
+        if let Some(mut j) = self.background.job.take() {
+            let done = j.wait();
+            self.job_done(j, done);
+        }
+        if self.document.doc.has_mesh() && self.document.doc.imported().is_none() {
+            let key = self.finish_key();
+            if self.view.finished.as_ref().is_none_or(|f| f.key != key)
+                && self.view.finish_failed != Some(key)
+            {
+                if let Err(e) = self.finished_mesh() {
+                    self.window.status = format!("error: {e}");
+                }
             }
+        }
+    }
+
+    /// The front nodes the last element can close onto (computed when
+    /// the canvas needs them).
+    pub fn targets(&self) -> &[Target] {
+        match &self.view.targets {
+            Some((v, t)) if *v == self.document.mesh_version => t,
+            _ => &[],
+        }
+    }
+
+    /// Which mesh is on the canvas.
+    pub fn shown_kind(&self) -> MeshKind {
+        self.shown().kind
+    }
+
+    /// The mesh on the canvas and the Quality panel.
+    fn shown(&self) -> Shown<'_> {
+        shown_of(&self.document, &self.view.finished, &self.view.empty)
+    }
+
+    fn finish_key(&self) -> FinishKey {
+        FinishKey {
+            mesh_version: self.document.mesh_version,
+            params: self.document.doc.settings.finishing(),
+        }
+    }
+
+    /// The title: the project's file name, else the document's name.
+    pub fn title(&self) -> String {
+        match &self.document.project_path {
+            Some(p) => document::file_name(p),
+            None => self.document.doc.name.clone(),
         }
     }
 
     /// Remembers a file opened from a path the user gave.
     fn note_opened(&mut self, path: &Path) {
-        if document::is_project(path) {
-            self.project_path = Some(path.to_path_buf());
-        }
-        self.prefs.recent.push(path);
+        self.document.project_path = document::is_project(path).then(|| path.to_path_buf());
+        self.window.recent.push(path);
     }
 
-    /// The document changed: caches and the finished mesh are stale.
-    fn changed(&mut self) {
-        self.version += 1;
-        self.dirty = true;
+    /// The document changed (`mesh`: the mesh as stepped too).
+    fn changed(&mut self, mesh: bool) {
+        self.document.version += 1;
+        if mesh {
+            self.document.mesh_version += 1;
+        }
+        self.document.dirty = true;
     }
 
     /// Runs an edit that keeps the document as it was for undo; on failure
     /// the document is left as it was.
-    fn edit(
+    fn edit<T>(
         &mut self,
         name: &'static str,
-        f: impl FnOnce(&mut Document) -> Result<String, String>,
-    ) -> Result<String, String> {
-        let before = self.doc.clone();
-        match f(&mut self.doc) {
-            Ok(msg) => {
-                self.history.edit(before, name);
-                self.changed();
-                Ok(msg)
+        f: impl FnOnce(&mut Document) -> Result<T, EditorError>,
+    ) -> Result<T, EditorError> {
+        let before = self.document.doc.clone();
+        match f(&mut self.document.doc) {
+            Ok(v) => {
+                let mesh = !same_mesh(&before, &self.document.doc);
+                self.document.history.edit(before, name);
+                self.changed(mesh);
+                Ok(v)
             }
             Err(e) => {
-                self.doc = before;
+                self.document.doc = before;
                 Err(e)
             }
         }
     }
 
     /// Applies one command; failures go to the status line and leave the
-    /// document as it was.
+    /// document as it was. A command that would replace a document holding
+    /// unsaved work asks first.
     pub fn apply(&mut self, cmd: Command) {
-        if self.busy() && !matches!(cmd, Command::Cancel | Command::FitView) {
-            self.status = "busy: wait for the run to finish or cancel it (Esc)".into();
+        if self.busy() && !cmd.allowed_while_running() {
+            self.window.status = format!("error: {}", EditorError::Busy);
             return;
         }
-        let res = self.run_command(cmd);
-        match res {
+        if cmd.replaces_document() && self.document.dirty && self.document.doc.has_work() {
+            self.window.status = format!("unsaved changes in {}", self.title());
+            self.window.ask = Some(Ask::Discard(cmd));
+            return;
+        }
+        self.apply_now(cmd);
+    }
+
+    /// Applies a command without asking.
+    fn apply_now(&mut self, cmd: Command) {
+        match self.run_command(cmd) {
             Ok(s) => {
                 if !s.is_empty() {
-                    self.status = s;
+                    self.window.status = s;
                 }
             }
-            Err(e) => self.status = format!("error: {e}"),
+            Err(e) => self.window.status = format!("error: {e}"),
         }
     }
 
-    fn run_command(&mut self, cmd: Command) -> Result<String, String> {
+    fn run_command(&mut self, cmd: Command) -> Result<String, EditorError> {
         match cmd {
-            Command::Step => self.step_sync(1).map(|k| {
-                if k == 1 {
-                    String::new()
-                } else {
-                    "the mesh is complete".into()
+            Command::Step => self.step_sync(1).map(|k| match self.document.doc.last() {
+                Some(r) if k == 1 => {
+                    format!("step {}: {}", r.index + 1, document::kind_name(r.kind))
                 }
+                _ if k == 1 => "stepped".into(),
+                _ => "the mesh is complete".into(),
             }),
-            Command::StepN(n) if self.background && n > BACKGROUND_STEPS => {
-                self.start_job(n, "stepping");
+            Command::StepN(n) if self.background.threads && n > BACKGROUND_STEPS => {
+                self.start_run(n, "stepping", Record::Steps)?;
                 Ok(format!("taking {n} steps…"))
             }
-            Command::StepN(n) => self.step_sync(n).map(|k| format!("{k} steps")),
-            Command::RunToEnd if self.background => {
-                self.start_job(usize::MAX, "running to the end");
+            Command::StepN(n) => self.step_sync(n).map(|k| plural(k, "step")),
+            Command::RunToEnd if self.background.threads => {
+                self.start_run(usize::MAX, "running to the end", Record::Steps)?;
                 Ok("running to the end…".into())
             }
             Command::RunToEnd => self
                 .step_sync(usize::MAX)
-                .map(|k| format!("{k} steps to the end")),
+                .map(|k| format!("{} to the end", plural(k, "step"))),
             Command::Animate(on) => {
-                self.animating = on.then_some(0.0);
+                if on && self.document.doc.meshing.is_none() {
+                    return Err(self.no_boundary());
+                }
+                self.background.animating = on.then_some(0.0);
                 Ok(if on { "running…" } else { "paused" }.into())
             }
-            Command::Cancel => {
-                self.animating = None;
-                match &self.job {
-                    Some(j) => {
-                        j.cancel();
-                        Ok("cancelling…".into())
-                    }
-                    None => Ok(String::new()),
-                }
+            Command::Cancel => Ok(self.cancel()),
+            Command::Quit => {
+                // Closing asks first when there is unsaved work.
+                self.window.close_now = true;
+                Ok(String::new())
             }
-            Command::Undo if self.tools.undo_draft() => Ok("undone: boundary draft edit".into()),
-            Command::Redo if self.tools.redo_draft() => Ok("redone: boundary draft edit".into()),
             Command::Undo => {
-                let what = self.history.undo(&mut self.doc);
-                self.changed();
-                Ok(what.map_or("nothing to undo".into(), |w| format!("undone: {w}")))
+                let before = self.document.doc.clone();
+                let what = self.document.history.undo(&mut self.document.doc);
+                let mesh = what.is_some_and(|w| w.step) || !same_mesh(&before, &self.document.doc);
+                if what.is_some() {
+                    self.changed(mesh);
+                }
+                Ok(what.map_or("nothing to undo".into(), |w| format!("undone: {}", w.name)))
             }
             Command::Redo => {
-                let what = self.history.redo(&mut self.doc);
-                self.changed();
-                Ok(what?.map_or("nothing to redo".into(), |w| format!("redone: {w}")))
+                let before = self.document.doc.clone();
+                let what = self.document.history.redo(&mut self.document.doc)?;
+                let mesh = what.is_some_and(|w| w.step) || !same_mesh(&before, &self.document.doc);
+                if what.is_some() {
+                    self.changed(mesh);
+                }
+                Ok(what.map_or("nothing to redo".into(), |w| format!("redone: {}", w.name)))
             }
             Command::Reset => self.edit("reset", |d| d.reset().map(|_| "restarted".into())),
             Command::FitView => {
-                self.view.fit_pending = true;
+                self.view.canvas.fit_pending = true;
                 Ok(String::new())
             }
-            Command::Open(path) => {
-                let settings = self.doc.settings.clone();
-                let msg = self.edit("open", |d| {
-                    *d = Document::open(&path, settings)?;
-                    Ok(format!("opened {}", path.display()))
+            Command::New => {
+                let settings = self.document.doc.settings.clone();
+                self.edit("new", |d| {
+                    *d = Document::empty(settings);
+                    Ok(())
                 })?;
-                self.project_path = None;
-                self.note_opened(&path);
-                self.dirty = false;
-                self.view.fit_pending = true;
-                Ok(msg)
+                self.after_open(None);
+                self.panels.tools.tool = Tool::Draw;
+                Ok("a new boundary: click on the canvas to place the outer loop's nodes".into())
             }
-            Command::Save => match self.project_path.clone() {
+            Command::Open(path) => {
+                let settings = self.document.doc.settings.clone();
+                let replayed = self.edit("open", |d| {
+                    let (doc, replayed) = Document::open(&path, settings)?;
+                    *d = doc;
+                    Ok(replayed)
+                })?;
+                self.document.history.replayed(replayed);
+                self.after_open(Some(&path));
+                Ok(self.opened_message(&path.display().to_string()))
+            }
+            Command::OpenExample(name) => {
+                let settings = self.document.doc.settings.clone();
+                self.edit("open", |d| {
+                    *d = Document::example(name, settings)?;
+                    Ok(())
+                })?;
+                self.after_open(None);
+                Ok(self.opened_message(name))
+            }
+            Command::Save => match self.document.project_path.clone() {
                 Some(p) => self.save(&p),
                 None => {
                     self.dialog(Dialog::SaveProjectAs);
@@ -370,272 +806,558 @@ impl App {
                 }
             },
             Command::SaveProject(path) => self.save(&path),
+            Command::SaveBoundary(path) => {
+                self.document.doc.save_boundary(&path)?;
+                self.window.recent.push(&path);
+                Ok(format!("saved the boundary to {}", path.display()))
+            }
             Command::Dialog(d) => {
                 self.dialog(d);
                 Ok(String::new())
             }
-            Command::Export(path) => {
-                crate::io::MeshFormat::from_path(&path)
-                    .map_err(|e| format!("{}: {e}", path.display()))?;
-                let mesh = self.finished_mesh()?;
-                crate::io::write_mesh(&mesh, &path)
-                    .map_err(|e| format!("{}: {e}", path.display()))?;
-                Ok(format!("wrote {}", path.display()))
-            }
+            Command::Export(path) => self.export(path),
             Command::SetSettings(s) => {
-                self.prefs.settings = s.clone();
-                self.edit("settings", |d| {
-                    Ok(if d.set_settings(s)? {
-                        "settings changed; mesh restarted".into()
-                    } else {
-                        "cleanup and smoothing changed".into()
-                    })
+                let finishing = self.document.doc.settings.same_steps(&s);
+                let restarted = self.edit("settings", |d| d.set_settings(s))?;
+                if finishing {
+                    self.background.settings_changed = Some(std::time::Instant::now());
+                }
+                Ok(if restarted {
+                    "settings changed; mesh restarted".into()
+                } else {
+                    "settings changed".into()
                 })
+            }
+            Command::UseModel(path) => {
+                let s = Settings {
+                    model: path.display().to_string(),
+                    ..self.document.doc.settings.clone()
+                };
+                self.run_command(Command::SetSettings(s))
             }
             Command::AppendLast => self.edit("append sample", |d| {
                 d.append_last()
-                    .map(|n| format!("sample appended ({n} in the training set)"))
+                    .map(|n| format!("sample appended ({} of yours)", plural(n, "sample")))
             }),
             Command::CorrectLast {
                 element_type,
                 pn,
                 snap_to,
-            } => self.edit("correction", |d| {
-                d.correct_last(element_type, pn, snap_to).map(|n| {
-                    format!("element corrected, sample appended ({n} in the training set)")
+            } => {
+                let before = self.cached_before_last();
+                self.edit("correct element", |d| {
+                    d.correct_last(element_type, pn, snap_to, before)
+                        .map(|n| format!("element corrected ({} of yours)", plural(n, "sample")))
                 })
-            }),
-            Command::Refit(form) => {
-                let mut figures = None;
-                let msg = self.edit("refit", |d| {
-                    let f = d.refit(form)?;
-                    let msg = format!(
-                        "refitted ({}) on {} samples: Xn R {:.3} → {:.3}",
-                        form.name(),
-                        f.samples,
-                        f.before.1.r,
-                        f.after.1.r
-                    );
-                    figures = Some(f);
-                    Ok(msg)
-                })?;
-                self.refit = figures;
+            }
+            Command::Refit { form, mesh_rest } => {
+                let f = self.edit("refit", |d| d.refit(form))?;
+                let msg = format!(
+                    "refitted ({}) on {}: Xn R {} to {}, Yn R {} to {}",
+                    form.name(),
+                    plural(f.samples, "sample"),
+                    figure(f.before.1.r, 3),
+                    figure(f.after.1.r, 3),
+                    figure(f.before.2.r, 3),
+                    figure(f.after.2.r, 3),
+                );
+                if mesh_rest && !self.document.doc.is_done() {
+                    if self.background.threads {
+                        self.start_run(usize::MAX, "meshing the rest", Record::WithLastEdit)?;
+                        return Ok(format!("{msg}; meshing the rest…"));
+                    }
+                    // Without threads: the steps join the refit's edit.
+                    let m = self
+                        .document
+                        .doc
+                        .meshing
+                        .as_mut()
+                        .ok_or(EditorError::NoStep)?;
+                    let mut last = None;
+                    let res = m.mesher.run_with(|r, _| {
+                        last = Some(r.clone());
+                        std::ops::ControlFlow::Continue(())
+                    });
+                    if last.is_some() {
+                        m.last = last;
+                    }
+                    self.changed(true);
+                    res?;
+                }
                 Ok(msg)
+            }
+            Command::Finish => {
+                self.view.finish_failed = None;
+                Ok("finishing the mesh…".into())
             }
             Command::ImportSamples(p) => self.edit("import samples", |d| {
                 d.import_samples(&p)
-                    .map(|n| format!("{n} samples imported from {}", p.display()))
+                    .map(|n| format!("imported {} from {}", plural(n, "sample"), p.display()))
             }),
-            Command::ExportSamples(p) => self.doc.export_samples(&p).map(|_| {
-                format!(
-                    "wrote {} samples to {}",
-                    self.doc.training.len(),
+            Command::ExportSamples(p) => {
+                self.document.doc.export_samples(&p)?;
+                Ok(format!(
+                    "wrote {} to {}",
+                    plural(self.document.doc.training.len(), "sample"),
                     p.display()
-                )
-            }),
-            Command::DeleteSamples(rows) => self.edit("delete samples", |d| {
-                let left = d.delete_samples(&rows);
-                Ok(format!("{} samples deleted, {left} left", rows.len()))
+                ))
+            }
+            Command::DeleteSamples(idx) => self.edit("delete samples", |d| {
+                Ok(format!("{} left", plural(d.delete_samples(&idx), "sample")))
             }),
             Command::CollectFromMesh => {
                 let mesh = self.finished_mesh()?;
-                let name = self.doc.name();
+                let name = self.document.doc.name.clone();
                 self.edit("collect samples", |d| {
                     d.collect_samples(&name, mesh)
-                        .map(|n| format!("{n} samples collected from the mesh"))
+                        .map(|n| format!("{} collected from the mesh", plural(n, "sample")))
                 })
             }
             Command::CollectFromFile(p) => self.edit("collect samples", |d| {
                 d.collect_from_file(&p)
-                    .map(|n| format!("{n} samples collected from {}", p.display()))
+                    .map(|n| format!("{} collected from {}", plural(n, "sample"), p.display()))
             }),
-            Command::UseModel(path) => {
-                let s = Settings {
-                    model: path.display().to_string(),
-                    ..self.doc.settings.clone()
-                };
-                self.run_command(Command::SetSettings(s))
-            }
-            Command::SetBoundary(b) => self.edit("edit boundary", |d| {
-                d.set_boundary(*b)
-                    .map(|_| "boundary changed; mesh restarted".into())
+            Command::SetDraft { draft, what } => self.edit(what, |d| {
+                d.set_draft(draft)?;
+                Ok(match &d.problem {
+                    None => "boundary changed; mesh restarted".to_string(),
+                    Some(crate::boundary::BoundaryError::Empty) => String::new(),
+                    Some(e) => format!("not a valid boundary yet: {e}"),
+                })
             }),
         }
     }
 
+    fn no_boundary(&self) -> EditorError {
+        EditorError::NoBoundary(
+            self.document
+                .doc
+                .problem
+                .clone()
+                .unwrap_or(crate::boundary::BoundaryError::Empty),
+        )
+    }
+
+    /// After a document was opened or made: its file, a fresh view, the
+    /// export path beside it.
+    fn after_open(&mut self, path: Option<&Path>) {
+        match path {
+            Some(p) => self.note_opened(p),
+            None => self.document.project_path = None,
+        }
+        self.document.dirty = false;
+        self.view.canvas.fit_pending = true;
+        self.background.animating = None;
+    }
+
+    fn opened_message(&self, name: &str) -> String {
+        match &self.document.doc.problem {
+            None => format!("opened {name}"),
+            Some(e) => format!("opened {name} as a draft to fix: {e}"),
+        }
+    }
+
+    /// Stops the background run (the document stays as before it), the
+    /// finishing pass, or the animation.
+    fn cancel(&mut self) -> String {
+        let was_animating = self.background.animating.take().is_some();
+        if self.panels.tools.drop_drawing() {
+            return "dropped the loop being drawn".into();
+        }
+        match self.background.job.take() {
+            Some(j) if j.is_run() => {
+                let (steps, _, _) = j.progress();
+                if let Some(h) = j.cancel() {
+                    self.background.orphans.push(h);
+                }
+                self.background.pending_export = None;
+                format!(
+                    "cancelled: the run is dropped ({} taken), the mesh is as before it",
+                    plural(steps, "step")
+                )
+            }
+            Some(j) => {
+                self.view.finish_failed = Some(j.key);
+                if let Some(h) = j.cancel() {
+                    self.background.orphans.push(h);
+                }
+                self.background.pending_export = None;
+                "cancelled the finishing pass (Mesh ▸ Finish the mesh starts it again)".into()
+            }
+            None if was_animating => "paused".into(),
+            None => String::new(),
+        }
+    }
+
     /// Steps on the UI thread; records them for undo.
-    fn step_sync(&mut self, n: usize) -> Result<usize, String> {
+    fn step_sync(&mut self, n: usize) -> Result<usize, EditorError> {
+        if self.document.doc.meshing.is_none() {
+            return Err(self.no_boundary());
+        }
+        let before = (n == 1)
+            .then(|| self.document.doc.mesher().cloned())
+            .flatten();
         let mut k = 0;
         let res = loop {
             if k == n {
                 break Ok(k);
             }
-            match self.doc.step() {
+            match self.document.doc.step() {
                 Ok(true) => k += 1,
                 Ok(false) => break Ok(k),
                 Err(e) => break Err(e),
             }
         };
-        self.history.steps(k);
+        self.document.history.steps(k);
         if k > 0 {
-            self.changed();
+            self.changed(true);
+            if let (1, Some(b)) = (k, before) {
+                self.view.before_last = Some((self.document.mesh_version, b));
+            }
         }
         res
     }
 
-    fn start_job(&mut self, n: usize, what: &'static str) {
-        let s = &self.doc.settings;
-        self.job = Some(Job::start(
-            self.doc.mesher.clone(),
-            n,
-            Some(s.finishing()),
-            what,
-        ));
+    /// The mesher before the last step, when it is at hand.
+    fn cached_before_last(&mut self) -> Option<Mesher> {
+        match self.view.before_last.take() {
+            Some((v, m)) if v == self.document.mesh_version => Some(m),
+            _ => None,
+        }
     }
 
-    /// Takes a background run's result into the document.
-    fn job_done(&mut self, r: Result<job::JobDone, String>) {
-        let done = match r {
-            Ok(d) => d,
-            Err(e) => {
-                self.status = format!("error: {e}");
-                return;
+    /// Starts a run in the background (a finishing pass going on is
+    /// dropped: the run makes a new mesh).
+    fn start_run(
+        &mut self,
+        n: usize,
+        what: &'static str,
+        record: Record,
+    ) -> Result<(), EditorError> {
+        let mesher = self
+            .document
+            .doc
+            .mesher()
+            .cloned()
+            .ok_or_else(|| self.no_boundary())?;
+        if let Some(j) = self.background.job.take() {
+            if let Some(h) = j.cancel() {
+                self.background.orphans.push(h);
             }
-        };
-        if done.steps > 0 {
-            self.doc.mesher = done.mesher;
-            self.doc.last = done.last;
-            self.history.steps(done.steps);
-            self.changed();
         }
-        match done.finished {
-            Some(Ok(mesh)) => {
-                self.finished = Some(Finished {
-                    version: self.version,
-                    mesh,
-                })
+        let finish = self.document.doc.settings.finishing();
+        self.background.job = Some(Job::start(
+            mesher,
+            Work::Run {
+                max_steps: n,
+                finish: Some(finish),
+            },
+            what,
+            record,
+            self.finish_key(),
+        ));
+        Ok(())
+    }
+
+    /// Takes a background job's result into the document.
+    fn job_done(&mut self, job: Job, done: Option<JobDone>) {
+        let Some(done) = done else {
+            self.window.status = format!("error: {}", EditorError::JobPanicked);
+            return;
+        };
+        if job.is_run() {
+            if done.steps > 0 {
+                if let Some(m) = self.document.doc.meshing.as_mut() {
+                    m.mesher = done.mesher;
+                    if done.last.is_some() {
+                        m.last = done.last;
+                    }
+                }
+                if job.record == Record::Steps {
+                    self.document.history.steps(done.steps);
+                }
+                self.changed(true);
             }
-            Some(Err(e)) => {
-                self.finished_failed = Some(self.version);
-                self.status = format!("error: {e}");
+            let key = self.finish_key();
+            match done.finished {
+                Some(Ok(mesh)) => self.view.finished = Some(Finished { key, mesh }),
+                Some(Err(e)) => {
+                    self.view.finish_failed = Some(key);
+                    self.window.status = format!("error: {e}");
+                    return;
+                }
+                None => {}
+            }
+            let what = if job.record == Record::WithLastEdit {
+                "refitted, then meshed the rest: "
+            } else {
+                ""
+            };
+            self.window.status = match done.error {
+                Some(e) => format!("{what}error after {}: {e}", plural(done.steps, "step")),
+                None => format!(
+                    "{what}{}{}",
+                    plural(done.steps, "step"),
+                    if self.document.doc.is_done() {
+                        ", mesh complete"
+                    } else {
+                        ""
+                    }
+                ),
+            };
+        } else {
+            // A finishing pass: kept when it belongs to the mesh as
+            // stepped now (for other settings it is shown while the
+            // current ones are computed).
+            if job.key.mesh_version != self.document.mesh_version {
                 return;
+            }
+            match done.finished {
+                Some(Ok(mesh)) => {
+                    self.view.finished = Some(Finished { key: job.key, mesh });
+                }
+                Some(Err(e)) => {
+                    self.view.finish_failed = Some(job.key);
+                    self.window.status = format!("error: {e}");
+                }
+                None => {}
+            }
+        }
+        self.export_pending();
+    }
+
+    /// Writes the export that waited for the finishing pass, once the
+    /// finished mesh of these settings is there.
+    fn export_pending(&mut self) {
+        let key = self.finish_key();
+        let ready = self.view.finished.as_ref().is_some_and(|f| f.key == key);
+        if ready || self.view.finish_failed == Some(key) {
+            if let Some(p) = self.background.pending_export.take() {
+                self.apply_now(Command::Export(p));
+            }
+        }
+    }
+
+    /// Exports the finished mesh; while the finishing pass runs, the export
+    /// waits for it.
+    fn export(&mut self, path: PathBuf) -> Result<String, EditorError> {
+        crate::io::MeshFormat::from_path(&path)?;
+        let key = self.finish_key();
+        let pending =
+            self.background.job.as_ref().is_some_and(|j| {
+                !j.is_run() && j.key == key && self.document.doc.imported().is_none()
+            });
+        if pending {
+            self.background.pending_export = Some(path.clone());
+            return Ok(format!(
+                "exporting to {} once the mesh is finished…",
+                path.display()
+            ));
+        }
+        let mesh = self.finished_mesh()?;
+        crate::io::write_mesh(&mesh, &path)?;
+        self.window.recent.push(&path);
+        // The Export box writes there again.
+        self.panels.export_path = path.display().to_string();
+        Ok(format!(
+            "wrote {} ({})",
+            path.display(),
+            plural(mesh.quads.len(), "quad")
+        ))
+    }
+
+    fn save(&mut self, path: &Path) -> Result<String, EditorError> {
+        self.document.doc.save_project(path)?;
+        self.document.project_path = Some(path.to_path_buf());
+        self.window.recent.push(path);
+        self.document.dirty = false;
+        match self.window.after_save.take() {
+            Some(Then::Run(c)) => self.apply_now(c),
+            Some(Then::Close) => {
+                self.window.close_allowed = true;
+                self.window.close_now = true;
             }
             None => {}
         }
-        self.status = match (done.error, done.cancelled) {
-            (Some(e), _) => format!("error after {} steps: {e}", done.steps),
-            (None, true) => format!("cancelled after {} steps", done.steps),
-            (None, false) if done.steps > 0 => format!(
-                "{} steps{}",
-                done.steps,
-                if self.doc.is_done() {
-                    ", mesh complete"
-                } else {
-                    ""
-                }
-            ),
-            (None, false) => "mesh finished".into(),
-        };
-    }
-
-    fn save(&mut self, path: &Path) -> Result<String, String> {
-        self.doc.save_project(path)?;
-        self.project_path = Some(path.to_path_buf());
-        self.prefs.recent.push(path);
-        self.dirty = false;
         Ok(format!("saved {}", path.display()))
     }
 
-    /// Asks for a file and applies what it is for.
-    fn dialog(&mut self, d: Dialog) {
+    /// The folder and file name a dialog starts from.
+    fn dialog_start(&self, d: Dialog) -> (PathBuf, String) {
         let dir = self
+            .document
             .project_path
             .as_ref()
-            .or(self.doc.source.as_ref())
+            .or(self.document.doc.source.as_ref())
             .and_then(|p| p.parent())
-            .map(Path::to_path_buf);
-        let stem = self
-            .doc
-            .name()
-            .split('.')
-            .next()
-            .unwrap_or("quadex")
-            .to_string();
-        if let Some(p) = files::pick(d, dir.as_deref(), &stem) {
-            self.apply(files::command_for(d, p));
+            .filter(|p| !p.as_os_str().is_empty())
+            .map(Path::to_path_buf)
+            .or_else(|| std::env::current_dir().ok())
+            .unwrap_or_default();
+        (dir, d.file_name(&stem(&self.title())))
+    }
+
+    /// Asks for a file (the desktop's dialog, else the prompt in the
+    /// window) and applies what it is for.
+    fn dialog(&mut self, d: Dialog) {
+        let (dir, name) = self.dialog_start(d);
+        if self.window.native_dialogs {
+            if let Some(p) = files::pick(d, Some(&dir), &name) {
+                self.apply(files::command_for(d, p));
+            }
+        } else {
+            self.window.prompt = Some(Prompt::new(d, &dir, &name));
         }
+    }
+
+    /// The default export path: beside the document's file, named after it.
+    fn default_export_path(&self) -> String {
+        let (dir, name) = self.dialog_start(Dialog::ExportMesh);
+        dir.join(name).display().to_string()
     }
 
     /// The finished mesh of the current document (computed here when the
     /// background has not done it yet).
-    fn finished_mesh(&mut self) -> Result<QuadMesh, String> {
-        if let Some(f) = self.finished.as_ref().filter(|f| f.version == self.version) {
+    fn finished_mesh(&mut self) -> Result<QuadMesh, EditorError> {
+        if let Some(m) = self.document.doc.imported() {
+            return Ok(m.clone());
+        }
+        let key = self.finish_key();
+        if let Some(f) = self.view.finished.as_ref().filter(|f| f.key == key) {
             return Ok(f.mesh.clone());
         }
-        let m = self.doc.finished()?;
-        self.finished = Some(Finished {
-            version: self.version,
-            mesh: m.clone(),
-        });
-        Ok(m)
+        match self.document.doc.finished() {
+            Ok(m) => {
+                self.view.finished = Some(Finished {
+                    key,
+                    mesh: m.clone(),
+                });
+                Ok(m)
+            }
+            Err(e) => {
+                if self.document.doc.is_done() {
+                    self.view.finish_failed = Some(key);
+                }
+                Err(e)
+            }
+        }
+    }
+
+    /// Starts the finishing pass when the run is complete and its finished
+    /// mesh is not there yet (after a short pause while the finishing
+    /// settings are being changed).
+    fn refresh_finished(&mut self, ctx: &egui::Context) {
+        let doc = &self.document.doc;
+        if !doc.is_done() || doc.imported().is_some() || self.background.job.is_some() {
+            return;
+        }
+        let key = self.finish_key();
+        if self.view.finished.as_ref().is_some_and(|f| f.key == key)
+            || self.view.finish_failed == Some(key)
+        {
+            return;
+        }
+        let shown_stale = self
+            .view
+            .finished
+            .as_ref()
+            .is_some_and(|f| f.key.mesh_version == key.mesh_version);
+        if let Some(t) = self.background.settings_changed {
+            if shown_stale && t.elapsed() < FINISH_DEBOUNCE {
+                ctx.request_repaint_after(FINISH_DEBOUNCE);
+                return;
+            }
+        }
+        if !self.background.threads {
+            if let Err(e) = self.finished_mesh() {
+                self.window.status = format!("error: {e}");
+            }
+            self.export_pending();
+            return;
+        }
+        let Some(mesher) = doc.mesher().cloned() else {
+            return;
+        };
+        self.background.job = Some(Job::start(
+            mesher,
+            Work::Finish(key.params),
+            "finishing (cleanup, remeshing, smoothing)",
+            Record::Steps,
+            key,
+        ));
     }
 
     /// The element the next step would cut (a step taken on a copy of the
     /// mesher), when the Extraction panel asks for it.
     fn refresh_preview(&mut self) {
-        if !self.prefs.step.preview || self.busy() || self.doc.is_done() {
-            self.preview = None;
+        let doc = &self.document.doc;
+        if !self.panels.step.preview || self.busy() || doc.is_done() || doc.meshing.is_none() {
+            self.view.preview = None;
             return;
         }
-        if self
-            .preview
-            .as_ref()
-            .is_some_and(|(v, _)| *v == self.version)
-        {
+        let v = self.document.mesh_version;
+        if self.view.preview.as_ref().is_some_and(|(k, _)| *k == v) {
             return;
         }
-        let mut probe = self.doc.mesher.clone();
+        let Some(mut probe) = doc.mesher().cloned() else {
+            return;
+        };
         let quads = match probe.step() {
-            Ok(crate::extract::StepOutcome::Stepped(r)) => {
+            Ok(crate::extract::StepOutcome::Stepped(r)) if r.quads.len() <= 12 => {
                 r.quads.iter().map(|q| probe.mesh().corners(q)).collect()
             }
             _ => Vec::new(),
         };
-        self.preview = Some((self.version, quads));
+        self.view.preview = Some((v, quads));
     }
 
-    /// Keeps the finished mesh for display while the run is complete: the
-    /// finishing pass runs in the background.
-    fn refresh_finished(&mut self) {
-        let fresh = self
-            .finished
-            .as_ref()
-            .is_some_and(|f| f.version == self.version);
-        if !self.doc.has_mesh()
-            || fresh
-            || self.busy()
-            || self.finished_failed == Some(self.version)
-        {
+    /// The closing targets of the last element, when the Correct tool
+    /// needs them.
+    fn refresh_targets(&mut self) {
+        let v = self.document.mesh_version;
+        if self.view.targets.as_ref().is_some_and(|(k, _)| *k == v) {
             return;
         }
-        if self.background && self.doc.imported().is_none() {
-            self.start_job(0, "cleanup and smoothing");
-        } else if self.finished_mesh().is_err() {
-            self.finished_failed = Some(self.version);
+        let doc = &self.document.doc;
+        let wanted = self.panels.tools.tool == Tool::Correct
+            && !self.busy()
+            && self.background.animating.is_none()
+            && doc.last_element().is_some()
+            && !doc.has_mesh();
+        if !wanted {
+            return;
         }
+        let before = match self.view.before_last.take() {
+            Some((k, m)) if k == v => Some(m),
+            _ => doc.before_last(),
+        };
+        let Some(mut before) = before else {
+            self.view.targets = Some((v, Vec::new()));
+            return;
+        };
+        let targets = doc.closing_targets(&mut before);
+        self.view.before_last = Some((v, before));
+        self.view.targets = Some((v, targets));
     }
 
-    /// The mesh on the canvas: the finished one when there is one.
-    fn shown_mesh(&self) -> (&QuadMesh, bool) {
-        shown(&self.finished, self.version, &self.doc)
-    }
-
-    /// Shortcuts and dropped files, as commands.
+    /// Shortcuts and dropped files, as commands. Esc closes an open menu
+    /// first, then drops a loop being drawn, then cancels.
     fn input_commands(&self, ctx: &egui::Context, out: &mut Vec<Command>) {
+        if self.window.ask.is_some() || self.window.prompt.is_some() {
+            return;
+        }
+        ctx.input(|i| {
+            for f in &i.raw.dropped_files {
+                if let Some(p) = &f.path {
+                    out.push(Command::Open(p.clone()));
+                }
+            }
+        });
         if ctx.wants_keyboard_input() {
             return;
         }
-        let n = self.prefs.step.n;
+        let menu_open = egui::Popup::is_any_open(ctx);
+        let n = self.panels.step.n;
         // Redo before Undo: Ctrl+Shift+Z also matches Ctrl+Z.
         for cmd in [
             Command::Redo,
@@ -645,173 +1367,281 @@ impl App {
             Command::RunToEnd,
             Command::Reset,
             Command::FitView,
+            Command::New,
             Command::Save,
             Command::Dialog(Dialog::Open),
             Command::Dialog(Dialog::ExportMesh),
-            Command::Animate(self.animating.is_none()),
+            Command::Animate(self.background.animating.is_none()),
+            Command::Quit,
             Command::Cancel,
         ] {
-            if let Some(s) = cmd.shortcut() {
+            if menu_open && cmd == Command::Cancel {
+                continue;
+            }
+            for s in [cmd.shortcut(), cmd.alternative_shortcut()]
+                .into_iter()
+                .flatten()
+            {
                 if ctx.input_mut(|i| i.consume_shortcut(&s)) {
-                    out.push(cmd);
+                    out.push(cmd.clone());
+                    break;
                 }
             }
         }
-        ctx.input(|i| {
-            for f in &i.raw.dropped_files {
-                if let Some(p) = &f.path {
-                    out.push(Command::Open(p.clone()));
-                }
-            }
-        });
     }
 
     /// One frame of the whole editor (also what the UI tests drive).
     pub fn ui(&mut self, ctx: &egui::Context) {
-        self.frame += 1;
-        if let Some(r) = self.job.as_mut().and_then(Job::poll) {
-            self.job = None;
-            self.job_done(r);
+        self.window.frame += 1;
+        if let (1, Some(size)) = (self.window.frame, self.window.size) {
+            ctx.send_viewport_cmd(egui::ViewportCommand::InnerSize(size));
         }
+        if self.background.job.as_ref().is_some_and(Job::is_finished) {
+            if let Some(mut j) = self.background.job.take() {
+                let done = j.wait();
+                self.job_done(j, done);
+            }
+        }
+        self.background.orphans.retain(|h| !h.is_finished());
         let mut cmds = Vec::new();
         self.input_commands(ctx, &mut cmds);
-        self.tools.sync(&self.doc);
+        self.panels.tools.sync(&self.document.doc);
+        if self.panels.export_default.as_deref() != Some(&self.default_export_path()) {
+            let d = self.default_export_path();
+            if self.panels.export_default.as_deref() == Some(self.panels.export_path.as_str())
+                || self.panels.export_path.is_empty()
+            {
+                self.panels.export_path = d.clone();
+            }
+            self.panels.export_default = Some(d);
+        }
+        self.refresh_finished(ctx);
         self.refresh_preview();
+        self.refresh_targets();
+        let title = format!(
+            "quadex: {}{}",
+            self.title(),
+            if self.document.dirty {
+                " (changed)"
+            } else {
+                ""
+            }
+        );
+        if title != self.window.title {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.window.title = title;
+        }
         egui::TopBottomPanel::top("menu").show(ctx, |ui| {
             egui::MenuBar::new().ui(ui, |ui| self.menus(ui, &mut cmds));
         });
         egui::TopBottomPanel::bottom("status").show(ctx, |ui| self.status_bar(ui, &mut cmds));
-        egui::SidePanel::left("steps")
-            .resizable(true)
-            .default_width(290.0)
-            .show(ctx, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    let done = self.shown_mesh().1;
-                    self.prefs
-                        .step
-                        .ui(ui, &self.doc, self.animating.is_some(), &mut cmds);
-                    ui.separator();
-                    self.train_panel
-                        .ui(ui, &self.doc, self.refit.as_ref(), &mut cmds);
-                    ui.separator();
-                    self.tools.panel(ui, &self.doc, &mut cmds);
-                    ui.separator();
-                    ui.label(egui::RichText::new("Export").strong());
-                    ui.text_edit_singleline(&mut self.export_path);
-                    ui.label(".msh .msh22 .vtk .vtu .inp .svg");
-                    ui.horizontal(|ui| {
-                        if ui
-                            .add_enabled(done, egui::Button::new("Export mesh"))
-                            .clicked()
-                        {
-                            cmds.push(Command::Export(PathBuf::from(self.export_path.trim())));
-                        }
-                        if ui.add_enabled(done, egui::Button::new("Export…")).clicked() {
-                            cmds.push(Command::Dialog(Dialog::ExportMesh));
-                        }
+        // The figures of the shown mesh.
+        let shown_key = {
+            let s = self.shown();
+            (
+                self.document.mesh_version,
+                s.kind,
+                s.mesh as *const QuadMesh as usize,
+            )
+        };
+        if self.view.stats_key != Some(shown_key) {
+            let ViewState {
+                stats,
+                finished,
+                empty,
+                stats_key,
+                ..
+            } = &mut self.view;
+            let s = shown_of(&self.document, finished, empty);
+            stats.refresh(shown_key.0 * 8 + shown_key.1 as u64, s.mesh);
+            *stats_key = Some(shown_key);
+        }
+        let width = ctx.content_rect().width();
+        let busy = self.busy();
+        if self.panels.show_left {
+            egui::SidePanel::left("steps")
+                .resizable(true)
+                .default_width(290.0)
+                .min_width(170.0)
+                .max_width((0.24 * width).max(170.0))
+                .show(ctx, |ui| {
+                    // Both ways: content wider than the panel (a row that
+                    // cannot wrap in a narrow window) scrolls instead of
+                    // widening the panel over the canvas.
+                    egui::ScrollArea::both().show(ui, |ui| {
+                        let scene = scene_of(&self.document, &self.view, &self.background);
+                        let mut out = Vec::new();
+                        out.extend(self.panels.step.ui(ui, &scene));
+                        ui.separator();
+                        export_box(ui, &mut self.panels.export_path, &scene, &mut out);
+                        ui.separator();
+                        out.extend(self.panels.train.ui(ui, &scene));
+                        ui.separator();
+                        out.extend(self.panels.tools.ui(ui, &scene));
+                        cmds.extend(out);
                     });
                 });
-            });
-        self.refresh_finished();
-        let (shown_version, finished) = {
-            let (_, fin) = self.shown_mesh();
-            (2 * self.version + u64::from(fin), fin)
-        };
-        self.stats.refresh(
-            shown_version,
-            shown(&self.finished, self.version, &self.doc).0,
-        );
-        egui::SidePanel::right("panels")
-            .resizable(true)
-            .default_width(430.0)
-            .show(ctx, |ui| {
-                ui.horizontal(|ui| {
-                    for t in Tab::ALL {
-                        ui.selectable_value(&mut self.prefs.tab, t, t.name());
-                    }
+        }
+        if self.panels.show_right {
+            egui::SidePanel::right("panels")
+                .resizable(true)
+                .default_width(400.0)
+                .min_width(190.0)
+                .max_width((0.28 * width).max(190.0))
+                .show(ctx, |ui| {
+                    ui.horizontal_wrapped(|ui| {
+                        for t in Tab::ALL {
+                            ui.selectable_value(&mut self.panels.tab, t, t.name())
+                                .on_hover_text(t.hint());
+                        }
+                    });
+                    ui.separator();
+                    egui::ScrollArea::both()
+                        .id_salt("right_panel")
+                        .show(ui, |ui| {
+                            let scene = scene_of(&self.document, &self.view, &self.background);
+                            let p = &mut self.panels;
+                            let out = match p.tab {
+                                Tab::Quality => p.quality.ui(ui, &scene),
+                                Tab::Model => p.model.ui(ui, &scene),
+                                Tab::Samples => p.samples.ui(ui, &scene),
+                                Tab::Smoothing => p.smooth.ui(ui, &scene),
+                            };
+                            cmds.extend(out);
+                        });
                 });
-                ui.separator();
-                egui::ScrollArea::vertical().show(ui, |ui| match self.prefs.tab {
-                    Tab::Quality => self.prefs.quality.ui(
-                        ui,
-                        &self.stats,
-                        finished,
-                        self.doc.imported().is_some(),
-                    ),
-                    Tab::Model => self.model_panel.ui(ui, &mut self.doc),
-                    Tab::Samples => self.samples_panel.ui(ui, &self.doc, finished, &mut cmds),
-                    Tab::Smoothing => self.smooth_panel.ui(
-                        ui,
-                        &self.doc,
-                        self.version,
-                        finished.then_some(&self.stats.summary),
-                        &mut cmds,
-                    ),
-                });
-            });
+        }
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE)
             .show(ctx, |ui| {
-                let front = {
-                    let f = self.doc.mesher.front();
-                    f.live_loops().map(|l| f.loop_nodes(l)).collect()
-                };
-                let (mesh, fin) = shown(&self.finished, self.version, &self.doc);
-                let marked = self.tools.marked();
-                let overlay = Overlay {
-                    version: shown_version,
-                    boundary: &self.doc.boundary,
-                    domain: self.domain.of(&self.doc.boundary),
-                    mesh,
-                    qualities: &self.stats.per_quad,
-                    index: &self.stats.index,
-                    front,
-                    // The finished mesh is renumbered: the last step's node
-                    // ids belong to the mesher's own mesh.
-                    last: if fin { None } else { self.doc.last.as_ref() },
-                    metric: self.prefs.quality.metric,
-                    marked: &marked,
-                };
-                let r = canvas::ui(ui, &mut self.view, &mut self.mesh_cache, &overlay);
-                self.hover = r.hover;
-                self.canvas_rect = r.rect;
-                if let Some((_, quads)) = &self.preview {
-                    let cyan = egui::Color32::from_rgb(80, 220, 255);
-                    for q in quads {
-                        let mut ring: Vec<egui::Pos2> =
-                            q.iter().map(|&p| self.view.to_screen(r.rect, p)).collect();
-                        ring.push(ring[0]);
-                        ui.painter_at(r.rect).extend(egui::Shape::dashed_line(
-                            &ring,
-                            egui::Stroke::new(2.0, cyan),
-                            6.0,
-                            4.0,
-                        ));
-                    }
-                }
-                let at = tools::OnCanvas {
-                    view: &self.view,
-                    response: &r,
-                    doc: &self.doc,
-                    finished: fin,
-                };
-                self.tools
-                    .canvas(ui, &at, &mut self.train_panel.pn, &mut cmds);
+                egui::Frame::side_top_panel(ui.style()).show(ui, |ui| {
+                    ui.set_width(ui.available_width());
+                    let scene = scene_of(&self.document, &self.view, &self.background);
+                    cmds.extend(self.panels.tools.toolbar(ui, &scene));
+                });
+                self.canvas(ui, &mut cmds);
             });
-        self.close_dialog(ctx, &mut cmds);
+        self.questions(ctx, &mut cmds);
         for c in cmds {
             self.apply(c);
         }
         self.animate(ctx);
-        if self.busy() {
+        if busy || self.finishing() {
             ctx.request_repaint_after(std::time::Duration::from_millis(50));
         }
         self.screenshot_step(ctx);
     }
 
+    /// The canvas: the document drawn, the tool's gestures, pan and zoom.
+    fn canvas(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
+        let (resp, painter) =
+            ui.allocate_painter(ui.available_size(), egui::Sense::click_and_drag());
+        let rect = resp.rect;
+        let kind = self.shown().kind;
+        let targets: Vec<Target> = self.targets().to_vec();
+        let ViewState {
+            canvas: view,
+            canvas_rect,
+            domain,
+            mesh: mesh_cache,
+            stats,
+            finished,
+            preview,
+            front,
+            hover,
+            empty,
+            ..
+        } = &mut self.view;
+        *canvas_rect = rect;
+        let d = &self.document;
+        let doc = &d.doc;
+        let bbox = Aabb::of(doc.draft.loops.iter().flatten().copied());
+        view.update(rect, bbox);
+        let pointer = canvas::Pointer::of(&resp, ui).in_view(view);
+        let taken = {
+            let at = tools::OnCanvas {
+                view,
+                pointer: &pointer,
+                doc,
+                targets: &targets,
+                kind,
+            };
+            self.panels.tools.input(&at, cmds)
+        };
+        canvas::pan_zoom(view, &resp, ui, taken);
+        let pointer = pointer.in_view(view);
+        *hover = pointer.world.filter(|_| pointer.hovered);
+        // The front of the mesh as stepped, by mesh version.
+        let v = d.mesh_version;
+        if front.0 != v {
+            let loops = doc
+                .mesher()
+                .map(|m| {
+                    let f = m.front();
+                    f.live_loops().map(|l| f.loop_nodes(l)).collect()
+                })
+                .unwrap_or_default();
+            *front = (v, loops);
+        }
+        let shown = shown_of(d, finished, empty);
+        let stepped = shown.kind == MeshKind::Stepped;
+        let domain = match doc.boundary() {
+            Some(b) => domain.of(b),
+            None => &[],
+        };
+        let overlay = canvas::Overlay {
+            version: (v * 8 + shown.kind as u64) ^ ((shown.mesh as *const QuadMesh as u64) << 20),
+            boundary: doc.boundary(),
+            domain,
+            mesh: shown.mesh,
+            qualities: &stats.per_quad,
+            front: if stepped { &front.1 } else { &[] },
+            // The finished mesh is renumbered: the last step's node ids
+            // belong to the mesh as stepped.
+            last: if stepped { doc.last() } else { None },
+            metric: self.panels.quality.metric,
+        };
+        let hovered_quad = canvas::draw(ui, &painter, view, mesh_cache, &overlay, &pointer);
+        if let Some((_, quads)) = preview {
+            let cyan = egui::Color32::from_rgb(80, 220, 255);
+            for q in quads.iter() {
+                let mut ring: Vec<egui::Pos2> =
+                    q.iter().map(|&p| view.to_screen(rect, p)).collect();
+                ring.push(ring[0]);
+                painter.extend(egui::Shape::dashed_line(
+                    &ring,
+                    egui::Stroke::new(2.0, cyan),
+                    6.0,
+                    4.0,
+                ));
+            }
+        }
+        let at = tools::OnCanvas {
+            view,
+            pointer: &pointer,
+            doc,
+            targets: &targets,
+            kind,
+        };
+        self.panels.tools.draw(ui, &painter, &at);
+        if doc.draft.loops.is_empty() && self.panels.tools.drawing.is_empty() {
+            painter.text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "Nothing drawn yet: with the \"draw loop\" tool, click to place nodes",
+                egui::FontId::proportional(16.0),
+                ui.visuals().weak_text_color(),
+            );
+        }
+        if let (Some(k), None) = (hovered_quad, self.panels.tools.hover) {
+            canvas::quad_hover(&resp, k, &stats.per_quad);
+        }
+    }
+
     fn menus(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
         let item = |ui: &mut egui::Ui,
                     label: &str,
+                    tip: &str,
                     cmd: Command,
                     enabled: bool,
                     out: &mut Vec<Command>| {
@@ -819,50 +1649,91 @@ impl App {
             if let Some(s) = cmd.shortcut() {
                 b = b.shortcut_text(ui.ctx().format_shortcut(&s));
             }
-            if ui.add_enabled(enabled, b).clicked() {
+            if ui.add_enabled(enabled, b).on_hover_text(tip).clicked() {
                 out.push(cmd);
             }
         };
+        let doc = &self.document.doc;
+        let (has_draft, has_mesh, has_samples) = (
+            !doc.draft.loops.is_empty(),
+            doc.has_mesh(),
+            !doc.training.is_empty(),
+        );
+        let can = doc.meshing.is_some() && !doc.is_done();
+        let can_reset = doc.meshing.is_some();
+        let can_finish = doc.is_done() && self.view.finish_failed.is_some();
         ui.menu_button("File", |ui| {
-            item(ui, "Open…", Command::Dialog(Dialog::Open), true, cmds);
+            item(
+                ui,
+                "New",
+                "An empty canvas to draw a boundary on",
+                Command::New,
+                true,
+                cmds,
+            );
+            item(
+                ui,
+                "Open…",
+                "A boundary (.poly, .json), a project or a quad mesh (.msh)",
+                Command::Dialog(Dialog::Open),
+                true,
+                cmds,
+            );
             ui.menu_button("Open an example", |ui| {
-                for name in examples() {
-                    if ui.button(&name).clicked() {
-                        cmds.push(Command::Open(example_path().with_file_name(&name)));
+                for (name, _) in assets::EXAMPLES {
+                    if ui.button(name).clicked() {
+                        cmds.push(Command::OpenExample(name));
                     }
                 }
             });
             ui.menu_button("Open recent", |ui| {
-                if self.prefs.recent.0.is_empty() {
+                if self.window.recent.0.is_empty() {
                     ui.label("none yet");
                 }
-                for p in self.prefs.recent.0.clone() {
+                for p in self.window.recent.0.clone() {
                     if ui.button(p.display().to_string()).clicked() {
                         cmds.push(Command::Open(p));
                     }
                 }
             });
             ui.separator();
-            item(ui, "Save project", Command::Save, true, cmds);
+            item(
+                ui,
+                "Save project",
+                "Boundary, steps, models, samples and settings in one file",
+                Command::Save,
+                true,
+                cmds,
+            );
             item(
                 ui,
                 "Save project as…",
+                "Save the project under a new name",
                 Command::Dialog(Dialog::SaveProjectAs),
                 true,
                 cmds,
             );
+            item(
+                ui,
+                "Save boundary as…",
+                "The boundary as .poly, or as .json (a draft too)",
+                Command::Dialog(Dialog::SaveBoundaryAs),
+                has_draft,
+                cmds,
+            );
             ui.separator();
-            let done = self.doc.has_mesh();
             item(
                 ui,
                 "Export mesh…",
+                "The finished mesh as .msh, .msh22, .vtk, .vtu, .inp or .svg",
                 Command::Dialog(Dialog::ExportMesh),
-                done,
+                has_mesh,
                 cmds,
             );
             item(
                 ui,
                 "Import training samples…",
+                "Append the samples of a .csv or .json training set",
                 Command::Dialog(Dialog::ImportSamples),
                 true,
                 cmds,
@@ -870,164 +1741,319 @@ impl App {
             item(
                 ui,
                 "Export training samples…",
+                "Write your samples as .csv or .json",
                 Command::Dialog(Dialog::ExportSamples),
-                !self.doc.training.is_empty(),
+                has_samples,
                 cmds,
             );
             item(
                 ui,
                 "Collect samples from a mesh file…",
+                "Every corner of every good quad of a .msh file",
                 Command::Dialog(Dialog::CollectFromFile),
                 true,
                 cmds,
             );
-            ui.label("(or drop a .poly / .json file on the window)");
-        });
-        ui.menu_button("Edit", |ui| {
-            let (draft_undo, draft_redo) = self.tools.draft_edits();
-            let undo = if draft_undo {
-                Some("boundary draft edit")
-            } else {
-                self.history.undo_name()
-            };
-            let redo = if draft_redo {
-                Some("boundary draft edit")
-            } else {
-                self.history.redo_name()
-            };
-            let undo = undo.map_or("Undo".into(), |n| format!("Undo {n}"));
-            let redo = redo.map_or("Redo".into(), |n| format!("Redo {n}"));
-            let can_undo = draft_undo || self.history.can_undo();
-            let can_redo = draft_redo || self.history.can_redo();
-            item(ui, &undo, Command::Undo, can_undo, cmds);
-            item(ui, &redo, Command::Redo, can_redo, cmds);
+            if self.window.native_dialogs {
+                ui.separator();
+                if ui
+                    .button("Type a path to open…")
+                    .on_hover_text("Open a file by its path, without the desktop's dialog")
+                    .clicked()
+                {
+                    let (dir, _) = self.dialog_start(Dialog::Open);
+                    self.window.prompt = Some(Prompt::new(Dialog::Open, &dir, ""));
+                }
+            }
+            ui.label(egui::RichText::new("(or drop a file on the window)").weak());
             ui.separator();
-            item(ui, "Restart the mesh", Command::Reset, true, cmds);
-        });
-        ui.menu_button("Mesh", |ui| {
-            let n = self.prefs.step.n;
-            item(ui, "Step", Command::Step, true, cmds);
-            item(ui, &format!("Step ×{n}"), Command::StepN(n), true, cmds);
-            let anim = self.animating.is_some();
             item(
                 ui,
-                if anim { "Pause" } else { "Run (animated)" },
-                Command::Animate(!anim),
+                "Quit",
+                "Close the editor (asks first when there is unsaved work)",
+                Command::Quit,
                 true,
                 cmds,
             );
-            item(ui, "Run to end", Command::RunToEnd, true, cmds);
-            item(ui, "Cancel the run", Command::Cancel, self.busy(), cmds);
+        });
+        ui.menu_button("Edit", |ui| {
+            let h = &self.document.history;
+            let undo = h.undo_name().map_or("Undo".into(), |n| format!("Undo {n}"));
+            let redo = h.redo_name().map_or("Redo".into(), |n| format!("Redo {n}"));
+            item(ui, &undo, "Also Ctrl+Z", Command::Undo, h.can_undo(), cmds);
+            item(ui, &redo, "Also Ctrl+Y", Command::Redo, h.can_redo(), cmds);
+            ui.separator();
+            item(
+                ui,
+                "Restart the mesh",
+                "Drop the steps (undo brings them back)",
+                Command::Reset,
+                can_reset,
+                cmds,
+            );
+        });
+        ui.menu_button("Mesh", |ui| {
+            let n = self.panels.step.n;
+            item(ui, "Step", "One extraction step", Command::Step, can, cmds);
+            item(
+                ui,
+                &format!("Step ×{n}"),
+                "N steps (set N in the Extraction panel)",
+                Command::StepN(n),
+                can,
+                cmds,
+            );
+            let anim = self.background.animating.is_some();
+            item(
+                ui,
+                if anim { "Pause" } else { "Run (animated)" },
+                "Steps on their own at the panel's speed",
+                Command::Animate(!anim),
+                can || anim,
+                cmds,
+            );
+            item(
+                ui,
+                "Run to end",
+                "In the background, with a progress bar",
+                Command::RunToEnd,
+                can,
+                cmds,
+            );
+            item(
+                ui,
+                "Cancel the run",
+                "The run is dropped: the mesh stays as before it",
+                Command::Cancel,
+                self.background.job.is_some(),
+                cmds,
+            );
+            item(
+                ui,
+                "Finish the mesh",
+                "Cleanup, remeshing and smoothing of the complete mesh",
+                Command::Finish,
+                can_finish,
+                cmds,
+            );
         });
         ui.menu_button("View", |ui| {
-            item(ui, "Fit view", Command::FitView, true, cmds);
+            item(
+                ui,
+                "Fit view",
+                "Fit the boundary into the canvas",
+                Command::FitView,
+                true,
+                cmds,
+            );
+            ui.checkbox(&mut self.panels.show_left, "Left panel (stepping, tools)");
+            ui.checkbox(&mut self.panels.show_right, "Right panel (figures)");
             ui.separator();
             for t in Tab::ALL {
-                ui.selectable_value(&mut self.prefs.tab, t, t.name());
+                ui.selectable_value(&mut self.panels.tab, t, t.name());
             }
         });
         ui.separator();
         ui.label(format!(
-            "quadex — {}{}",
-            self.doc.name(),
-            if self.dirty { " •" } else { "" }
+            "{}{}",
+            self.title(),
+            if self.document.dirty {
+                " (changed)"
+            } else {
+                ""
+            }
         ));
     }
 
     fn status_bar(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
         ui.horizontal(|ui| {
-            if let Some(j) = &self.job {
+            if let Some(j) = &self.background.job {
                 let (steps, front, frac) = j.progress();
-                ui.add(
-                    egui::ProgressBar::new(frac)
-                        .desired_width(160.0)
-                        .text(format!("{} {steps} steps, {front} front nodes", j.what)),
-                );
+                if j.is_run() {
+                    ui.add(
+                        egui::ProgressBar::new(frac)
+                            .desired_width(120.0)
+                            .show_percentage(),
+                    )
+                    .on_hover_text("The share of the front meshed so far");
+                    ui.label(format!(
+                        "{}: {}, {} left",
+                        j.what,
+                        plural(steps, "step"),
+                        plural(front, "front node")
+                    ));
+                } else {
+                    ui.spinner();
+                    ui.label(j.what);
+                }
                 ui.label(format!("{:.1} s", j.elapsed()));
-                if ui.button("Cancel").clicked() {
+                if ui
+                    .button("Cancel")
+                    .on_hover_text("Stop (Esc): a run is dropped, the mesh stays as before it")
+                    .clicked()
+                {
                     cmds.push(Command::Cancel);
                 }
                 ui.separator();
             }
-            if let Some(p) = self.hover {
+            if let Some(p) = self.view.hover {
                 ui.monospace(format!("x {:.4}  y {:.4}", p.x, p.y));
                 ui.separator();
             }
-            ui.label(&self.status);
+            ui.label(&self.window.status);
         });
     }
 
     /// The animated run: steps at the panel's speed, on the UI thread.
     fn animate(&mut self, ctx: &egui::Context) {
-        let Some(owed) = self.animating else { return };
+        let Some(owed) = self.background.animating else {
+            return;
+        };
         if self.busy() {
             return;
         }
         let dt = ctx.input(|i| i.stable_dt).min(0.1) as f64;
-        let owed = owed + dt * self.prefs.step.speed;
+        let owed = owed + dt * self.panels.step.speed;
         let n = owed.floor() as usize;
-        self.animating = Some(owed - n as f64);
+        self.background.animating = Some(owed - n as f64);
         if n > 0 {
             match self.step_sync(n.min(1000)) {
                 Ok(k) if k < n.min(1000) => {
-                    self.animating = None;
-                    self.status = "the mesh is complete".into();
+                    self.background.animating = None;
+                    self.window.status = "the mesh is complete".into();
                 }
                 Ok(_) => {}
                 Err(e) => {
-                    self.animating = None;
-                    self.status = format!("error: {e}");
+                    self.background.animating = None;
+                    self.window.status = format!("error: {e}");
                 }
             }
         }
         ctx.request_repaint();
     }
 
-    /// Closing with unsaved changes asks first.
-    fn close_dialog(&mut self, ctx: &egui::Context, cmds: &mut Vec<Command>) {
-        if ctx.input(|i| i.viewport().close_requested()) && self.dirty && !self.close_allowed {
+    /// The questions (unsaved work) and the file prompt.
+    fn questions(&mut self, ctx: &egui::Context, cmds: &mut Vec<Command>) {
+        let wants_close = ctx.input(|i| i.viewport().close_requested());
+        if std::mem::take(&mut self.window.close_now) {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        }
+        if wants_close
+            && self.document.dirty
+            && self.document.doc.has_work()
+            && !self.window.close_allowed
+        {
             ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
-            self.confirm_close = true;
+            self.window.ask = Some(Ask::Close);
         }
-        if !self.confirm_close {
+        if let Some(mut p) = self.window.prompt.take() {
+            match p.ui(ctx, &self.window.recent) {
+                Some(Some(c)) => cmds.push(c),
+                Some(None) => self.window.after_save = None,
+                None => self.window.prompt = Some(p),
+            }
+        }
+        let Some(ask) = self.window.ask.clone() else {
             return;
-        }
-        egui::Modal::new(egui::Id::new("confirm_close")).show(ctx, |ui| {
+        };
+        let title = self.title();
+        let question = match &ask {
+            Ask::Close => format!("Save the changes to {title} before closing?"),
+            Ask::Discard(c) => {
+                let what = match c {
+                    Command::New => "starting a new boundary".to_string(),
+                    Command::Open(p) => format!("opening {}", document::file_name(p)),
+                    Command::OpenExample(n) => format!("opening {n}"),
+                    _ => "going on".into(),
+                };
+                format!("Save the changes to {title} before {what}?")
+            }
+        };
+        let work = {
+            let d = &self.document.doc;
+            let mut w = Vec::new();
+            if !d.training.is_empty() {
+                w.push(plural(d.training.len(), "training sample"));
+            }
+            if !d.refits().is_empty() {
+                w.push(plural(d.refits().len(), "refitted model"));
+            }
+            if d.boundary_edited {
+                w.push("boundary edits".into());
+            }
+            w.join(", ")
+        };
+        let mut answer: Option<u8> = None;
+        let modal = egui::Modal::new(egui::Id::new("unsaved_changes")).show(ctx, |ui| {
             ui.heading("Unsaved changes");
-            ui.label(format!(
-                "Save the changes to {} before closing?",
-                self.doc.name()
-            ));
+            ui.label(question);
+            if !work.is_empty() {
+                ui.label(format!("They hold {work}."));
+            }
             ui.horizontal(|ui| {
                 if ui.button("Save").clicked() {
-                    self.confirm_close = false;
-                    cmds.push(Command::Save);
+                    answer = Some(0);
                 }
-                if ui.button("Close without saving").clicked() {
-                    self.confirm_close = false;
-                    self.close_allowed = true;
-                    ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+                let discard = match ask {
+                    Ask::Close => "Close without saving",
+                    Ask::Discard(_) => "Don't save",
+                };
+                if ui.button(discard).clicked() {
+                    answer = Some(1);
                 }
                 if ui.button("Cancel").clicked() {
-                    self.confirm_close = false;
+                    answer = Some(2);
                 }
             });
         });
+        if modal.should_close() && answer.is_none() {
+            answer = Some(2);
+        }
+        let Some(a) = answer else { return };
+        self.window.ask = None;
+        let then = match &ask {
+            Ask::Close => None,
+            Ask::Discard(c) => Some(c.clone()),
+        };
+        match a {
+            0 => {
+                // Save, then go on (after the save-as prompt if need be).
+                self.window.after_save = Some(match then {
+                    Some(c) => Then::Run(c),
+                    None => Then::Close,
+                });
+                cmds.push(Command::Save);
+            }
+            1 => match then {
+                Some(c) => self.apply_now(c),
+                None => {
+                    self.window.close_allowed = true;
+                    ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+                }
+            },
+            _ => self.window.status = "cancelled".into(),
+        }
     }
 
     /// The `--screenshot` option: request a screenshot after the first
     /// frames, save it when it arrives, then close.
     fn screenshot_step(&mut self, ctx: &egui::Context) {
-        let Some(path) = self.screenshot.clone() else {
+        let Some(path) = self.window.screenshot.clone() else {
             return;
         };
-        if self.busy() {
+        if self.busy() || self.finishing() {
             ctx.request_repaint();
             return;
         }
-        if !self.screenshot_requested && self.frame >= SCREENSHOT_FRAME {
+        // The window at the size asked for first (eframe restores the
+        // size of the last run before the first frame).
+        let sized = self
+            .window
+            .size
+            .is_none_or(|want| (ctx.content_rect().size() - want).length() < 1.0);
+        if !self.window.screenshot_requested && self.window.frame >= SCREENSHOT_FRAME && sized {
             ctx.send_viewport_cmd(egui::ViewportCommand::Screenshot(Default::default()));
-            self.screenshot_requested = true;
+            self.window.screenshot_requested = true;
         }
         let shot = ctx.input(|i| {
             i.raw.events.iter().find_map(|e| match e {
@@ -1036,17 +2062,12 @@ impl App {
             })
         });
         if let Some(img) = shot {
-            let [w, h] = img.size;
-            let bytes: Vec<u8> = img.pixels.iter().flat_map(|c| c.to_array()).collect();
-            let saved = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
-                .ok_or_else(|| "bad screenshot buffer".to_string())
-                .and_then(|im| im.save(&path).map_err(|e| e.to_string()));
-            match saved {
+            match save_png(&img, &path) {
                 Ok(()) => eprintln!("quadex: wrote {}", path.display()),
-                Err(e) => eprintln!("quadex: {}: {e}", path.display()),
+                Err(e) => eprintln!("quadex: {e}"),
             }
-            self.screenshot = None;
-            self.close_allowed = true;
+            self.window.screenshot = None;
+            self.window.close_allowed = true;
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         } else {
             ctx.request_repaint();
@@ -1054,32 +2075,45 @@ impl App {
     }
 }
 
-/// The mesh on the canvas: the finished one when it belongs to this
-/// version of the document, else the mesh as stepped.
-fn shown<'a>(
-    finished: &'a Option<Finished>,
-    version: u64,
-    doc: &'a Document,
-) -> (&'a QuadMesh, bool) {
-    match finished {
-        Some(f) if f.version == version && doc.has_mesh() => (&f.mesh, true),
-        _ => (doc.mesher.mesh(), false),
-    }
+/// Saves a screenshot as PNG.
+fn save_png(img: &egui::ColorImage, path: &Path) -> Result<(), EditorError> {
+    let [w, h] = img.size;
+    let bytes: Vec<u8> = img.pixels.iter().flat_map(|c| c.to_array()).collect();
+    let err = |cause: String| EditorError::Screenshot {
+        path: path.to_path_buf(),
+        cause,
+    };
+    let im = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
+        .ok_or_else(|| err("bad screenshot buffer".into()))?;
+    im.save(path).map_err(|e| err(e.to_string()))
 }
 
-/// The shipped example boundaries, sorted.
-fn examples() -> Vec<String> {
-    let dir = example_path().with_file_name("");
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .map(|d| {
-            d.filter_map(|e| e.ok())
-                .map(|e| e.file_name().to_string_lossy().into_owned())
-                .filter(|n| n.ends_with(".poly"))
-                .collect()
-        })
-        .unwrap_or_default();
-    v.sort();
-    v
+/// The export box of the left panel: a path (beside the document's file
+/// by default) and the buttons.
+fn export_box(ui: &mut egui::Ui, path: &mut String, s: &Scene, out: &mut Vec<Command>) {
+    ui.label(egui::RichText::new("Export").strong());
+    let done = s.doc.has_mesh();
+    ui.add(egui::TextEdit::singleline(path).desired_width(f32::INFINITY))
+        .on_hover_text("The file to write; its extension picks the format");
+    ui.label(egui::RichText::new(".msh .msh22 .vtk .vtu .inp .svg").weak());
+    ui.horizontal(|ui| {
+        if ui
+            .add_enabled(done, egui::Button::new("Export mesh"))
+            .on_hover_text("Write the finished mesh to the path above")
+            .on_disabled_hover_text("Run the mesh to the end first")
+            .clicked()
+        {
+            out.push(Command::Export(PathBuf::from(path.trim())));
+        }
+        if ui
+            .add_enabled(done, egui::Button::new("Export…"))
+            .on_hover_text("Choose where to write the finished mesh")
+            .on_disabled_hover_text("Run the mesh to the end first")
+            .clicked()
+        {
+            out.push(Command::Dialog(Dialog::ExportMesh));
+        }
+    });
 }
 
 impl eframe::App for App {
@@ -1088,29 +2122,30 @@ impl eframe::App for App {
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        if !self.screenshot_requested {
-            eframe::set_value(storage, eframe::APP_KEY, &self.prefs);
+        if !self.window.screenshot_requested {
+            eframe::set_value(storage, eframe::APP_KEY, &self.prefs());
         }
     }
 }
 
 /// Runs the editor window.
-pub fn run(o: GuiOptions) -> Result<(), String> {
+pub fn run(o: GuiOptions) -> Result<(), EditorError> {
     let size = o.size.unwrap_or([1400.0, 860.0]);
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_inner_size(size)
+            .with_min_inner_size([640.0, 420.0])
             .with_title("quadex")
             .with_drag_and_drop(true),
         // A screenshot run neither reads nor writes the remembered settings.
         persist_window: o.screenshot.is_none(),
         ..Default::default()
     };
-    // A file that cannot be opened is reported before a window opens.
-    Document::open(
-        &o.open.clone().unwrap_or_else(example_path),
-        Settings::default(),
-    )?;
+    // A file that cannot be read is reported before a window opens (a
+    // boundary that is not valid opens as a draft).
+    if let Some(p) = &o.open {
+        Document::open(p, Settings::default())?;
+    }
     let screenshot = o.screenshot.is_some();
     eframe::run_native(
         "quadex",
@@ -1120,10 +2155,38 @@ pub fn run(o: GuiOptions) -> Result<(), String> {
                 Some(s) if !screenshot => eframe::get_value(s, eframe::APP_KEY).unwrap_or_default(),
                 _ => Prefs::default(),
             };
-            let app = App::from_options(&o, prefs)
-                .map_err(|e| -> Box<dyn std::error::Error + Send + Sync> { e.into() })?;
+            let app = App::from_options(&o, prefs).map_err(
+                |e| -> Box<dyn std::error::Error + Send + Sync> { e.to_string().into() },
+            )?;
             Ok(Box::new(app))
         }),
     )
-    .map_err(|e| e.to_string())
+    .map_err(|e| EditorError::Window(e.to_string()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_read_as_english() {
+        assert_eq!(plural(1, "sample"), "1 sample");
+        assert_eq!(plural(0, "sample"), "0 samples");
+        assert_eq!(plural(3, "quad"), "3 quads");
+        let o: Vec<String> = [1, 2, 3, 4, 11, 12, 13, 21, 22, 23, 101, 111]
+            .iter()
+            .map(|&n| ordinal(n))
+            .collect();
+        assert_eq!(
+            o,
+            [
+                "1st", "2nd", "3rd", "4th", "11th", "12th", "13th", "21st", "22nd", "23rd",
+                "101st", "111th"
+            ]
+        );
+        assert_eq!(figure(f64::NEG_INFINITY, 4), "n/a");
+        assert_eq!(figure(0.98765, 3), "0.988");
+        assert_eq!(stem("plate.quadex.json"), "plate");
+        assert_eq!(stem(""), "untitled");
+    }
 }

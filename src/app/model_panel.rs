@@ -4,7 +4,9 @@
 //! predicted against actual), and the critical factors of the samples
 //! (thesis §4.2, Figures 34–37: the weight of each leading point).
 
+use super::command::Command;
 use super::document::Document;
+use super::Scene;
 use crate::factors::{factors, Factors, CRITICAL_PERCENT};
 use crate::fit::{evaluate_all, Evaluation, Figures};
 use egui::{Color32, Ui};
@@ -64,6 +66,8 @@ pub struct ModelPanel {
     pub window_len: usize,
     key: Option<(usize, usize, usize, SampleChoice)>,
     fit: Option<Result<ModelFit, String>>,
+    /// Where the plots were drawn last (screen points).
+    pub plot_rects: Vec<egui::Rect>,
 }
 
 impl Default for ModelPanel {
@@ -75,6 +79,7 @@ impl Default for ModelPanel {
             window_len: 150,
             key: None,
             fit: None,
+            plot_rects: Vec::new(),
         }
     }
 }
@@ -85,8 +90,17 @@ const MAX_SCATTER: usize = 4000;
 impl ModelPanel {
     /// The figures of the document's model, recomputed when the model or
     /// the samples change.
-    pub fn refresh(&mut self, doc: &mut Document) -> Option<&ModelFit> {
-        let model = doc.mesher.model().clone();
+    pub fn refresh(&mut self, doc: &Document) -> Option<&ModelFit> {
+        let model = match doc.mesher() {
+            Some(m) => m.model().clone(),
+            None => match crate::model::load(&doc.settings.model) {
+                Ok(m) => std::sync::Arc::from(m),
+                Err(e) => {
+                    self.fit = Some(Err(format!("{}: {e}", doc.settings.model)));
+                    return None;
+                }
+            },
+        };
         let key = (
             std::sync::Arc::as_ptr(&model) as *const () as usize,
             doc.training.len(),
@@ -96,7 +110,7 @@ impl ModelPanel {
         if self.key != Some(key) {
             self.key = Some(key);
             let set = match self.samples {
-                SampleChoice::All => doc.refit_set(),
+                SampleChoice::All => doc.refit_set().map_err(|e| e.to_string()),
                 SampleChoice::Yours => Ok(doc.training.clone()),
             };
             self.fit = Some(set.and_then(|set| {
@@ -110,28 +124,37 @@ impl ModelPanel {
         }
         self.fit.as_ref().and_then(|f| f.as_ref().ok())
     }
+}
 
-    pub fn ui(&mut self, ui: &mut Ui, doc: &mut Document) {
+impl super::View for ModelPanel {
+    fn ui(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
+        self.plot_rects.clear();
         ui.horizontal(|ui| {
             ui.label("measured on");
-            ui.selectable_value(&mut self.samples, SampleChoice::All, "reference + yours");
-            ui.selectable_value(&mut self.samples, SampleChoice::Yours, "yours");
+            ui.selectable_value(&mut self.samples, SampleChoice::All, "reference + yours")
+                .on_hover_text("The reference meshes' samples and yours: what a refit fits");
+            ui.selectable_value(&mut self.samples, SampleChoice::Yours, "yours")
+                .on_hover_text("Only the samples of your corrections and collections");
         });
-        self.refresh(doc);
+        self.refresh(s.doc);
         let fit = match &self.fit {
             Some(Ok(f)) => f,
             Some(Err(e)) => {
                 ui.colored_label(Color32::LIGHT_RED, format!("cannot measure: {e}"));
-                return;
+                return Vec::new();
             }
-            None => return,
+            None => return Vec::new(),
         };
         let e = &fit.evaluation;
         if e.types.is_empty() {
             ui.label("No samples to measure on: correct or append elements first.");
-            return;
+            return Vec::new();
         }
-        ui.label(format!("{} on {} samples", fit.model, e.types.len()));
+        ui.label(format!(
+            "{} on {}",
+            fit.model,
+            super::plural(e.types.len(), "sample")
+        ));
         fit_table(ui, e);
         ui.horizontal(|ui| {
             ui.label("output");
@@ -142,91 +165,110 @@ impl ModelPanel {
         let n = e.types.len();
         ui.horizontal(|ui| {
             ui.label("samples from");
-            ui.add(egui::DragValue::new(&mut self.window_start).range(0..=n.saturating_sub(1)));
+            ui.add(egui::DragValue::new(&mut self.window_start).range(0..=n.saturating_sub(1)))
+                .on_hover_text("The first sample the plot below shows");
             ui.label("count");
-            ui.add(egui::DragValue::new(&mut self.window_len).range(10..=5000));
+            ui.add(egui::DragValue::new(&mut self.window_len).range(10..=5000))
+                .on_hover_text("How many samples it shows");
         });
-        self.index_plot(ui, e);
-        self.scatter_plot(ui, e);
+        let r = index_plot(self.output, self.window_start, self.window_len, ui, e);
+        self.plot_rects.push(r);
+        let r = scatter_plot(self.output, ui, e);
+        self.plot_rects.push(r);
         if let Some(f) = &fit.factors {
-            factor_plot(ui, f);
+            let r = factor_plot(ui, f);
+            self.plot_rects.push(r);
         }
+        Vec::new()
     }
+}
 
-    /// The output against the sample index, the sample's own and the
-    /// model's (thesis Tables 5–8).
-    fn index_plot(&self, ui: &mut Ui, e: &Evaluation) {
-        let n = e.types.len();
-        let start = self.window_start.min(n.saturating_sub(1));
-        let end = (start + self.window_len).min(n);
-        let (mut actual, mut predicted) = (Vec::new(), Vec::new());
-        for i in start..end {
-            let (a, p) = self.output.values(e, i);
-            actual.push([i as f64, a]);
-            predicted.push([i as f64, p]);
+/// The output against the sample index, the sample's own and the
+/// model's (thesis Tables 5–8). Plots pan with a drag and zoom with
+/// Ctrl+wheel; the wheel alone scrolls the panel.
+fn index_plot(
+    output: Output,
+    window_start: usize,
+    window_len: usize,
+    ui: &mut Ui,
+    e: &Evaluation,
+) -> egui::Rect {
+    let n = e.types.len();
+    let start = window_start.min(n.saturating_sub(1));
+    let end = (start + window_len).min(n);
+    let (mut actual, mut predicted) = (Vec::new(), Vec::new());
+    for i in start..end {
+        let (a, p) = output.values(e, i);
+        actual.push([i as f64, a]);
+        predicted.push([i as f64, p]);
+    }
+    ui.label(format!("{} by sample", output.name()));
+    Plot::new("fit_index")
+        .height(170.0)
+        .legend(Legend::default())
+        .allow_scroll(false)
+        .x_axis_label("sample")
+        .show(ui, |p| {
+            p.points(
+                Points::new("samples", PlotPoints::from(actual))
+                    .radius(2.5)
+                    .color(Color32::from_rgb(90, 160, 255)),
+            );
+            p.line(
+                Line::new("model", PlotPoints::from(predicted))
+                    .color(Color32::from_rgb(255, 150, 60)),
+            );
+        })
+        .response
+        .rect
+}
+
+/// Predicted against actual, with the line of a perfect fit.
+fn scatter_plot(output: Output, ui: &mut Ui, e: &Evaluation) -> egui::Rect {
+    let n = e.types.len();
+    let stride = n.div_ceil(MAX_SCATTER).max(1);
+    let pts: Vec<[f64; 2]> = (0..n)
+        .step_by(stride)
+        .map(|i| {
+            let (a, p) = output.values(e, i);
+            [a, p]
+        })
+        .collect();
+    let (lo, hi) = pts
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+            (l.min(p[0]).min(p[1]), h.max(p[0]).max(p[1]))
+        });
+    ui.label(format!(
+        "{}: model against samples{}",
+        output.name(),
+        if stride > 1 {
+            format!(" (every {} sample)", super::ordinal(stride))
+        } else {
+            String::new()
         }
-        ui.label(format!("{} by sample", self.output.name()));
-        Plot::new("fit_index")
-            .height(170.0)
-            .legend(Legend::default())
-            .x_axis_label("sample")
-            .show(ui, |p| {
-                p.points(
-                    Points::new("samples", PlotPoints::from(actual))
-                        .radius(2.5)
-                        .color(Color32::from_rgb(90, 160, 255)),
-                );
+    ));
+    Plot::new("fit_scatter")
+        .height(200.0)
+        .data_aspect(1.0)
+        .allow_scroll(false)
+        .x_axis_label("sample")
+        .y_axis_label("model")
+        .show(ui, |p| {
+            if lo.is_finite() && hi.is_finite() {
                 p.line(
-                    Line::new("model", PlotPoints::from(predicted))
-                        .color(Color32::from_rgb(255, 150, 60)),
+                    Line::new("perfect fit", PlotPoints::from(vec![[lo, lo], [hi, hi]]))
+                        .color(Color32::GRAY),
                 );
-            });
-    }
-
-    /// Predicted against actual, with the line of a perfect fit.
-    fn scatter_plot(&self, ui: &mut Ui, e: &Evaluation) {
-        let n = e.types.len();
-        let stride = n.div_ceil(MAX_SCATTER).max(1);
-        let pts: Vec<[f64; 2]> = (0..n)
-            .step_by(stride)
-            .map(|i| {
-                let (a, p) = self.output.values(e, i);
-                [a, p]
-            })
-            .collect();
-        let (lo, hi) = pts
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
-                (l.min(p[0]).min(p[1]), h.max(p[0]).max(p[1]))
-            });
-        ui.label(format!(
-            "{}: model against samples{}",
-            self.output.name(),
-            if stride > 1 {
-                format!(" (every {stride}th sample)")
-            } else {
-                String::new()
             }
-        ));
-        Plot::new("fit_scatter")
-            .height(200.0)
-            .data_aspect(1.0)
-            .x_axis_label("sample")
-            .y_axis_label("model")
-            .show(ui, |p| {
-                if lo.is_finite() && hi.is_finite() {
-                    p.line(
-                        Line::new("perfect fit", PlotPoints::from(vec![[lo, lo], [hi, hi]]))
-                            .color(Color32::GRAY),
-                    );
-                }
-                p.points(
-                    Points::new("samples", PlotPoints::from(pts))
-                        .radius(1.5)
-                        .color(Color32::from_rgb(90, 200, 140)),
-                );
-            });
-    }
+            p.points(
+                Points::new("samples", PlotPoints::from(pts))
+                    .radius(1.5)
+                    .color(Color32::from_rgb(90, 200, 140)),
+            );
+        })
+        .response
+        .rect
 }
 
 /// The fit figures (thesis Table 8) and the type's confusion matrix.
@@ -243,10 +285,9 @@ fn fit_table(ui: &mut Ui, e: &Evaluation) {
             let row = |ui: &mut Ui, name: &str, f: &Figures| {
                 ui.label(name);
                 ui.monospace(f.n.to_string());
-                ui.monospace(format!("{:.4}", f.sse));
-                ui.monospace(format!("{:.4}", f.rmse));
-                ui.monospace(format!("{:.4}", f.r));
-                ui.monospace(format!("{:.4}", f.dc));
+                for v in [f.sse, f.rmse, f.r, f.dc] {
+                    ui.monospace(super::figure(v, 4));
+                }
                 ui.end_row();
             };
             row(ui, "type", &t.figures);
@@ -272,11 +313,11 @@ fn fit_table(ui: &mut Ui, e: &Evaluation) {
 
 /// The weight of each leading point per output, in percent, with the 5 %
 /// line under which a point is not critical (thesis Figures 34–37).
-fn factor_plot(ui: &mut Ui, f: &Factors) {
+fn factor_plot(ui: &mut Ui, f: &Factors) -> egui::Rect {
     ui.label(format!(
-        "Critical factors ({} input points, {} samples): outermost pair {}",
+        "Critical factors ({} input points, {}): outermost pair {}",
         f.points,
-        f.samples,
+        super::plural(f.samples, "sample"),
         if f.outermost_negligible() {
             "under 5 % (not critical)"
         } else {
@@ -317,5 +358,7 @@ fn factor_plot(ui: &mut Ui, f: &Factors) {
                 p.bar_chart(BarChart::new(name, bars).color(colors[j]));
             }
             p.hline(HLine::new("5 %", CRITICAL_PERCENT).color(Color32::GRAY));
-        });
+        })
+        .response
+        .rect
 }

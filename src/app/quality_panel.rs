@@ -2,7 +2,8 @@
 //! fields `judge.py` reports), histograms of the minimum angle and of the
 //! scaled Jacobian, and the metric the canvas colours quads by.
 
-use super::canvas::QuadIndex;
+use super::command::Command;
+use super::{MeshKind, Scene};
 use crate::mesh::QuadMesh;
 use crate::quality::{MeshQuality, QuadQuality};
 use egui::Ui;
@@ -75,8 +76,6 @@ pub struct MeshStats {
     /// Histogram counts over [`MIN_ANGLE_BINS`] and [`SJ_BINS`].
     min_angle_counts: Vec<usize>,
     sj_counts: Vec<usize>,
-    /// The mesh's quads by place.
-    pub index: QuadIndex,
 }
 
 impl MeshStats {
@@ -92,7 +91,6 @@ impl MeshStats {
             .map(|q| QuadQuality::of(mesh.corners(q)))
             .collect();
         self.summary = MeshQuality::of(mesh);
-        self.index = QuadIndex::of(mesh);
         let counts = |f: fn(&QuadQuality) -> f64, (lo, hi, bins): (f64, f64, usize)| {
             let v: Vec<f64> = self.per_quad.iter().map(f).collect();
             bin_counts(&v, lo, hi, bins)
@@ -118,44 +116,62 @@ impl Default for QualityPanel {
     }
 }
 
-impl QualityPanel {
-    /// `finished`: the mesh shown is complete; `imported`: it was read from
-    /// a file.
-    pub fn ui(&mut self, ui: &mut Ui, stats: &MeshStats, finished: bool, imported: bool) {
-        ui.label(if imported {
-            "The mesh read from the file."
-        } else if finished {
-            "The finished mesh (cleaned up and smoothed)."
-        } else {
-            "The mesh so far (not smoothed); run to the end for the finished mesh."
-        });
-        egui::ComboBox::from_label("colour quads by")
-            .selected_text(self.metric.map_or("nothing", Metric::name))
-            .show_ui(ui, |ui| {
-                ui.selectable_value(&mut self.metric, None, "nothing");
-                for m in Metric::ALL {
-                    ui.selectable_value(&mut self.metric, Some(m), m.name());
-                }
-            });
-        ui.label("Quads that miss the thesis criteria (angles in [45°, 135°], aspect and taper ≤ 10) are tinted and outlined dashed.");
+impl super::View for QualityPanel {
+    fn ui(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
+        let stats = s.stats;
         let q = &stats.summary;
+        let stepped = s.doc.mesher().map_or(0, |m| m.mesh().quads.len());
+        let (what, note) = match s.shown.kind {
+            MeshKind::Imported => ("The mesh read from the file", String::new()),
+            MeshKind::Finished => (
+                "The finished mesh (cleaned up, remeshed and smoothed)",
+                format!(
+                    "; the mesh as stepped has {}",
+                    super::plural(stepped, "quad")
+                ),
+            ),
+            MeshKind::Updating => (
+                "The finished mesh of the previous settings, being updated",
+                format!(
+                    "; the mesh as stepped has {}",
+                    super::plural(stepped, "quad")
+                ),
+            ),
+            MeshKind::Stepped => (
+                "The mesh as stepped (not smoothed; run to the end for the finished mesh)",
+                String::new(),
+            ),
+        };
+        ui.label(format!("{what}: {}{note}.", super::plural(q.quads, "quad")));
+        ui.horizontal_wrapped(|ui| {
+            ui.label("colour quads by");
+            egui::ComboBox::from_id_salt("colour_quads_by")
+                .selected_text(self.metric.map_or("nothing", Metric::name))
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut self.metric, None, "nothing");
+                    for m in Metric::ALL {
+                        ui.selectable_value(&mut self.metric, Some(m), m.name());
+                    }
+                })
+                .response
+                .on_hover_text("The figure the canvas colours quads by (red bad, green good)");
+        });
+        ui.label("Quads that miss the thesis criteria (angles in [45°, 135°], aspect and taper ≤ 10) are tinted and outlined dashed.");
         if q.quads == 0 {
             ui.label("No quads yet.");
-            return;
+            return Vec::new();
         }
         egui::Grid::new("quality_summary")
             .num_columns(2)
             .striped(true)
             .show(ui, |ui| {
-                let rows: [(&str, String); 11] = [
+                let rows: [(&str, String); 12] = [
                     ("quads", q.quads.to_string()),
                     ("nodes", q.nodes.to_string()),
                     ("scaled Jacobian min", format!("{:.3}", q.sj_min)),
                     ("scaled Jacobian mean", format!("{:.3}", q.sj_mean)),
-                    (
-                        "angles",
-                        format!("{:.1}° – {:.1}°", q.min_angle, q.max_angle),
-                    ),
+                    ("smallest angle", format!("{:.1}°", q.min_angle)),
+                    ("largest angle", format!("{:.1}°", q.max_angle)),
                     (
                         "angles in [45°, 135°]",
                         format!("{:.1} %", 100.0 * q.frac_angles_45_135),
@@ -178,15 +194,25 @@ impl QualityPanel {
                     ui.end_row();
                 }
             });
-        ui.label("Minimum angle (degrees)");
+        ui.label("Minimum angle of each quad");
         histogram(
             ui,
             "hist_min_angle",
             &stats.min_angle_counts,
             MIN_ANGLE_BINS,
+            [5.0, 15.0, 30.0],
+            |x| format!("{x:.0}°"),
         );
-        ui.label("Scaled Jacobian");
-        histogram(ui, "hist_sj", &stats.sj_counts, SJ_BINS);
+        ui.label("Scaled Jacobian of each quad");
+        histogram(
+            ui,
+            "hist_sj",
+            &stats.sj_counts,
+            SJ_BINS,
+            [0.05, 0.25, 0.5],
+            |x| format!("{}", (100.0 * x).round() / 100.0),
+        );
+        Vec::new()
     }
 }
 
@@ -202,7 +228,16 @@ pub fn bin_counts(values: &[f64], lo: f64, hi: f64, bins: usize) -> Vec<usize> {
     c
 }
 
-fn histogram(ui: &mut Ui, id: &str, counts: &[usize], (lo, hi, bins): (f64, f64, usize)) {
+/// A histogram of `counts` over the bins, with grid lines along x at the
+/// three `steps` (the coarser ones labelled by `label`).
+fn histogram(
+    ui: &mut Ui,
+    id: &str,
+    counts: &[usize],
+    (lo, hi, bins): (f64, f64, usize),
+    steps: [f64; 3],
+    label: fn(f64) -> String,
+) {
     let w = (hi - lo) / bins as f64;
     let bars: Vec<Bar> = counts
         .iter()
@@ -220,6 +255,12 @@ fn histogram(ui: &mut Ui, id: &str, counts: &[usize], (lo, hi, bins): (f64, f64,
         .allow_scroll(false)
         .allow_zoom(false)
         .allow_drag(false)
+        .allow_boxed_zoom(false)
+        .include_x(lo)
+        .include_x(hi)
+        .include_y(0.0)
+        .x_grid_spacer(egui_plot::uniform_grid_spacer(move |_| steps))
+        .x_axis_formatter(move |m, _| label(m.value))
         .y_axis_label("quads")
         .show(ui, |p| p.bar_chart(BarChart::new("quads", bars)));
 }

@@ -5,6 +5,7 @@
 
 use super::command::{Command, Dialog};
 use super::document::Document;
+use super::{MeshKind, Scene};
 use crate::samples::{Sample, Source};
 use egui::Ui;
 use std::collections::BTreeSet;
@@ -44,33 +45,49 @@ impl SamplesPanel {
             .map(|(i, _)| i)
             .collect()
     }
+}
 
-    pub fn ui(&mut self, ui: &mut Ui, doc: &Document, done: bool, out: &mut Vec<Command>) {
+impl super::View for SamplesPanel {
+    fn ui(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
+        let mut cmds = Vec::new();
+        let out = &mut cmds;
+        let doc = s.doc;
+        let done = matches!(s.shown.kind, MeshKind::Finished | MeshKind::Imported);
         let set = &doc.training;
         let [t0, t1, t2] = set.type_counts();
         ui.label(format!(
-            "{} samples of yours at {} input points (type 0: {t0}, 1: {t1}, 2: {t2}); a refit adds them to the reference meshes' samples",
-            set.len(),
+            "{} of yours at {} input points (type 0: {t0}, 1: {t1}, 2: {t2}); a refit adds them to the reference meshes' samples",
+            super::plural(set.len(), "sample"),
             set.points
         ));
         ui.horizontal_wrapped(|ui| {
-            if ui.button("Import CSV…").clicked() {
+            if ui
+                .button("Import CSV…")
+                .on_hover_text("Append the samples of a training-set file (.csv or .json)")
+                .clicked()
+            {
                 out.push(Command::Dialog(Dialog::ImportSamples));
             }
             if ui
                 .add_enabled(!set.is_empty(), egui::Button::new("Export CSV…"))
+                .on_hover_text("Write your samples as CSV in the thesis's column order (or .json)")
                 .clicked()
             {
                 out.push(Command::Dialog(Dialog::ExportSamples));
             }
             if ui
                 .add_enabled(done, egui::Button::new("Collect from this mesh"))
+                .on_hover_text("Every corner of every good quad of the finished mesh as a sample")
                 .on_disabled_hover_text("Run the mesh to the end first")
                 .clicked()
             {
                 out.push(Command::CollectFromMesh);
             }
-            if ui.button("Collect from a mesh file…").clicked() {
+            if ui
+                .button("Collect from a mesh file…")
+                .on_hover_text("Every corner of every good quad of a .msh file as a sample")
+                .clicked()
+            {
                 out.push(Command::Dialog(Dialog::CollectFromFile));
             }
         });
@@ -81,7 +98,8 @@ impl SamplesPanel {
                 ui.selectable_value(&mut self.type_filter, Some(t), t.to_string());
             }
             ui.label("source");
-            ui.add(egui::TextEdit::singleline(&mut self.source_filter).desired_width(90.0));
+            ui.add(egui::TextEdit::singleline(&mut self.source_filter).desired_width(90.0))
+                .on_hover_text("Show only samples whose source contains this text");
         });
         self.selected.retain(|&i| i < set.len());
         let rows = self.visible(doc);
@@ -91,10 +109,18 @@ impl SamplesPanel {
                 rows.len(),
                 self.selected.len()
             ));
-            if ui.button("Select shown").clicked() {
+            if ui
+                .button("Select shown")
+                .on_hover_text("Select every sample the filter shows")
+                .clicked()
+            {
                 self.selected.extend(rows.iter().copied());
             }
-            if ui.button("Select none").clicked() {
+            if ui
+                .button("Select none")
+                .on_hover_text("Clear the selection")
+                .clicked()
+            {
                 self.selected.clear();
             }
             if ui
@@ -102,6 +128,7 @@ impl SamplesPanel {
                     !self.selected.is_empty(),
                     egui::Button::new("Delete selected"),
                 )
+                .on_hover_text("Drop the selected samples (undo brings them back)")
                 .clicked()
             {
                 out.push(Command::DeleteSamples(
@@ -146,5 +173,6 @@ impl SamplesPanel {
                     }
                 }
             });
+        cmds
     }
 }

@@ -4,7 +4,8 @@
 //! Changing them does not step again: the finished mesh is recomputed.
 
 use super::command::Command;
-use super::document::{Document, Settings};
+use super::document::Settings;
+use super::{MeshKind, Scene};
 use crate::cleanup::CleanupParams;
 use crate::quality::MeshQuality;
 use crate::remesh::RemeshParams;
@@ -20,17 +21,17 @@ pub struct SmoothPanel {
     raw: Option<(u64, MeshQuality)>,
 }
 
-impl SmoothPanel {
-    /// `finished`: the figures of the finished mesh, when there is one;
-    /// `version`: the version of the stepped mesh.
-    pub fn ui(
-        &mut self,
-        ui: &mut Ui,
-        doc: &Document,
-        version: u64,
-        finished: Option<&MeshQuality>,
-        out: &mut Vec<Command>,
-    ) {
+impl super::View for SmoothPanel {
+    fn ui(&mut self, ui: &mut Ui, scene: &Scene) -> Vec<Command> {
+        let mut cmds = Vec::new();
+        let out = &mut cmds;
+        let doc = scene.doc;
+        let version = scene.mesh_version;
+        let finished = match scene.shown.kind {
+            MeshKind::Finished | MeshKind::Updating => Some(&scene.stats.summary),
+            _ => None,
+        };
+        ui.label("Applied to the mesh once it is complete; changing them keeps the steps (the finished mesh is computed again in the background, the previous one shown meanwhile).");
         let mut s: Settings = doc.settings.clone();
         let sm = &mut s.smooth;
         egui::Grid::new("smooth_params")
@@ -111,18 +112,34 @@ impl SmoothPanel {
                 ui.end_row();
             });
         ui.horizontal_wrapped(|ui| {
-            if ui.button("Defaults").clicked() {
+            if ui
+                .button("Defaults")
+                .on_hover_text("Cleanup, remeshing and smoothing as the command line does them")
+                .clicked()
+            {
                 s.smooth = SmoothParams::DEFAULT;
                 s.cleanup = CleanupParams::DEFAULT;
                 s.remesh = RemeshParams::DEFAULT;
             }
-            if ui.button("No smoothing").clicked() {
+            if ui
+                .button("No smoothing")
+                .on_hover_text("No Laplacian smoothing and no optimisation")
+                .clicked()
+            {
                 s.smooth = SmoothParams::OFF;
             }
-            if ui.button("No cleanup").clicked() {
+            if ui
+                .button("No cleanup")
+                .on_hover_text("No topological cleanup (collapses, swaps)")
+                .clicked()
+            {
                 s.cleanup = CleanupParams::OFF;
             }
-            if ui.button("No remeshing").clicked() {
+            if ui
+                .button("No remeshing")
+                .on_hover_text("No local remeshing of bad regions")
+                .clicked()
+            {
                 s.remesh = RemeshParams::OFF;
             }
         });
@@ -130,14 +147,22 @@ impl SmoothPanel {
             out.push(Command::SetSettings(s));
         }
         ui.separator();
+        let Some(mesher) = doc.mesher() else {
+            return cmds;
+        };
         if self.raw.as_ref().is_none_or(|(v, _)| *v != version) {
-            self.raw = Some((version, MeshQuality::of(doc.mesher.mesh())));
+            self.raw = Some((version, MeshQuality::of(mesher.mesh())));
         }
-        let Some((_, raw)) = &self.raw else { return };
+        let Some((_, raw)) = &self.raw else {
+            return cmds;
+        };
         let Some(done) = finished else {
             ui.label("Run the mesh to the end to see the finished mesh's figures.");
-            return;
+            return cmds;
         };
+        if scene.shown.kind == MeshKind::Updating {
+            ui.label("Updating the finished mesh for these settings…");
+        }
         egui::Grid::new("smooth_effect")
             .num_columns(3)
             .striped(true)
@@ -163,5 +188,6 @@ impl SmoothPanel {
                     ui.end_row();
                 }
             });
+        cmds
     }
 }

@@ -1,15 +1,17 @@
-//! The stepping panel: model and settings, Step / Step ×N / Run to end /
-//! Undo / Reset, and what the last step did (kind, type, the model's raw
-//! prediction, the remedy the guard used).
+//! The stepping panel: model and settings, Step / Step ×N / Run / Run to
+//! end / Undo / Redo / Reset, the counts of the mesh as stepped, and what
+//! the last step did (kind, type, the model's raw prediction in its
+//! normalised frame and in the world, the remedy the guard used).
 
-use super::command::Command;
-use super::document::{Document, Settings};
-use crate::extract::{MeshParams, Strategy};
+use super::command::{Command, Dialog};
+use super::document::{kind_name, Settings};
+use super::Scene;
+use crate::extract::{MeshParams, Remedy, Strategy};
 use crate::model::BUILTIN;
 use egui::Ui;
 
 /// The panel's own state: how many steps "Step ×N" takes and how fast the
-/// animated run goes.
+/// animated run goes (remembered between runs).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
 pub struct StepPanel {
@@ -30,23 +32,75 @@ impl Default for StepPanel {
     }
 }
 
-/// A button that shows its command's shortcut.
-fn button(ui: &mut Ui, label: &str, cmd: Command, out: &mut Vec<Command>) {
+/// A button that shows its command's shortcut, with a tooltip.
+pub fn button(ui: &mut Ui, label: &str, tip: &str, cmd: Command, out: &mut Vec<Command>) {
+    button_enabled(ui, true, label, tip, cmd, out);
+}
+
+/// [`button`], greyed out unless `enabled`.
+pub fn button_enabled(
+    ui: &mut Ui,
+    enabled: bool,
+    label: &str,
+    tip: &str,
+    cmd: Command,
+    out: &mut Vec<Command>,
+) {
     let text = match cmd.shortcut() {
         Some(s) => format!("{label}  ({})", ui.ctx().format_shortcut(&s)),
         None => label.to_string(),
     };
-    if ui.button(text).clicked() {
+    if ui
+        .add_enabled(enabled, egui::Button::new(text))
+        .on_hover_text(tip)
+        .clicked()
+    {
         out.push(cmd);
     }
 }
 
-impl StepPanel {
-    /// Draws the panel; the user's intents are pushed to `out`.
-    pub fn ui(&mut self, ui: &mut Ui, doc: &Document, animating: bool, out: &mut Vec<Command>) {
+/// One row of the last-step table: the name in a column of its own, the
+/// value wrapped in what is left of the panel's width (a table that sizes
+/// its columns from the last frame would widen the panel when a new row
+/// appears). Returns the name's response (for a tooltip).
+fn row(ui: &mut Ui, name: &str, value: egui::RichText) -> egui::Response {
+    ui.horizontal_top(|ui| {
+        let w = (0.45 * ui.available_width()).min(140.0);
+        let name = ui
+            .allocate_ui_with_layout(
+                egui::vec2(w, 0.0),
+                egui::Layout::top_down(egui::Align::Min),
+                |ui| {
+                    ui.set_width(w);
+                    ui.add(egui::Label::new(name).wrap())
+                },
+            )
+            .inner;
+        ui.add(egui::Label::new(value).wrap());
+        name
+    })
+    .inner
+}
+
+/// What a remedy means, for the last-step table.
+fn remedy_name(r: Remedy) -> &'static str {
+    match r {
+        Remedy::None => "none (the model's element as predicted)",
+        Remedy::Snapped => "Pn snapped onto a front node",
+        Remedy::OtherType => "another element type",
+        Remedy::CorrectedPn => "Pn moved to the rule-based position",
+        Remedy::RuleBased => "the rule-based element",
+        Remedy::NotApplicable => "not a model step",
+    }
+}
+
+impl super::View for StepPanel {
+    fn ui(&mut self, ui: &mut Ui, scene: &Scene) -> Vec<Command> {
+        let mut out = Vec::new();
+        let doc = scene.doc;
         ui.heading("Extraction");
         let mut s: Settings = doc.settings.clone();
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             let shown = std::path::Path::new(&s.model)
                 .file_name()
                 .map_or(s.model.clone(), |f| f.to_string_lossy().into_owned());
@@ -56,87 +110,163 @@ impl StepPanel {
                     for name in BUILTIN {
                         ui.selectable_value(&mut s.model, name.to_string(), name);
                     }
-                });
+                })
+                .response
+                .on_hover_text("default: the shipped fitted model; rules: Zeng & Cheng's rules; thesis: Table 8 as printed");
             if ui
                 .button("File…")
-                .on_hover_text("Mesh with a fitted model file")
+                .on_hover_text("Mesh with a fitted model file (written by `quadex fit`)")
                 .clicked()
             {
-                out.push(Command::Dialog(super::command::Dialog::ModelFile));
+                out.push(Command::Dialog(Dialog::ModelFile));
             }
         });
         ui.horizontal(|ui| {
             ui.label("strategy");
-            ui.selectable_value(&mut s.strategy, Strategy::A, "A");
-            ui.selectable_value(&mut s.strategy, Strategy::B, "B");
+            ui.selectable_value(&mut s.strategy, Strategy::A, "A")
+                .on_hover_text("A: the next reference point beside the last element");
+            ui.selectable_value(&mut s.strategy, Strategy::B, "B")
+                .on_hover_text("B: every reference point of a layer before the next layer");
         });
         ui.horizontal(|ui| {
             ui.label("input points");
             for p in [5, 7, 9, 11] {
-                ui.selectable_value(&mut s.points, p, p.to_string());
+                ui.selectable_value(&mut s.points, p, p.to_string())
+                    .on_hover_text("Points the model sees: P0 and N leading points on each side");
             }
         });
-        ui.checkbox(&mut s.pure_model, "pure model (no remedies)");
+        ui.checkbox(&mut s.pure_model, "pure model (no remedies)")
+            .on_hover_text(
+                "Take the model's element as predicted or reject it; the guard's remedies are off",
+            );
         ui.horizontal(|ui| {
             let mut on = s.fill_after_layers.is_some();
             ui.checkbox(&mut on, "fill inside layer").on_hover_text(
-                "Extract this many layers from the boundary, then fill the region left directly",
+                "Extract this many layers from the boundary, then fill the region left directly (off: extraction to the end)",
             );
             let mut k = s
                 .fill_after_layers
                 .or(MeshParams::DEFAULT.fill_after_layers)
-                .unwrap_or(1);
-            ui.add_enabled(on, egui::DragValue::new(&mut k).range(1..=1000));
+                .unwrap_or(2);
+            ui.add_enabled(on, egui::DragValue::new(&mut k).range(1..=1000))
+                .on_hover_text("Layers extracted before the fill");
             s.fill_after_layers = on.then_some(k);
         });
         if s != doc.settings {
             out.push(Command::SetSettings(s));
         }
         ui.separator();
+        let can_step = doc.meshing.is_some() && !doc.is_done();
         ui.horizontal_wrapped(|ui| {
-            button(ui, "Step", Command::Step, out);
+            super::step_panel::button_enabled(
+                ui,
+                can_step,
+                "Step",
+                "Take one extraction step",
+                Command::Step,
+                &mut out,
+            );
             ui.add(
                 egui::DragValue::new(&mut self.n)
                     .range(1..=100_000)
                     .prefix("×"),
+            )
+            .on_hover_text("How many steps Step ×N takes");
+            button_enabled(
+                ui,
+                can_step,
+                "Step ×N",
+                "Take N steps (over 200 in the background)",
+                Command::StepN(self.n),
+                &mut out,
             );
-            button(ui, "Step ×N", Command::StepN(self.n), out);
         });
         ui.horizontal_wrapped(|ui| {
+            let animating = scene.animating;
             let label = if animating { "Pause" } else { "Run" };
-            button(ui, label, Command::Animate(!animating), out);
+            button_enabled(
+                ui,
+                can_step || animating,
+                label,
+                "Step on their own at the speed beside; Pause keeps the steps taken",
+                Command::Animate(!animating),
+                &mut out,
+            );
+            // A slider narrow enough to stay beside the button in a
+            // narrow panel (it does not wrap on its own).
+            ui.spacing_mut().slider_width = 60.0;
             ui.add(
                 egui::Slider::new(&mut self.speed, 1.0..=2000.0)
                     .logarithmic(true)
-                    .suffix(" steps/s"),
+                    .suffix("/s"),
+            )
+            .on_hover_text("Speed of the animated run, in steps per second");
+        });
+        ui.horizontal_wrapped(|ui| {
+            button_enabled(
+                ui,
+                can_step,
+                "Run to end",
+                "Step until the mesh is complete, in the background (Cancel drops the run)",
+                Command::RunToEnd,
+                &mut out,
+            );
+            button_enabled(
+                ui,
+                doc.meshing.is_some(),
+                "Reset",
+                "Start the mesh again (undo brings the steps back)",
+                Command::Reset,
+                &mut out,
             );
         });
+        ui.checkbox(&mut self.preview, "show the next element")
+            .on_hover_text("Draw the element the next step would cut, dashed in cyan");
         ui.horizontal_wrapped(|ui| {
-            button(ui, "Run to end", Command::RunToEnd, out);
-            button(ui, "Reset", Command::Reset, out);
-        });
-        ui.checkbox(&mut self.preview, "show the next element (dashed)");
-        ui.horizontal_wrapped(|ui| {
-            button(ui, "Undo", Command::Undo, out);
-            button(ui, "Redo", Command::Redo, out);
-            button(ui, "Fit view", Command::FitView, out);
+            button_enabled(
+                ui,
+                scene.can_undo,
+                "Undo",
+                "Undo the last step or edit",
+                Command::Undo,
+                &mut out,
+            );
+            button_enabled(
+                ui,
+                scene.can_redo,
+                "Redo",
+                "Take the last undone step or edit again (also Ctrl+Y)",
+                Command::Redo,
+                &mut out,
+            );
+            button(
+                ui,
+                "Fit view",
+                "Fit the boundary into the canvas",
+                Command::FitView,
+                &mut out,
+            );
         });
         ui.separator();
-        let m = doc.mesher.mesh();
-        let stats = doc.mesher.stats();
+        let Some(mesher) = doc.mesher() else {
+            ui.label("No mesh: the boundary is not valid yet (see Boundary below).");
+            return out;
+        };
+        let stats = mesher.stats();
         ui.label(format!(
-            "steps {}   quads {}   front nodes {}",
-            doc.mesher.steps(),
-            m.quads.len(),
-            doc.mesher.front().len()
-        ));
+            "{}, {} as stepped, {} left",
+            super::plural(mesher.steps(), "step"),
+            super::plural(mesher.mesh().quads.len(), "quad"),
+            super::plural(mesher.front().len(), "front node"),
+        ))
+        .on_hover_text("The mesh as stepped; the Quality panel shows the finished mesh (cleaned up and smoothed) once the run is complete");
         if doc.is_done() {
             ui.colored_label(egui::Color32::LIGHT_GREEN, "mesh complete");
         } else if let Some(m) = doc.imported() {
             ui.label(format!(
-                "showing the mesh read from {} ({} quads); Step or Run meshes its boundary",
-                doc.name(),
-                m.quads.len()
+                "showing the mesh read from {} ({}); Step or Run meshes its boundary",
+                doc.name,
+                super::plural(m.quads.len(), "quad")
             ));
         }
         if doc.settings.pure_model {
@@ -145,45 +275,56 @@ impl StepPanel {
         }
         ui.separator();
         ui.label(egui::RichText::new("Last step").strong());
-        match &doc.last {
+        match doc.last() {
             None => {
                 ui.label("none yet");
             }
             Some(r) => {
-                egui::Grid::new("last_step").num_columns(2).show(ui, |ui| {
-                    ui.label("kind");
-                    ui.label(format!("{:?}", r.kind));
-                    ui.end_row();
-                    if let Some(v) = r.reference {
-                        ui.label("reference P0");
-                        ui.label(format!("node {v}"));
-                        ui.end_row();
-                    }
-                    if let Some(p) = &r.prediction {
-                        ui.label("model says");
-                        ui.label(format!(
-                            "type {}, Pn ({:.3}, {:.3})",
-                            p.element_type.number(),
-                            p.pn.x,
-                            p.pn.y
-                        ));
-                        ui.end_row();
-                    }
-                    if let Some(t) = r.element_type {
-                        ui.label("element");
-                        ui.label(format!("type {}", t.number()));
-                        ui.end_row();
-                    }
-                    ui.label("remedy");
-                    ui.label(format!("{:?}", r.remedy));
-                    ui.end_row();
-                    if r.skipped > 0 {
-                        ui.label("passed over");
-                        ui.label(format!("{} reference points", r.skipped));
-                        ui.end_row();
-                    }
-                });
+                let mono = |t: String| egui::RichText::new(t).monospace();
+                let plain = egui::RichText::new;
+                row(
+                    ui,
+                    "step",
+                    plain(format!("{} ({})", r.index + 1, kind_name(r.kind))),
+                );
+                if let Some(v) = r.reference {
+                    row(ui, "reference P0", plain(format!("node {v}")));
+                }
+                if let Some(p) = &r.prediction {
+                    row(
+                        ui,
+                        "model's type",
+                        plain(p.element_type.number().to_string()),
+                    );
+                    row(
+                        ui,
+                        "model's Pn, normalised",
+                        mono(format!("({:.3}, {:.3}) × |P0 r1|", p.pn.x, p.pn.y)),
+                    )
+                    .on_hover_text(
+                        "In the frame of P0: P0 at the origin, r1 at (1, 0); unit |P0 r1|",
+                    );
+                }
+                if let Some(w) = r.predicted_pn {
+                    row(
+                        ui,
+                        "model's Pn, world",
+                        mono(format!("({:.4}, {:.4})", w.x, w.y)),
+                    );
+                }
+                if let Some(t) = r.element_type {
+                    row(ui, "element", plain(format!("type {}", t.number())));
+                }
+                row(ui, "remedy", plain(remedy_name(r.remedy).to_string()));
+                if r.skipped > 0 {
+                    row(
+                        ui,
+                        "passed over",
+                        plain(super::plural(r.skipped, "reference point")),
+                    );
+                }
             }
         }
+        out
     }
 }

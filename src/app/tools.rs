@@ -1,20 +1,20 @@
-//! The canvas tools: correcting the last element on the canvas (drag Pn,
-//! click a front node to close onto it) and editing the boundary (draw a
-//! loop, move, insert and delete nodes, split a segment, resample a loop)
-//! over a [`Draft`] with live validation. Edits become
-//! `Command::SetBoundary` once the draft is a valid boundary; until then
-//! the problem is listed and its nodes are marked.
+//! The canvas tools: correcting the last element (drag Pn, or click a
+//! front node to close the element onto it: the nodes that give a valid
+//! element are marked), and editing the boundary (draw loops, move,
+//! insert, delete, split, resample), validated live. A tool takes the
+//! pointer when a drag starts on something it handles (a node, the Pn
+//! handle); any other drag pans the view.
 
-use super::canvas::{CanvasResponse, View};
+use super::canvas::{Pointer, View};
 use super::command::Command;
-use super::document::Document;
-use crate::boundary::BoundaryError;
+use super::document::{Document, Target};
+use super::{MeshKind, Scene};
 use crate::boundary_edit::{At, Draft};
-use crate::extract::StepKind;
 use crate::geom::Point;
-use crate::Boundary;
-use egui::{Color32, Pos2, Rect, Sense, Shape, Stroke, Ui};
+use crate::model::ElementType;
+use egui::{Color32, Pos2, Shape, Stroke, Ui};
 use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
 
 /// What a primary click or drag on the canvas does.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -55,398 +55,647 @@ impl Tool {
             Tool::Split => "split",
         }
     }
-}
 
-/// What a tool sees of the canvas this frame.
-#[derive(Clone, Copy)]
-pub struct OnCanvas<'a> {
-    pub view: &'a View,
-    pub response: &'a CanvasResponse,
-    pub doc: &'a Document,
-    /// The finished mesh is on the canvas (nothing left to correct).
-    pub finished: bool,
+    /// What the tool does, for its tooltip and the hint under the tools.
+    pub fn hint(self) -> &'static str {
+        match self {
+            Tool::Correct => "Drag the yellow Pn handle of the last element and let go, or click a front node to close the element onto it (green nodes give a valid element).",
+            Tool::Draw => "Click to place nodes; click the first node to close the loop (the first loop is the outer one, later loops are holes). Right-click or Esc drops the loop being drawn.",
+            Tool::Move => "Drag a boundary node.",
+            Tool::Insert => "Click a segment to insert a node there.",
+            Tool::Delete => "Click a node to delete it.",
+            Tool::Split => "Click a segment to split it into the number of parts below.",
+        }
+    }
 }
 
 /// Pixels within which a click picks a node or a segment.
-const PICK: f32 = 10.0;
+pub const PICK: f32 = 10.0;
 
-/// The boundary being edited and the tool in hand.
+/// What the pointer is over, for highlighting.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Hover {
+    /// A front node the element could close onto.
+    Target(Target),
+    /// A front node that is not among the targets.
+    FrontNode(u32, Point),
+    /// The Pn handle.
+    Handle,
+    /// A node of the draft.
+    Node(At),
+    /// A segment of the draft (its first node).
+    Segment(At),
+}
+
+/// The tool in hand and what it is doing.
 pub struct Tools {
     pub tool: Tool,
-    pub draft: Draft,
-    /// The document boundary the draft started from.
-    synced: Option<Boundary>,
     /// The loop being drawn.
     pub drawing: Vec<Point>,
-    dragging: Option<At>,
+    /// The Move tool's drag: the node and where it is now.
+    moving: Option<(At, Point)>,
+    /// The Correct tool's drag of Pn: where it is now.
+    pn_drag: Option<Point>,
     /// Parts a split makes.
     pub split_parts: usize,
     /// Target segment length of a resample, and the loop.
     pub resample_h: f64,
     pub resample_loop: usize,
-    /// The draft's problem, when it is not a valid boundary.
-    pub problem: Option<BoundaryError>,
-    /// Drafts before each edit since the draft last was the document's
-    /// boundary, and drafts undone: an invalid draft is not yet in the
-    /// document's history, so its edits are undone here first.
-    undo: Vec<Draft>,
-    redo: Vec<Draft>,
+    /// The document the resample target was set for (its name and file):
+    /// another document sets it again.
+    resample_for: Option<(String, Option<PathBuf>)>,
+    /// What the pointer is over.
+    pub hover: Option<Hover>,
 }
 
 impl Default for Tools {
     fn default() -> Self {
         Tools {
             tool: Tool::Correct,
-            draft: Draft::default(),
-            synced: None,
             drawing: Vec::new(),
-            dragging: None,
+            moving: None,
+            pn_drag: None,
             split_parts: 2,
             resample_h: 0.0,
             resample_loop: 0,
-            problem: None,
-            undo: Vec::new(),
-            redo: Vec::new(),
+            resample_for: None,
+            hover: None,
         }
     }
 }
 
+/// What the tools see of the canvas this frame.
+pub struct OnCanvas<'a> {
+    pub view: &'a View,
+    pub pointer: &'a Pointer,
+    pub doc: &'a Document,
+    /// Front nodes the last element could close onto.
+    pub targets: &'a [Target],
+    /// What mesh is on the canvas (nothing to correct on a finished one).
+    pub kind: MeshKind,
+}
+
+/// The draft's median segment, the default target of a resample.
+fn median_segment(d: &Draft) -> f64 {
+    let mut lens: Vec<f64> = d
+        .loops
+        .iter()
+        .flat_map(|l| (0..l.len()).map(move |k| l[k].distance(l[(k + 1) % l.len()])))
+        .filter(|x| *x > 0.0)
+        .collect();
+    lens.sort_by(f64::total_cmp);
+    lens.get(lens.len() / 2).copied().unwrap_or(0.0)
+}
+
+/// "outer" or "hole" for draft loop `li`: the largest loop is the outer
+/// one when the draft becomes a boundary.
+pub fn loop_role(d: &Draft, li: usize) -> &'static str {
+    let area = |l: &Vec<Point>| crate::geom::polygon_area(l.iter().copied()).abs();
+    let outer = (0..d.loops.len()).max_by(|&a, &b| area(&d.loops[a]).total_cmp(&area(&d.loops[b])));
+    if Some(li) == outer {
+        "outer"
+    } else {
+        "hole"
+    }
+}
+
 impl Tools {
-    /// Starts the draft again from the document when the document's
-    /// boundary changed (an edit applied, undo, a file opened).
+    /// Keeps the tool state in step with the document: a new document
+    /// (another file, New) sets the resample target to its median segment.
     pub fn sync(&mut self, doc: &Document) {
-        if self.synced.as_ref() != Some(&doc.boundary) {
-            self.draft = Draft::of(&doc.boundary);
-            self.synced = Some(doc.boundary.clone());
-            self.problem = None;
+        let id = (doc.name.clone(), doc.source.clone());
+        if self.resample_for.as_ref() != Some(&id) {
+            self.resample_for = Some(id);
+            self.resample_h = median_segment(&doc.draft);
+            self.resample_loop = 0;
             self.drawing.clear();
-            self.dragging = None;
-            self.undo.clear();
-            self.redo.clear();
-            if self.resample_h <= 0.0 {
-                self.resample_h = doc.boundary.median_segment();
-            }
+            self.moving = None;
+            self.pn_drag = None;
         }
-    }
-
-    /// Keeps the draft before an edit, for [`Tools::undo_draft`].
-    fn before_edit(&mut self) {
-        self.undo.push(self.draft.clone());
-        self.redo.clear();
-    }
-
-    /// Whether a draft edit is there to undo and to redo.
-    pub fn draft_edits(&self) -> (bool, bool) {
-        (!self.undo.is_empty(), !self.redo.is_empty())
-    }
-
-    /// Undoes the last edit of a draft that is not (yet) a valid boundary;
-    /// false when there is none (the document's undo is next).
-    pub fn undo_draft(&mut self) -> bool {
-        self.step_draft(true)
-    }
-
-    /// Redoes a draft edit undone by [`Tools::undo_draft`].
-    pub fn redo_draft(&mut self) -> bool {
-        self.step_draft(false)
-    }
-
-    fn step_draft(&mut self, back: bool) -> bool {
-        let (from, to) = if back {
-            (&mut self.undo, &mut self.redo)
-        } else {
-            (&mut self.redo, &mut self.undo)
-        };
-        let Some(d) = from.pop() else { return false };
-        to.push(std::mem::replace(&mut self.draft, d));
-        self.problem = self.draft.to_boundary().err();
-        self.dragging = None;
-        true
-    }
-
-    /// After a change to the draft: a valid draft becomes the document's
-    /// boundary; an invalid one keeps its problem for the panel.
-    fn commit(&mut self, out: &mut Vec<Command>) {
-        match self.draft.to_boundary() {
-            Ok(b) => {
-                self.problem = None;
-                out.push(Command::SetBoundary(Box::new(b)));
-            }
-            Err(e) => self.problem = Some(e),
+        if self.resample_h <= 0.0 {
+            self.resample_h = median_segment(&doc.draft);
         }
+        self.resample_loop = self
+            .resample_loop
+            .min(doc.draft.loops.len().saturating_sub(1));
     }
 
-    /// Boundary nodes the current problem is about.
-    pub fn marked(&self) -> Vec<Point> {
-        match &self.problem {
-            Some(e) => self
-                .draft
-                .marked(e)
-                .into_iter()
-                .filter_map(|(l, k)| self.draft.loops.get(l)?.get(k).copied())
-                .collect(),
-            None => Vec::new(),
-        }
+    /// Drops the loop being drawn; false when there is none.
+    pub fn drop_drawing(&mut self) -> bool {
+        !std::mem::take(&mut self.drawing).is_empty()
     }
 
-    /// The boundary section of the left panel.
-    pub fn panel(&mut self, ui: &mut Ui, doc: &Document, out: &mut Vec<Command>) {
-        ui.heading("Canvas tool");
-        ui.horizontal_wrapped(|ui| {
-            for t in Tool::ALL {
-                ui.selectable_value(&mut self.tool, t, t.name());
-            }
-        });
+    /// A pointer drag or click of the tool; returns whether the tool takes
+    /// the primary drag (else it pans the view).
+    pub fn input(&mut self, at: &OnCanvas, out: &mut Vec<Command>) -> bool {
+        self.hover = None;
+        let p = at.pointer;
+        let view = at.view;
+        let to = |w: Point| view.to_screen(p.rect, w);
+        let near = |a: Pos2, b: Option<Pos2>| b.is_some_and(|b| a.distance(b) <= PICK);
         match self.tool {
             Tool::Correct => {
-                ui.label("Drag Pn of the last element, or click a front node to close onto it.");
+                if at.kind != MeshKind::Stepped {
+                    return false;
+                }
+                let Some(handle) = pn_handle(at.doc) else {
+                    return false;
+                };
+                if p.drag_started && near(to(handle), p.press_origin) {
+                    self.pn_drag = Some(handle);
+                }
+                if self.pn_drag.is_some() {
+                    if let Some(w) = p.world {
+                        self.pn_drag = Some(w);
+                    }
+                    self.hover = Some(Hover::Handle);
+                    if p.drag_stopped || !p.dragging {
+                        if let Some(pn) = self.pn_drag.take() {
+                            out.push(Command::CorrectLast {
+                                element_type: ElementType::New,
+                                pn,
+                                snap_to: None,
+                            });
+                        }
+                    }
+                    return true;
+                }
+                if !p.hovered {
+                    return false;
+                }
+                if near(to(handle), p.pos) {
+                    self.hover = Some(Hover::Handle);
+                    return false;
+                }
+                // A front node under the pointer: a target, or not one.
+                let target = p.pos.and_then(|s| {
+                    at.targets
+                        .iter()
+                        .map(|t| (t, to(t.at).distance(s)))
+                        .filter(|(_, d)| *d <= PICK)
+                        .min_by(|a, b| a.1.total_cmp(&b.1))
+                        .map(|(t, _)| *t)
+                });
+                self.hover = match target {
+                    Some(t) => Some(Hover::Target(t)),
+                    None => front_node_at(at, p.pos).map(|(v, w)| Hover::FrontNode(v, w)),
+                };
+                if p.clicked.is_some() {
+                    match self.hover {
+                        Some(Hover::Target(t)) => out.push(t.command()),
+                        Some(Hover::FrontNode(v, w)) => out.push(Command::CorrectLast {
+                            element_type: ElementType::New,
+                            pn: w,
+                            snap_to: Some(v),
+                        }),
+                        _ => {}
+                    }
+                }
+                false
             }
             Tool::Draw => {
-                ui.label(format!(
-                    "Click to place nodes, click the first node to close the loop ({} placed).",
-                    self.drawing.len()
-                ));
-                if !self.drawing.is_empty() && ui.button("Drop the loop being drawn").clicked() {
+                if p.secondary_clicked {
                     self.drawing.clear();
                 }
+                if let (Some(c), Some(w)) = (p.clicked, p.world) {
+                    let closes = self.drawing.len() >= 3 && to(self.drawing[0]).distance(c) <= PICK;
+                    if closes {
+                        let mut d = at.doc.draft.clone();
+                        d.loops.push(std::mem::take(&mut self.drawing));
+                        out.push(Command::SetDraft {
+                            draft: d,
+                            what: "draw loop",
+                        });
+                    } else {
+                        self.drawing.push(w);
+                    }
+                }
+                false
             }
-            Tool::Split => {
-                ui.horizontal(|ui| {
-                    ui.label("parts");
-                    ui.add(egui::DragValue::new(&mut self.split_parts).range(2..=100));
+            Tool::Move => {
+                let d = &at.doc.draft;
+                if p.drag_started {
+                    let origin = p.press_origin.map(|s| view.to_world(p.rect, s));
+                    self.moving = origin
+                        .and_then(|o| d.nearest_node(o, PICK as f64 / view.zoom))
+                        .and_then(|a| Some((a, *d.loops.get(a.0)?.get(a.1)?)));
+                }
+                if let Some((a, _)) = self.moving {
+                    if let Some(w) = p.world {
+                        self.moving = Some((a, w));
+                    }
+                    self.hover = Some(Hover::Node(a));
+                    if p.drag_stopped || !p.dragging {
+                        if let Some((a, w)) = self.moving.take() {
+                            let mut d = d.clone();
+                            d.move_node(a, w);
+                            out.push(Command::SetDraft {
+                                draft: d,
+                                what: "move node",
+                            });
+                        }
+                    }
+                    return true;
+                }
+                self.hover = p
+                    .world
+                    .filter(|_| p.hovered)
+                    .and_then(|w| d.nearest_node(w, PICK as f64 / view.zoom))
+                    .map(Hover::Node);
+                false
+            }
+            Tool::Insert | Tool::Delete | Tool::Split => {
+                let d = &at.doc.draft;
+                let r = PICK as f64 / view.zoom;
+                self.hover = p.world.filter(|_| p.hovered).and_then(|w| {
+                    if self.tool == Tool::Delete {
+                        d.nearest_node(w, r).map(Hover::Node)
+                    } else {
+                        d.nearest_segment(w, r).map(Hover::Segment)
+                    }
                 });
+                if p.clicked.is_some() {
+                    let mut d = d.clone();
+                    let what = match (self.tool, self.hover, p.world) {
+                        (Tool::Delete, Some(Hover::Node(n)), _) => {
+                            d.delete(n);
+                            Some("delete node")
+                        }
+                        (Tool::Insert, Some(Hover::Segment(s)), Some(w)) => {
+                            d.insert(s, w);
+                            Some("insert node")
+                        }
+                        (Tool::Split, Some(Hover::Segment(s)), _) => {
+                            d.split(s, self.split_parts);
+                            Some("split segment")
+                        }
+                        _ => None,
+                    };
+                    if let Some(what) = what {
+                        out.push(Command::SetDraft { draft: d, what });
+                    }
+                }
+                false
+            }
+        }
+    }
+
+    /// Draws the tool's overlay: the Pn handle and the candidate element,
+    /// the closing targets, or the draft with its loop numbers.
+    pub fn draw(&self, ui: &Ui, painter: &egui::Painter, at: &OnCanvas) {
+        let rect = at.pointer.rect;
+        let to = |w: Point| at.view.to_screen(rect, w);
+        let yellow = Color32::from_rgb(255, 230, 60);
+        let green = Color32::from_rgb(90, 230, 110);
+        let red = Color32::from_rgb(255, 70, 70);
+        let cyan = Color32::from_rgb(80, 220, 255);
+        if self.tool == Tool::Correct {
+            if at.kind != MeshKind::Stepped {
+                return;
+            }
+            let Some(last) = at.doc.last_element() else {
+                return;
+            };
+            let nodes = &at.doc.mesher().map(|m| &m.mesh().nodes);
+            let Some(nodes) = nodes else { return };
+            let n = last.leading.len() / 2;
+            let node = |k: usize| {
+                last.leading
+                    .get(k)
+                    .and_then(|&v| nodes.get(v as usize).copied())
+            };
+            let (Some(l1), Some(p0), Some(r1)) = (node(n.wrapping_sub(1)), node(n), node(n + 1))
+            else {
+                return;
+            };
+            for t in at.targets.iter().filter(|t| t.valid) {
+                painter.circle_stroke(to(t.at), 5.0, Stroke::new(2.0, green));
+            }
+            // The candidate element: while dragging, or for the hovered
+            // target.
+            let candidate = match (self.pn_drag, self.hover) {
+                (Some(pn), _) => Some((pn, yellow)),
+                (None, Some(Hover::Target(t))) => Some((t.at, if t.valid { green } else { red })),
+                _ => None,
+            };
+            if let Some((pn, c)) = candidate {
+                let ring = [p0, r1, pn, l1, p0].map(to);
+                painter.extend(Shape::dashed_line(&ring, Stroke::new(2.0, c), 5.0, 4.0));
+            }
+            if let Some(h) = pn_handle(at.doc) {
+                let s = to(self.pn_drag.unwrap_or(h));
+                let w = if matches!(self.hover, Some(Hover::Handle)) {
+                    3.0
+                } else {
+                    2.0
+                };
+                painter.circle_stroke(s, 8.0, Stroke::new(w, yellow));
+            }
+            match self.hover {
+                Some(Hover::Target(t)) => {
+                    painter.circle_stroke(
+                        to(t.at),
+                        8.0,
+                        Stroke::new(2.5, if t.valid { green } else { red }),
+                    );
+                    let text = if t.valid {
+                        format!(
+                            "click: close the element onto node {} (type {})",
+                            t.node,
+                            t.element_type.number()
+                        )
+                    } else {
+                        format!("node {}: not a valid element there", t.node)
+                    };
+                    tip(ui, &text);
+                }
+                Some(Hover::FrontNode(v, w)) => {
+                    painter.circle_stroke(to(w), 8.0, Stroke::new(2.0, red));
+                    let corner = n
+                        .checked_sub(1)
+                        .and_then(|k| last.leading.get(k..=n + 1))
+                        .is_some_and(|c| c.contains(&v));
+                    tip(
+                        ui,
+                        &if corner {
+                            format!("node {v} is a corner of this element: nothing to close onto")
+                        } else {
+                            format!("node {v}: too far from P0 to close the element onto")
+                        },
+                    );
+                }
+                Some(Hover::Handle) if self.pn_drag.is_none() => {
+                    tip(ui, "drag Pn and let go to correct the element");
+                }
+                _ => {}
+            }
+            return;
+        }
+        // The draft, its loop numbers, the problem's nodes.
+        let mut draft = at.doc.draft.clone();
+        if let Some((a, w)) = self.moving {
+            draft.move_node(a, w);
+        }
+        let line = Color32::from_rgb(240, 240, 240);
+        for (li, l) in draft.loops.iter().enumerate() {
+            let pts: Vec<Pos2> = l.iter().map(|&p| to(p)).collect();
+            painter.add(Shape::closed_line(pts.clone(), Stroke::new(1.5, line)));
+            for &p in &pts {
+                painter.circle_filled(p, 3.0, line);
+            }
+            // The loop's number above its topmost node, kept on the canvas.
+            if let Some(top) = pts.iter().min_by(|a, b| a.y.total_cmp(&b.y)) {
+                let galley = painter.layout_no_wrap(
+                    format!("loop {li} ({})", loop_role(&draft, li)),
+                    egui::FontId::proportional(13.0),
+                    cyan,
+                );
+                let size = galley.size();
+                let min = *top + egui::vec2(-0.5 * size.x, -8.0 - size.y);
+                let inner = rect.shrink(2.0);
+                let x = min
+                    .x
+                    .clamp(inner.left(), (inner.right() - size.x).max(inner.left()));
+                let y = min
+                    .y
+                    .clamp(inner.top(), (inner.bottom() - size.y).max(inner.top()));
+                painter.galley(Pos2::new(x, y), galley, cyan);
+            }
+        }
+        if let Some(e) = &at.doc.problem {
+            for (li, k) in draft.marked(e) {
+                if let Some(&p) = draft.loops.get(li).and_then(|l| l.get(k)) {
+                    painter.circle_stroke(to(p), 7.0, Stroke::new(2.0, red));
+                }
+            }
+        }
+        if !self.drawing.is_empty() {
+            let mut pts: Vec<Pos2> = self.drawing.iter().map(|&p| to(p)).collect();
+            if let Some(h) = at.pointer.pos.filter(|_| at.pointer.hovered) {
+                pts.push(h);
+            }
+            painter.add(Shape::line(pts.clone(), Stroke::new(1.5, cyan)));
+            for p in &pts {
+                painter.circle_filled(*p, 3.0, cyan);
+            }
+            if self.drawing.len() >= 3 {
+                painter.circle_stroke(to(self.drawing[0]), PICK, Stroke::new(1.5, cyan));
+            }
+        }
+        let node = |a: At| draft.loops.get(a.0).and_then(|l| l.get(a.1)).copied();
+        match self.hover {
+            Some(Hover::Node(a)) => {
+                if let Some(p) = node(a) {
+                    let c = if self.tool == Tool::Delete { red } else { cyan };
+                    painter.circle_stroke(to(p), 7.0, Stroke::new(2.0, c));
+                }
+            }
+            Some(Hover::Segment((li, k))) => {
+                if let (Some(a), Some(b)) = (
+                    node((li, k)),
+                    draft
+                        .loops
+                        .get(li)
+                        .and_then(|l| l.get((k + 1) % l.len()))
+                        .copied(),
+                ) {
+                    painter.line_segment([to(a), to(b)], Stroke::new(3.0, cyan));
+                }
             }
             _ => {}
         }
-        ui.horizontal_wrapped(|ui| {
-            ui.label("resample loop");
-            let loops = self.draft.loops.len().max(1);
-            ui.add(egui::DragValue::new(&mut self.resample_loop).range(0..=loops - 1));
-            ui.label("to");
-            ui.add(
-                egui::DragValue::new(&mut self.resample_h)
-                    .speed(0.001 * doc.boundary.bbox().size().max_element())
-                    .range(1e-9..=f64::MAX),
-            );
-            if ui.button("Resample").clicked() {
-                self.before_edit();
-                self.draft.resample(self.resample_loop, self.resample_h);
-                self.commit(out);
+    }
+}
+
+/// A tooltip at the pointer.
+fn tip(ui: &Ui, text: &str) {
+    egui::Tooltip::always_open(
+        ui.ctx().clone(),
+        ui.layer_id(),
+        egui::Id::new("canvas_tip"),
+        egui::PopupAnchor::Pointer,
+    )
+    .gap(12.0)
+    .show(|ui| {
+        ui.label(text);
+    });
+}
+
+/// Where the Pn handle of the last element rests: its committed Pn node.
+pub fn pn_handle(doc: &Document) -> Option<Point> {
+    let r = doc.last_element()?;
+    let v = r.pn_node()?;
+    doc.mesher()?.mesh().nodes.get(v as usize).copied()
+}
+
+/// The front node under the pointer, if any.
+fn front_node_at(at: &OnCanvas, pos: Option<Pos2>) -> Option<(u32, Point)> {
+    let s = pos?;
+    let m = at.doc.mesher()?;
+    let f = m.front();
+    let nodes = &m.mesh().nodes;
+    f.live_loops()
+        .flat_map(|l| f.loop_nodes(l))
+        .filter_map(|v| {
+            let w = *nodes.get(v as usize)?;
+            let d = at.view.to_screen(at.pointer.rect, w).distance(s);
+            (d <= PICK).then_some((v, w, d))
+        })
+        .min_by(|a, b| a.2.total_cmp(&b.2))
+        .map(|(v, w, _)| (v, w))
+}
+
+impl Tools {
+    /// The tool bar above the canvas: the tools, the one in hand's hint and
+    /// options (a split's parts, the loop being drawn, the closing targets
+    /// of the Correct tool).
+    pub fn toolbar(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
+        let doc = s.doc;
+        // One row whatever the tool says (a taller bar would shrink the
+        // canvas and move the drawing under the pointer): long texts are
+        // cut, in full on hover.
+        let note = |ui: &mut Ui, text: String, weak: bool| {
+            let t = egui::RichText::new(text.clone());
+            ui.add(egui::Label::new(if weak { t.weak() } else { t }).truncate())
+                .on_hover_text(text);
+        };
+        ui.horizontal(|ui| {
+            ui.label(egui::RichText::new("Tool").strong());
+            for t in Tool::ALL {
+                ui.selectable_value(&mut self.tool, t, t.name())
+                    .on_hover_text(t.hint());
+            }
+            ui.separator();
+            match self.tool {
+                Tool::Correct
+                    if doc.last_element().is_some() && s.shown.kind == MeshKind::Stepped =>
+                {
+                    let valid = s.targets.iter().filter(|t| t.valid).count();
+                    note(
+                        ui,
+                        if valid == 0 {
+                            "No front node near P0 gives a valid element here (the quad would be flat or fold): drag Pn instead.".to_string()
+                        } else {
+                            format!(
+                                "{} near P0 {} a valid element (green): click one to close the element onto it, or drag Pn.",
+                                super::plural(valid, "front node"),
+                                if valid == 1 { "gives" } else { "give" }
+                            )
+                        },
+                        false,
+                    );
+                }
+                Tool::Draw if !self.drawing.is_empty() => {
+                    if ui
+                        .button("Drop the loop")
+                        .on_hover_text("Forget the nodes placed (Esc or right-click)")
+                        .clicked()
+                    {
+                        self.drawing.clear();
+                    }
+                    note(
+                        ui,
+                        format!(
+                            "{} placed; click the first node to close the loop",
+                            super::plural(self.drawing.len(), "node")
+                        ),
+                        false,
+                    );
+                }
+                Tool::Split => {
+                    ui.label("parts");
+                    ui.add(egui::DragValue::new(&mut self.split_parts).range(2..=100))
+                        .on_hover_text("A split cuts the segment clicked into this many equal parts");
+                    note(ui, self.tool.hint().to_string(), true);
+                }
+                t => note(ui, t.hint().to_string(), true),
             }
         });
-        match &self.problem {
+        Vec::new()
+    }
+}
+
+impl super::View for Tools {
+    /// The boundary section of the left panel: its loops, resampling, and
+    /// whether it is a valid boundary.
+    fn ui(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
+        let mut out = Vec::new();
+        let doc = s.doc;
+        ui.heading("Boundary");
+        let d = &doc.draft;
+        if !d.loops.is_empty() {
+            ui.horizontal_wrapped(|ui| {
+                ui.label("resample");
+                let name = |li: usize| {
+                    format!(
+                        "loop {li} ({}, {})",
+                        loop_role(d, li),
+                        super::plural(d.loops[li].len(), "node")
+                    )
+                };
+                egui::ComboBox::from_id_salt("resample_loop")
+                    .selected_text(name(self.resample_loop.min(d.loops.len() - 1)))
+                    .show_ui(ui, |ui| {
+                        for li in 0..d.loops.len() {
+                            ui.selectable_value(&mut self.resample_loop, li, name(li));
+                        }
+                    })
+                    .response
+                    .on_hover_text("The loop to resample (numbers as on the canvas with an editing tool)");
+                ui.label("to segments of");
+                let scale = d
+                    .loops
+                    .iter()
+                    .flatten()
+                    .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()))
+                    .max(1e-12);
+                ui.add(
+                    egui::DragValue::new(&mut self.resample_h)
+                        .speed(0.001 * scale)
+                        .range(1e-9 * scale..=f64::MAX),
+                )
+                .on_hover_text("Target segment length (starts at this file's median segment)");
+                if ui
+                    .button("Resample")
+                    .on_hover_text("Cut every segment of the loop into round(length / target) parts, keeping the corners; one part more on the longest piece when the total node count would be odd")
+                    .clicked()
+                {
+                    let mut d = d.clone();
+                    d.resample(self.resample_loop, self.resample_h);
+                    out.push(Command::SetDraft {
+                        draft: d,
+                        what: "resample loop",
+                    });
+                }
+            });
+        }
+        match &doc.problem {
             None => {
                 ui.label(format!(
-                    "{} loops, {} nodes: valid",
-                    self.draft.loops.len(),
-                    self.draft.node_count()
+                    "{}, {}: valid",
+                    super::plural(d.loops.len(), "loop"),
+                    super::plural(d.node_count(), "node")
                 ));
+            }
+            Some(crate::boundary::BoundaryError::Empty) if d.loops.is_empty() => {
+                ui.label(if self.tool == Tool::Draw {
+                    "Nothing drawn yet: click on the canvas to place the outer loop's nodes."
+                } else {
+                    "Nothing drawn yet: choose the \"draw loop\" tool above the canvas and click on the canvas."
+                });
             }
             Some(e) => {
                 ui.colored_label(
                     Color32::from_rgb(255, 110, 110),
                     format!("not a valid boundary yet: {e}"),
                 );
-                if ui.button("Discard the draft").clicked() {
-                    self.synced = None;
-                }
-            }
-        }
-    }
-
-    /// Handles the tool on the canvas and draws its overlay; `pn` is the
-    /// correction's Pn the handle drags.
-    pub fn canvas(&mut self, ui: &mut Ui, at: &OnCanvas, pn: &mut Point, out: &mut Vec<Command>) {
-        let OnCanvas {
-            view,
-            response: c,
-            doc,
-            finished,
-        } = *at;
-        let rect = c.rect;
-        let to = |p: Point| view.to_screen(rect, p);
-        let r = PICK as f64 / view.zoom;
-        let painter = ui.painter_at(rect);
-        if self.tool == Tool::Correct {
-            if !finished {
-                self.correct(ui, view, c, doc, pn, out);
-            }
-            return;
-        }
-        // The draft: loops, nodes, the loop being drawn.
-        let line = Color32::from_rgb(240, 240, 240);
-        for l in &self.draft.loops {
-            let pts: Vec<Pos2> = l.iter().map(|&p| to(p)).collect();
-            painter.add(Shape::closed_line(pts.clone(), Stroke::new(1.5, line)));
-            for p in pts {
-                painter.circle_filled(p, 3.0, line);
-            }
-        }
-        if !self.drawing.is_empty() {
-            let mut pts: Vec<Pos2> = self.drawing.iter().map(|&p| to(p)).collect();
-            if let Some(h) = c.hover {
-                pts.push(to(h));
-            }
-            let cyan = Color32::from_rgb(80, 220, 255);
-            painter.add(Shape::line(pts.clone(), Stroke::new(1.5, cyan)));
-            for p in pts {
-                painter.circle_filled(p, 3.0, cyan);
-            }
-        }
-        match self.tool {
-            Tool::Draw => {
-                if let Some(p) = c.clicked {
-                    let closes = self.drawing.len() >= 3 && self.drawing[0].distance(p) <= r;
-                    if closes {
-                        self.before_edit();
-                        self.draft.loops.push(std::mem::take(&mut self.drawing));
-                        self.commit(out);
-                    } else {
-                        self.drawing.push(p);
-                    }
-                }
-            }
-            Tool::Move => self.drag_node(ui, view, c, out),
-            Tool::Insert => {
-                if let Some(p) = c.clicked {
-                    if let Some(s) = self.draft.nearest_segment(p, r) {
-                        self.before_edit();
-                        self.draft.insert(s, p);
-                        self.commit(out);
-                    }
-                }
-            }
-            Tool::Delete => {
-                if let Some(p) = c.clicked {
-                    if let Some(n) = self.draft.nearest_node(p, r) {
-                        self.before_edit();
-                        self.draft.delete(n);
-                        self.commit(out);
-                    }
-                }
-            }
-            Tool::Split => {
-                if let Some(p) = c.clicked {
-                    if let Some(s) = self.draft.nearest_segment(p, r) {
-                        self.before_edit();
-                        self.draft.split(s, self.split_parts);
-                        self.commit(out);
-                    }
-                }
-            }
-            Tool::Correct => {}
-        }
-    }
-
-    /// The Move tool: a handle under the pointer's node, dragged.
-    fn drag_node(&mut self, ui: &mut Ui, view: &View, c: &CanvasResponse, out: &mut Vec<Command>) {
-        let rect = c.rect;
-        let r = PICK as f64 / view.zoom;
-        let target = self
-            .dragging
-            .or_else(|| c.hover.and_then(|h| self.draft.nearest_node(h, r)));
-        let Some(at) = target else { return };
-        let Some(&p) = self.draft.loops.get(at.0).and_then(|l| l.get(at.1)) else {
-            self.dragging = None;
-            return;
-        };
-        let s = view.to_screen(rect, p);
-        let id = ui.id().with("boundary_node_handle");
-        let resp = ui.interact(
-            Rect::from_center_size(s, egui::vec2(2.0 * PICK, 2.0 * PICK)),
-            id,
-            Sense::drag(),
-        );
-        ui.painter_at(rect).circle_stroke(
-            s,
-            6.0,
-            Stroke::new(2.0, Color32::from_rgb(80, 220, 255)),
-        );
-        if resp.drag_started() {
-            self.before_edit();
-        }
-        if resp.dragged() {
-            self.dragging = Some(at);
-            let d = resp.drag_delta();
-            let moved = p + Point::new(d.x as f64, -d.y as f64) / view.zoom;
-            self.draft.move_node(at, moved);
-        }
-        if resp.drag_stopped() {
-            self.dragging = None;
-            self.commit(out);
-        }
-    }
-
-    /// The Correct tool: the handle of Pn and the candidate element.
-    fn correct(
-        &mut self,
-        ui: &mut Ui,
-        view: &View,
-        c: &CanvasResponse,
-        doc: &Document,
-        pn: &mut Point,
-        out: &mut Vec<Command>,
-    ) {
-        let Some(last) = doc
-            .last
-            .as_ref()
-            .filter(|r| matches!(r.kind, StepKind::Element | StepKind::Correction))
-        else {
-            return;
-        };
-        let rect = c.rect;
-        let nodes = &doc.mesher.mesh().nodes;
-        let n = last.leading.len() / 2;
-        let node = |k: usize| last.leading.get(k).map(|&v| nodes[v as usize]);
-        let (Some(l1), Some(p0), Some(r1)) = (node(n.wrapping_sub(1)), node(n), node(n + 1)) else {
-            return;
-        };
-        // The candidate element of type 0 with the handle's Pn, dashed.
-        let to = |p: Point| view.to_screen(rect, p);
-        let ring = [p0, r1, *pn, l1, p0].map(to);
-        let yellow = Color32::from_rgb(255, 230, 60);
-        ui.painter_at(rect).extend(Shape::dashed_line(
-            &ring,
-            Stroke::new(1.5, yellow),
-            5.0,
-            4.0,
-        ));
-        let s = to(*pn);
-        let resp = ui.interact(
-            Rect::from_center_size(s, egui::vec2(2.0 * PICK, 2.0 * PICK)),
-            ui.id().with("pn_handle"),
-            Sense::click_and_drag(),
-        );
-        ui.painter_at(rect)
-            .circle_stroke(s, 7.0, Stroke::new(2.0, yellow));
-        if resp.dragged() {
-            let d = resp.drag_delta();
-            *pn += Point::new(d.x as f64, -d.y as f64) / view.zoom;
-        }
-        if resp.drag_stopped() || resp.double_clicked() {
-            out.push(Command::CorrectLast {
-                element_type: crate::ElementType::New,
-                pn: *pn,
-                snap_to: None,
-            });
-        }
-        // A click on a front node closes the element onto it.
-        if let Some(p) = c.clicked {
-            let r = PICK as f64 / view.zoom;
-            let f = doc.mesher.front();
-            let hit = f
-                .live_loops()
-                .flat_map(|l| f.loop_nodes(l))
-                .map(|v| (v, nodes[v as usize].distance(p)))
-                .filter(|&(_, d)| d <= r)
-                .min_by(|a, b| a.1.total_cmp(&b.1));
-            if let Some((v, _)) = hit {
-                out.push(Command::CorrectLast {
-                    element_type: crate::ElementType::New,
-                    pn: nodes[v as usize],
-                    snap_to: Some(v),
+                ui.label(if d.marked(e).is_empty() {
+                    "Fix it with the tools above the canvas or a resample, or undo."
+                } else {
+                    "The nodes at fault are circled in red; fix them with the tools above, or undo."
                 });
             }
         }
+        out
     }
 }

@@ -4,8 +4,8 @@
 //! and after.
 
 use super::command::Command;
-use super::document::{Document, RefitFigures};
-use crate::extract::StepKind;
+use super::step_panel::button_enabled;
+use super::Scene;
 use crate::geom::Point;
 use crate::model::{ElementType, Form};
 use egui::Ui;
@@ -13,10 +13,11 @@ use egui::Ui;
 /// The panel's own state: the correction being edited.
 pub struct TrainPanel {
     pub element_type: ElementType,
-    /// Pn of the correction (the canvas handle drags it).
+    /// Pn of the correction, in world coordinates.
     pub pn: Point,
-    /// The step the correction fields were filled from.
-    filled_from: Option<usize>,
+    /// The mesh (by version) the correction fields were filled from: a
+    /// step, a correction or an undo fills them again.
+    filled_from: Option<u64>,
     form: Form,
     /// Mesh the rest with the new model right after a refit.
     pub regenerate: bool,
@@ -34,41 +35,37 @@ impl Default for TrainPanel {
     }
 }
 
-impl TrainPanel {
-    pub fn ui(
-        &mut self,
-        ui: &mut Ui,
-        doc: &Document,
-        refit: Option<&RefitFigures>,
-        out: &mut Vec<Command>,
-    ) {
+impl super::View for TrainPanel {
+    fn ui(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
+        let mut out = Vec::new();
+        let doc = s.doc;
         ui.heading("Correction and training");
-        let element = doc
-            .last
-            .as_ref()
-            .filter(|r| matches!(r.kind, StepKind::Element | StepKind::Correction));
-        match element {
-            None => {
-                ui.label("Take a step to correct its element.");
-            }
-            Some(r) => {
+        match (doc.last_element(), doc.mesher()) {
+            (Some(r), Some(m)) if s.shown.kind == super::MeshKind::Stepped => {
                 // Start from what was committed: the new node, or r2 / l2.
-                if self.filled_from != Some(r.index) {
-                    self.filled_from = Some(r.index);
+                let key = s.mesh_version;
+                if self.filled_from != Some(key) {
+                    self.filled_from = Some(key);
                     self.element_type = r.element_type.unwrap_or(ElementType::New);
                     if let Some(v) = r.pn_node() {
-                        self.pn = doc.mesher.mesh().nodes[v as usize];
+                        self.pn = m.mesh().nodes[v as usize];
                     }
                 }
+                ui.label(format!("the element of step {}", r.index + 1));
                 ui.horizontal(|ui| {
                     ui.label("type");
                     for t in ElementType::ALL {
-                        ui.selectable_value(&mut self.element_type, t, t.number().to_string());
+                        ui.selectable_value(&mut self.element_type, t, t.number().to_string())
+                            .on_hover_text(match t {
+                                ElementType::New => "type 0: a new node Pn",
+                                ElementType::Right => "type 1: closes onto r2",
+                                ElementType::Left => "type 2: closes onto l2",
+                            });
                     }
                 });
                 ui.horizontal(|ui| {
-                    ui.label("Pn");
-                    let speed = 0.01 * pn_scale(doc);
+                    ui.label("Pn (world)");
+                    let speed = 0.002 * pn_scale(doc);
                     ui.add(
                         egui::DragValue::new(&mut self.pn.x)
                             .speed(speed)
@@ -81,40 +78,58 @@ impl TrainPanel {
                     );
                 });
                 ui.horizontal_wrapped(|ui| {
-                    if ui.button("Correct element").clicked() {
+                    if ui
+                        .button("Correct element")
+                        .on_hover_text("Replace the last element by this type and Pn, and keep it as a training sample")
+                        .clicked()
+                    {
                         out.push(Command::CorrectLast {
                             element_type: self.element_type,
                             pn: self.pn,
                             snap_to: None,
                         });
                     }
-                    if ui.button("Append as sample").clicked() {
+                    if ui
+                        .button("Append as sample")
+                        .on_hover_text("Keep the last element as it is as a training sample")
+                        .clicked()
+                    {
                         out.push(Command::AppendLast);
                     }
                 });
             }
+            _ => {
+                ui.label("Take a step to correct its element (on the canvas: drag its Pn, or click a front node).");
+            }
         }
         ui.label(format!(
-            "training set: {} sample{} of yours",
-            doc.training.len(),
-            if doc.training.len() == 1 { "" } else { "s" }
+            "training set: {} of yours",
+            super::plural(doc.training.len(), "sample")
         ));
-        ui.checkbox(&mut self.regenerate, "mesh the rest after a refit");
+        ui.checkbox(&mut self.regenerate, "mesh the rest after a refit")
+            .on_hover_text("Run to the end with the new model right after the refit (one undo takes both back)");
         ui.horizontal(|ui| {
             for f in Form::ALL {
-                ui.selectable_value(&mut self.form, f, f.name());
+                ui.selectable_value(&mut self.form, f, f.name())
+                    .on_hover_text("The form of the model a refit fits");
             }
-            if ui.button("Refit").clicked() {
-                out.push(Command::Refit(self.form));
-                if self.regenerate {
-                    out.push(Command::RunToEnd);
-                }
-            }
+            button_enabled(
+                ui,
+                doc.meshing.is_some(),
+                "Refit",
+                "Fit the model on the reference meshes' samples and yours, and mesh with it",
+                Command::Refit {
+                    form: self.form,
+                    mesh_rest: self.regenerate,
+                },
+                &mut out,
+            );
         });
-        if let Some(f) = refit {
+        if let Some(f) = s.refit {
             ui.label(format!(
-                "last refit: {} samples ({} of yours)",
-                f.samples, f.corrections
+                "last refit: {} ({} of yours)",
+                super::plural(f.samples, "sample"),
+                f.corrections
             ));
             egui::Grid::new("refit").num_columns(3).show(ui, |ui| {
                 ui.label("");
@@ -130,18 +145,19 @@ impl TrainPanel {
                     ("Yn R", &f.before.2, &f.after.2),
                 ] {
                     ui.label(name);
-                    ui.label(format!("{:.4}", b.r));
-                    ui.label(format!("{:.4}", a.r));
+                    ui.label(super::figure(b.r, 4));
+                    ui.label(super::figure(a.r, 4));
                     ui.end_row();
                 }
             });
         }
+        out
     }
 }
 
 /// A drag speed for Pn: the boundary's size.
-fn pn_scale(doc: &Document) -> f64 {
-    crate::geom::Aabb::of(doc.boundary.points.iter().copied())
-        .map(|b| (b.max - b.min).length())
+fn pn_scale(doc: &super::Document) -> f64 {
+    doc.boundary()
+        .map(|b| b.bbox().size().length())
         .unwrap_or(1.0)
 }

@@ -365,7 +365,15 @@ impl Mesher {
         Ok(r)
     }
 
-    pub(super) fn apply_correction(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
+    /// Checks that [`Mesher::correct`] would commit `c` now, without
+    /// committing it (the editor marks the front nodes an element can be
+    /// closed onto).
+    pub fn check_correction(&mut self, c: &Correction) -> Result<(), MeshError> {
+        self.correction_cand(c).map(|_| ())
+    }
+
+    /// The element of a correction, checked with relaxed limits.
+    fn correction_cand(&mut self, c: &Correction) -> Result<(SlotId, Cand), MeshError> {
         let s = self
             .front
             .live_loops()
@@ -397,6 +405,11 @@ impl Mesher {
         if self.check(cand, relaxed).is_none() {
             return Err(MeshError::InvalidCorrection { node: c.reference });
         }
+        Ok((s, cand))
+    }
+
+    pub(super) fn apply_correction(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
+        let (s, cand) = self.correction_cand(c)?;
         let leading: Vec<u32> = self
             .leading_slots(s, self.leading_n())
             .iter()

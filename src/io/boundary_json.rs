@@ -70,6 +70,22 @@ pub fn parse(text: &str) -> Result<Boundary, ReadError> {
     doc.to_boundary()
 }
 
+/// The loops of a boundary document as points, not validated as a
+/// boundary (see [`super::read_boundary_loops`]).
+pub fn parse_loops(text: &str) -> Result<Vec<Vec<Point>>, ReadError> {
+    let text = super::normalise_text(text);
+    if text.trim().is_empty() {
+        return Err(ReadError::Empty);
+    }
+    let doc: BoundaryDoc = serde_json::from_str(&text)
+        .map_err(|e| ReadError::Json(super::quote_long(&e.to_string())))?;
+    Ok(doc
+        .loops
+        .iter()
+        .map(|l| l.iter().map(|&[x, y]| Point::new(x, y)).collect())
+        .collect())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -298,6 +298,31 @@ pub fn read_boundary(path: &Path) -> Result<Boundary, ReadError> {
     }
 }
 
+/// The loops of a boundary file (`.poly` or `.json`, by extension) as
+/// points, not validated as a boundary: the editor opens a file that
+/// [`read_boundary`] refuses as a draft to fix. Syntax errors, non-finite
+/// coordinates and segments that do not chain into loops are still errors.
+pub fn read_boundary_loops(path: &Path) -> Result<Vec<Vec<crate::geom::Point>>, ReadError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    if ext != "poly" && ext != "json" {
+        return Err(ReadError::UnknownFormat(quote(&ext)));
+    }
+    let text = decode_text(&std::fs::read(path)?);
+    if ext == "poly" {
+        let (points, loops, _) = poly::parse_poly_loops(&text)?;
+        Ok(loops
+            .iter()
+            .map(|l| l.iter().map(|&i| points[i]).collect())
+            .collect())
+    } else {
+        boundary_json::parse_loops(&text)
+    }
+}
+
 /// Reads a quad mesh file (Gmsh MSH 2.2 or 4.1 ASCII) and checks that it
 /// is a valid mesh ([`check`]).
 pub fn read_mesh(path: &Path) -> Result<QuadMesh, ReadError> {

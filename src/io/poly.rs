@@ -68,6 +68,16 @@ fn num<T: std::str::FromStr>(
 
 /// Parses the text of a `.poly` file into a validated boundary.
 pub fn parse_poly(text: &str) -> Result<Boundary, ReadError> {
+    let (points, loops, labels) = parse_poly_loops(text)?;
+    Ok(Boundary::new(points, loops, Some(labels))?)
+}
+
+/// The nodes (with their labels) and loops of a `.poly` file, the
+/// segments chained into loops but the loops not validated as a boundary:
+/// what the editor opens as a draft to fix when [`parse_poly`] refuses
+/// the boundary.
+#[allow(clippy::type_complexity)]
+pub fn parse_poly_loops(text: &str) -> Result<(Vec<Point>, Vec<Vec<usize>>, Vec<i64>), ReadError> {
     let text = super::normalise_text(text);
     if text.trim().is_empty() {
         return Err(ReadError::Empty);
@@ -171,7 +181,7 @@ pub fn parse_poly(text: &str) -> Result<Boundary, ReadError> {
         return Err(BoundaryError::TooFewNodes { count: 0 }.into());
     }
     let loops = loops_from_segments(pts2.len(), &segs, &lab2)?;
-    Ok(Boundary::new(pts2, loops, Some(lab2))?)
+    Ok((pts2, loops, lab2))
 }
 
 /// Renders a boundary as a `.poly` file (1-based, loops in order).
