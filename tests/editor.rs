@@ -1081,6 +1081,18 @@ fn issue17_new_draw_save_and_fix_a_broken_file() {
     let want = |s: Pos2| h.state().view.canvas.to_world(r, s);
     assert!(d.draft.loops[1][0].distance(want(c + egui::vec2(-50.0, 50.0))) < 1e-9);
     assert_eq!(d.boundary().unwrap().loops.len(), 2);
+    // Both loops resampled to a quarter of the hole's side (8 nodes would
+    // mesh in a step or two).
+    let mut fine = d.draft.clone();
+    let seg = fine.loops[1][0].distance(fine.loops[1][1]) / 4.0;
+    fine.resample(0, seg);
+    fine.resample(1, seg);
+    h.state_mut().apply(Command::SetDraft {
+        draft: fine,
+        what: "resample loop",
+    });
+    let nodes = h.state().doc().boundary().unwrap().node_count();
+    assert_eq!(nodes, 64);
     h.state_mut().apply(Command::StepN(20));
     assert_eq!(h.state().doc().steps(), 20);
     // The hole was drawn counter-clockwise (the boundary turns it around):
@@ -1109,7 +1121,7 @@ fn issue17_new_draw_save_and_fix_a_broken_file() {
             status(&h)
         );
         let b = quadex::io::read_boundary(&p).unwrap();
-        assert_eq!(b.node_count(), 8);
+        assert_eq!(b.node_count(), nodes);
     }
     // A broken file opens as a draft: its problem shown, its nodes marked
     // (the drawing is work, changed since the save: the editor asks first).
