@@ -45,11 +45,14 @@ def run_case(poly, outdir, binary, extra, timeout):
     try:
         p = subprocess.run([binary, "mesh", poly, "-o", msh, "--report", rep] + extra,
                            capture_output=True, text=True, timeout=timeout)
-        code, err = p.returncode, (p.stderr.strip().splitlines() or [""])[-1]
+        lines = p.stderr.strip().splitlines() or [""]
+        code, err, first = p.returncode, lines[-1], lines[0]
+        panic = "panicked" in p.stderr
     except subprocess.TimeoutExpired:
-        code, err = -1, "timeout"
+        code, err, first, panic = -1, "timeout", "timeout", False
     secs = time.time() - t0
-    row = {"case": name, "code": code, "seconds": round(secs, 3), "error": err}
+    row = {"case": name, "code": code, "seconds": round(secs, 3), "error": err,
+           "first_error": first, "panic": panic}
     if code != 0 or not os.path.exists(msh):
         return row
     try:

@@ -21,8 +21,9 @@
 //! files), [`extract`] (the step loop, guard, closure, fill), [`smooth`],
 //! [`quality`], [`io`] (file formats), [`samples`] (training samples,
 //! thesis Chapter 3), [`fit`] (model fitting and fit figures, Chapter 4),
-//! [`factors`] (critical factors, §4.2), [`mapped`] (transfinite mapped
-//! meshing) and [`reference`](mod@reference) (the meshes the shipped model learns from).
+//! [`factors`] (critical factors, §4.2), [`domains`] (seeded awkward test
+//! domains), [`mapped`] (transfinite mapped meshing) and
+//! [`reference`](mod@reference) (the meshes the shipped model learns from).
 //! `app` is the desktop editor, the only module that uses egui (behind the
 //! default cargo feature `gui`).
 
@@ -31,6 +32,7 @@ pub mod app;
 pub mod boundary;
 pub mod boundary_edit;
 pub mod cleanup;
+pub mod domains;
 pub mod extract;
 pub mod factors;
 pub mod fit;

@@ -24,6 +24,8 @@ fn benchmark_cases_mesh_validly() {
                 continue;
             }
             let b = quadex::io::read_boundary(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+            // Next to the origin, as `quadex mesh` and `mesh_boundary` mesh.
+            let (b, _) = b.to_local();
             let area = b.area();
             let model = Arc::new(quadex::model::default_model().unwrap());
             let mut m = Mesher::new(b, model, MeshParams::DEFAULT);
@@ -221,4 +223,18 @@ fn both_strategies_follow_the_layer_count() {
         assert_eq!(all.count(StepKind::Fill), 0, "{strategy:?} to the end");
         assert!(two.steps < all.steps, "{strategy:?}");
     }
+}
+
+/// A valid domain with a straight side of three edges against one (issue 18,
+/// R05: a 1 × 0.02 rectangle of six nodes) closes with the strip pattern.
+#[test]
+fn a_thin_six_node_rectangle_meshes() {
+    let b =
+        quadex::io::read_boundary(&common::bench().join("repro/R05_rect_1x0.02_6nodes_exit1.poly"))
+            .unwrap();
+    let model = Arc::new(quadex::model::default_model().unwrap());
+    let (mesh, stats) = quadex::mesh_boundary(&b, model, &quadex::Params::DEFAULT, |_| {}).unwrap();
+    mesh.check_finished().unwrap();
+    assert_eq!(mesh.quads.len(), 4);
+    assert_eq!(stats.count(StepKind::Fill), 0);
 }

@@ -27,26 +27,20 @@ use crate::smooth::pattern_search;
 const SETTLED: f64 = 0.3;
 
 /// A way to fill a 6-node loop: the quads (indices into the loop, with
-/// 6 standing for the interior node) and the interior node, if any.
+/// 6 and 7 standing for the interior nodes) and the interior nodes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fill {
     pub pattern: char,
-    pub interior: Option<Point>,
+    pub interior: Vec<Point>,
     pub quads: Vec<[usize; 4]>,
     pub min_sj: f64,
 }
 
-/// Evaluates quads over `pts` (index 6 = `interior`); `None` if any is not
-/// measurably convex (no corner flat to rounding: the closure has other
-/// patterns and rotations to choose from).
-fn score(pts: &[Point], interior: Option<Point>, quads: &[[usize; 4]]) -> Option<f64> {
-    let at = |i: usize| {
-        if i == 6 {
-            interior.unwrap_or(Point::ZERO)
-        } else {
-            pts[i]
-        }
-    };
+/// Evaluates quads over `pts` (index 6 + k = `interior[k]`); `None` if any
+/// is not measurably convex (no corner flat to rounding: the closure has
+/// other patterns and rotations to choose from).
+fn score(pts: &[Point], interior: &[Point], quads: &[[usize; 4]]) -> Option<f64> {
+    let at = |i: usize| if i >= 6 { interior[i - 6] } else { pts[i] };
     let mut min_sj = f64::INFINITY;
     for q in quads {
         let p = q.map(at);
@@ -70,13 +64,7 @@ pub fn closure_quality(pts: &[Point]) -> f64 {
             patterns(&p6)
                 .into_iter()
                 .map(|(_, interior, quads)| {
-                    let at = |i: usize| {
-                        if i == 6 {
-                            interior.unwrap_or(Point::ZERO)
-                        } else {
-                            p6[i]
-                        }
-                    };
+                    let at = |i: usize| if i >= 6 { interior[i - 6] } else { p6[i] };
                     quads
                         .iter()
                         .map(|q| Shape::of(q.map(at)).scaled_jacobian)
@@ -88,15 +76,18 @@ pub fn closure_quality(pts: &[Point]) -> f64 {
     }
 }
 
-/// Every pattern of Figure 20 over every rotation of a 6-node loop: its
-/// letter, interior node and quads (index 6 = the interior node).
-fn patterns(pts: &[Point; 6]) -> Vec<(char, Option<Point>, Vec<[usize; 4]>)> {
+/// A pattern: its letter, interior nodes and quads (index 6 + k = the
+/// interior node k).
+type Pattern = (char, Vec<Point>, Vec<[usize; 4]>);
+
+/// Every pattern of Figure 20 over every rotation of a 6-node loop.
+fn patterns(pts: &[Point; 6]) -> Vec<Pattern> {
     let mut out = Vec::with_capacity(18);
     for r in 0..6 {
         let i = |k: usize| (k - 1 + r) % 6; // 1-based pattern index → loop index
         out.push((
             'a',
-            Some((pts[i(2)] + pts[i(4)] + pts[i(6)]) / 3.0),
+            vec![(pts[i(2)] + pts[i(4)] + pts[i(6)]) / 3.0],
             vec![
                 [i(1), i(2), 6, i(6)],
                 [i(2), i(3), i(4), 6],
@@ -105,7 +96,7 @@ fn patterns(pts: &[Point; 6]) -> Vec<(char, Option<Point>, Vec<[usize; 4]>)> {
         ));
         out.push((
             'b',
-            Some((3.0 * pts[i(3)] + 3.0 * pts[i(5)] + pts[i(2)] + pts[i(6)]) / 8.0),
+            vec![(3.0 * pts[i(3)] + 3.0 * pts[i(5)] + pts[i(2)] + pts[i(6)]) / 8.0],
             vec![
                 [i(1), i(2), i(3), 6],
                 [i(3), i(4), i(5), 6],
@@ -114,20 +105,56 @@ fn patterns(pts: &[Point; 6]) -> Vec<(char, Option<Point>, Vec<[usize; 4]>)> {
         ));
         out.push((
             'c',
-            None,
+            Vec::new(),
             vec![[i(1), i(2), i(3), i(6)], [i(3), i(4), i(5), i(6)]],
         ));
     }
     out
 }
 
+/// Pattern (d) over every rotation, for when no pattern of Figure 20 gives
+/// convex quads: two interior nodes and four quads, a strip along a loop
+/// with a straight side (three edges in line against one, as in a thin
+/// rectangle).
+fn strip_patterns(pts: &[Point; 6]) -> Vec<Pattern> {
+    let mut out = Vec::with_capacity(6);
+    for r in 0..6 {
+        let i = |k: usize| (k - 1 + r) % 6; // 1-based pattern index → loop index
+                                            // (d): a half-way up from node 2 along side 1-6, b half-way up
+                                            // from node 3 along side 4-5; quads 1-2-a-6, 2-3-b-a, 3-4-5-b and
+                                            // a-b-5-6.
+        out.push((
+            'd',
+            vec![
+                pts[i(2)] + (pts[i(6)] - pts[i(1)]) / 2.0,
+                pts[i(3)] + (pts[i(5)] - pts[i(4)]) / 2.0,
+            ],
+            vec![
+                [i(1), i(2), 6, i(6)],
+                [i(2), i(3), 7, 6],
+                [i(3), i(4), i(5), 7],
+                [6, 7, i(5), i(6)],
+            ],
+        ));
+    }
+    out
+}
+
 /// The best fill of a 6-node loop (positions in loop order, CCW), or `None`
-/// when no pattern gives convex quads. The caller still checks that an
+/// when no pattern gives convex quads (pattern (d) only when none of
+/// Figure 20's does). The caller still checks that an
 /// interior node does not fall on other front edges.
 pub fn fill_six(pts: &[Point; 6]) -> Option<Fill> {
     let mut best: Option<Fill> = None;
-    for (pattern, interior, quads) in patterns(pts) {
-        if let Some(min_sj) = score(pts, interior, &quads) {
+    let standard = patterns(pts);
+    let valid = |(_, interior, quads): &Pattern| score(pts, interior, quads).is_some();
+    let candidates = if standard.iter().any(valid) {
+        standard
+    } else {
+        strip_patterns(pts)
+    };
+    for (pattern, interior, quads) in candidates {
+        if let Some(min_sj) = score(pts, &interior, &quads) {
             if best.as_ref().is_none_or(|b| min_sj > b.min_sj) {
                 best = Some(Fill {
                     pattern,
@@ -176,25 +203,19 @@ impl Mesher {
                 if !self.loop_is_clear(&slots, &pts) {
                     return None;
                 }
-                if let Some(c) = fill.interior {
-                    if !crate::geom::point_in_polygon(c, &pts) {
-                        return None;
-                    }
+                if fill
+                    .interior
+                    .iter()
+                    .any(|&c| !crate::geom::point_in_polygon(c, &pts))
+                {
+                    return None;
                 }
                 let mut r = self.report(StepKind::Close6);
                 r.pattern = Some(fill.pattern);
-                let centre = fill.interior.map(|c| self.add_node(c));
-                if let Some(c) = centre {
-                    r.new_nodes.push(c);
-                }
+                let inner: Vec<u32> = fill.interior.iter().map(|&c| self.add_node(c)).collect();
+                r.new_nodes.extend(&inner);
                 for q in &fill.quads {
-                    let quad = q.map(|i| {
-                        if i == 6 {
-                            centre.unwrap_or(0)
-                        } else {
-                            nodes[i]
-                        }
-                    });
+                    let quad = q.map(|i| if i >= 6 { inner[i - 6] } else { nodes[i] });
                     self.push_quad(quad);
                     r.quads.push(quad);
                 }

@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""Meshes a folder of generated domains (`cargo run --release --example
+random_domains -- DIR`) with the release CLI, judges every mesh
+(sweep.run_case: the bench's judge.py) and prints a table per family
+(the family is the middle part of NNN_family_seed), every failure grouped by
+kind, and the worst results by minimum scaled Jacobian.
+
+usage: domains_sweep.py DOMAINS_DIR OUTDIR [--jobs 2] [--timeout 60]
+                        [--binary PATH] [--] [extra `quadex mesh` arguments]
+
+Writes OUTDIR/summary.json with every row.
+"""
+import argparse
+import json
+import os
+import statistics
+import sys
+import time
+from collections import defaultdict
+from concurrent.futures import ThreadPoolExecutor
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sweep import ROOT, run_case  # noqa: E402
+
+
+def family(case):
+    parts = case.split("_")
+    return parts[1] if len(parts) >= 3 else "?"
+
+
+def kind(r):
+    """A short name for why a case failed."""
+    if r.get("panic"):
+        return "panic"
+    if r["code"] == -1:
+        return "timeout"
+    if r["code"] != 0:
+        e = r.get("first_error", "")
+        for key in ("step limit", "front", "invalid", "refused", "fill"):
+            if key in e:
+                return f"exit {r['code']}: {key}"
+        return f"exit {r['code']}"
+    if str(r.get("error", "")).startswith("judge:"):
+        return "judge cannot read"
+    return "judged invalid"
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("domains")
+    ap.add_argument("outdir")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--timeout", type=float, default=60)
+    ap.add_argument("--binary", default=os.path.join(ROOT, "target", "release", "quadex"))
+    argv = sys.argv[1:]
+    extra = []
+    if "--" in argv:
+        k = argv.index("--")
+        argv, extra = argv[:k], argv[k + 1:]
+    a = ap.parse_args(argv)
+    cases = sorted(os.path.join(a.domains, f) for f in os.listdir(a.domains) if f.endswith(".poly"))
+    os.makedirs(a.outdir, exist_ok=True)
+    t0 = time.time()
+    with ThreadPoolExecutor(a.jobs) as ex:
+        rows = list(ex.map(lambda c: run_case(c, a.outdir, a.binary, extra, a.timeout), cases))
+    wall = time.time() - t0
+    for r, c in zip(rows, cases):
+        r["poly"] = os.path.abspath(c)
+        r["family"] = family(r["case"])
+        r["kind"] = "ok" if r.get("valid") else kind(r)
+    json.dump(rows, open(os.path.join(a.outdir, "summary.json"), "w"), indent=1)
+
+    fams = defaultdict(list)
+    for r in rows:
+        fams[r["family"]].append(r)
+    print(f"{'family':11} {'tried':>5} {'no fill':>7} {'fill':>4} {'failed':>6} {'t/o':>4} "
+          f"{'panic':>5} {'med sjmean':>10} {'worst sjmin':>11} {'taper|asp>10':>12}")
+    for f in sorted(fams) + ["all"]:
+        rs = rows if f == "all" else fams[f]
+        ok = [r for r in rs if r.get("valid")]
+        fill = sum(r.get("fill", 0) > 0 for r in ok)
+        to = sum(r["kind"] == "timeout" for r in rs)
+        pan = sum(r["kind"] == "panic" for r in rs)
+        failed = len(rs) - len(ok) - to - pan
+        med = f"{statistics.median(r['sj_mean'] for r in ok):.4f}" if ok else "-"
+        worst = f"{min(r['sj_min'] for r in ok):.4f}" if ok else "-"
+        bad = sum(r["taper_max"] > 10 or r["aspect_max"] > 10 for r in ok)
+        print(f"{f:11} {len(rs):5d} {len(ok) - fill:7d} {fill:4d} {failed:6d} {to:4d} {pan:5d} "
+              f"{med:>10} {worst:>11} {bad:12d}")
+    groups = defaultdict(list)
+    for r in rows:
+        if not r.get("valid"):
+            groups[r["kind"]].append(r)
+    for k in sorted(groups):
+        print(f"\n{k}: {len(groups[k])}")
+        for r in groups[k]:
+            why = r.get("first_error") or "; ".join(r.get("reasons", []))
+            if r["kind"] == "judged invalid":
+                why = "; ".join(r.get("reasons", []))
+            elif r["kind"] == "judge cannot read":
+                why = r["error"]
+            print(f"  {r['poly']}  {why[:160]}")
+    ok = sorted((r for r in rows if r.get("valid")), key=lambda r: r["sj_min"])
+    print("\nworst by sj_min:")
+    for r in ok[:5]:
+        print(f"  {r['poly']}  sj_min {r['sj_min']:.4f} sj_mean {r['sj_mean']:.4f} "
+              f"taper {r['taper_max']:.2f} aspect {r['aspect_max']:.2f} fill {r.get('fill', 0)}")
+    print(f"\n{len(rows)} cases in {wall:.0f} s wall, {a.jobs} jobs")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,106 @@
+//! Seeded property test: small generated awkward domains
+//! (`quadex::domains`: many holes, channels, grading, spikes, near-touching
+//! loops, unbalanced sides, mixtures) are meshed with the default model and
+//! parameters through the library's pipeline. Every one must finish
+//! without a panic, within a time limit, as a finished all-quad mesh
+//! (`check_finished`: convex quads tiling the domain, boundary kept) of the
+//! domain's area. Failures are listed by name, family and seed, so that
+//! `quadex::domains::generate(family, seed)` reproduces each.
+
+use quadex::domains::{suite_domains, Domain};
+use quadex::extract::StepKind;
+use std::sync::{mpsc, Arc};
+use std::time::{Duration, Instant};
+
+/// The suite drawn from (seed, size); the test meshes its small domains.
+const SUITE_SEED: u64 = 15;
+const SUITE_SIZE: usize = 70;
+/// Domains with more boundary nodes than this are left to the sweep
+/// (`.ci/domains_sweep.py`).
+const MAX_NODES: usize = 200;
+/// Domains meshed at most.
+const COUNT: usize = 36;
+/// Time one domain may take before it counts as a failure.
+const LIMIT: Duration = Duration::from_secs(20);
+
+fn small_domains() -> Vec<Domain> {
+    suite_domains(SUITE_SIZE, SUITE_SEED)
+        .into_iter()
+        .filter(|d| d.boundary.node_count() <= MAX_NODES)
+        .take(COUNT)
+        .collect()
+}
+
+/// Meshes `d` on its own thread; `Err` says why it did not give a valid
+/// finished mesh. A domain over the time limit is left running.
+fn mesh_one(d: &Domain) -> Result<usize, String> {
+    let boundary = d.boundary.clone();
+    let area = boundary.area();
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        let model = Arc::new(quadex::model::default_model().expect("the shipped model loads"));
+        let out = quadex::mesh_boundary(&boundary, model, &quadex::Params::DEFAULT, |_| {});
+        let _ = tx.send(out);
+    });
+    let (mesh, stats) = match rx.recv_timeout(LIMIT) {
+        Ok(Ok(done)) => done,
+        Ok(Err(e)) => return Err(format!("error: {e}")),
+        Err(mpsc::RecvTimeoutError::Timeout) => return Err(format!("over {LIMIT:?}")),
+        Err(mpsc::RecvTimeoutError::Disconnected) => return Err("panicked".into()),
+    };
+    mesh.check_invariants(true)
+        .map_err(|e| format!("invariants: {e}"))?;
+    mesh.check_finished()
+        .map_err(|e| format!("not finished: {e}"))?;
+    if mesh.quads.is_empty() {
+        return Err("no quads".into());
+    }
+    if (mesh.domain_area() - area).abs() > 1e-9 * area.abs() {
+        return Err(format!("area {} for {area}", mesh.domain_area()));
+    }
+    let sj = quadex::MeshQuality::of(&mesh).sj_min;
+    if sj.is_nan() || sj <= 0.0 {
+        return Err(format!("scaled Jacobian {sj}"));
+    }
+    Ok(stats.by_kind.get(&StepKind::Fill).copied().unwrap_or(0))
+}
+
+/// Ignored while the engine times out on five of these 36 (three
+/// rectangles with 2 nodes against 26–76, two mixed domains with teeth and
+/// near pairs): run with
+/// `cargo test --release --test random_domains -- --ignored --nocapture`.
+#[test]
+#[ignore = "the engine does not finish every domain yet (issue 15)"]
+fn small_random_domains_mesh_validly() {
+    let domains = small_domains();
+    assert!(domains.len() >= 30, "only {} small domains", domains.len());
+    let t0 = Instant::now();
+    let mut failures = Vec::new();
+    let mut filled = 0;
+    for d in &domains {
+        match mesh_one(d) {
+            Ok(fill) => filled += usize::from(fill > 0),
+            Err(why) => failures.push(format!(
+                "{} ({} seed {}, {}): {why}",
+                d.name, d.family, d.seed, d.description
+            )),
+        }
+    }
+    println!(
+        "{} domains in {:.1} s, {} ended in a fill, {} failed",
+        domains.len(),
+        t0.elapsed().as_secs_f64(),
+        filled,
+        failures.len()
+    );
+    for f in &failures {
+        println!("  {f}");
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of {} domains failed:\n{}",
+        failures.len(),
+        domains.len(),
+        failures.join("\n")
+    );
+}
