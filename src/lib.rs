@@ -47,6 +47,7 @@ pub mod pipeline;
 pub mod quality;
 pub mod reference;
 pub mod remesh;
+pub mod rng;
 pub mod samples;
 pub mod smooth;
 

@@ -8,24 +8,9 @@
 
 use quadex::boundary::Boundary;
 use quadex::geom::Point;
+use quadex::rng::SplitMix64;
 use quadex::{mesh_boundary, Params};
 use std::sync::Arc;
-
-/// SplitMix64: a small seeded generator.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 /// A point rounded to a multiple of 2^-12.
 fn dyadic(x: f64, y: f64) -> Point {
@@ -36,8 +21,8 @@ fn dyadic(x: f64, y: f64) -> Point {
 /// A star-shaped outer loop (an even number of nodes, radii varying) and,
 /// for every other seed, a square hole in the middle.
 fn domain(seed: u64) -> Boundary {
-    let mut rng = Rng(seed);
-    let n = 2 * (8 + (rng.next() % 13) as usize);
+    let mut rng = SplitMix64::new(seed);
+    let n = 2 * (8 + (rng.next_u64() % 13) as usize);
     let mut pts: Vec<Point> = (0..n)
         .map(|k| {
             let t = k as f64 / n as f64 * std::f64::consts::TAU;

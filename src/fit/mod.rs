@@ -221,28 +221,9 @@ fn figures(
     )
 }
 
-/// splitmix64, a small deterministic generator (fold assignment, tests).
-pub(crate) struct SplitMix(pub u64);
-
-impl SplitMix {
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    #[cfg(test)]
-    pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// A deterministic shuffle (splitmix64 + Fisher–Yates).
 fn shuffled(n: usize, seed: u64) -> Vec<usize> {
-    let mut g = SplitMix(seed);
+    let mut g = crate::rng::SplitMix64::new(seed);
     let mut idx: Vec<usize> = (0..n).collect();
     for i in (1..n).rev() {
         let j = (g.next_u64() % (i as u64 + 1)) as usize;
@@ -256,7 +237,7 @@ fn shuffled(n: usize, seed: u64) -> Vec<usize> {
 /// `[1, 3] × [−1, 1]` (for the tests of the fitting code).
 #[cfg(test)]
 pub(crate) fn random_inputs(n: usize, m: usize, seed: u64) -> Vec<LeadingPoints> {
-    let mut g = SplitMix(seed);
+    let mut g = crate::rng::SplitMix64::new(seed);
     let mut r = || g.unit() * 2.0 - 1.0;
     (0..m)
         .map(|_| {
