@@ -5,7 +5,7 @@ use anyhow::{anyhow, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use quadex::cleanup::CleanupParams;
-use quadex::extract::{MeshParams, Mesher, StepKind, StepStats, Strategy};
+use quadex::extract::{MeshParams, StepKind, StepStats, Strategy};
 use quadex::factors;
 use quadex::fit::{self, FitParams};
 use quadex::io::{self, MeshFormat};
@@ -373,21 +373,18 @@ fn run(c: Command) -> Result<()> {
             };
             let t0 = Instant::now();
             let name = model.name().to_string();
-            // Meshed next to the origin, moved back when written.
-            let (boundary, origin) = boundary.to_local();
-            let mut mesher = Mesher::new(boundary, model, params);
-            let bar = progress_bar(mesher.front().len());
-            mesher
-                .run(|left| {
-                    if let Some(b) = &bar {
-                        b.set_message(format!("{left} front nodes"));
-                        b.tick();
-                    }
-                })
-                .with_context(|| format!("{}", input.display()))?;
-            let mut mesh = pipeline::finish(&mesher, &finish)
-                .with_context(|| format!("{}", input.display()))?;
-            pipeline::to_world(&mut mesh, origin);
+            let bar = progress_bar(boundary.node_count());
+            let params = pipeline::Params {
+                extract: params,
+                finish,
+            };
+            let (mesh, stats) = pipeline::mesh_boundary(&boundary, model, &params, |left| {
+                if let Some(b) = &bar {
+                    b.set_message(format!("{left} front nodes"));
+                    b.tick();
+                }
+            })
+            .with_context(|| format!("{}", input.display()))?;
             if let Some(b) = bar {
                 b.finish_and_clear();
             }
@@ -400,7 +397,7 @@ fn run(c: Command) -> Result<()> {
                     input: input.display().to_string(),
                     model: name,
                     quality: q.clone(),
-                    steps: mesher.stats(),
+                    steps: &stats,
                     seconds,
                 })?),
                 None => None,
@@ -410,7 +407,6 @@ fn run(c: Command) -> Result<()> {
                 files.push((path, json.as_bytes()));
             }
             io::write_atomic_all(&files)?;
-            let stats = mesher.stats();
             let made_by = match stats.count(StepKind::Fill) {
                 0 => format!("{} extraction steps", stats.steps),
                 _ => format!(
@@ -429,7 +425,7 @@ fn run(c: Command) -> Result<()> {
                 seconds
             );
             if pure_model {
-                let (ok, all) = mesher.stats().model_valid();
+                let (ok, all) = stats.model_valid();
                 println!(
                     "pure model: {ok} of {all} predictions valid ({:.1}%)",
                     100.0 * ok as f64 / all.max(1) as f64
