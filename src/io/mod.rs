@@ -280,8 +280,9 @@ pub fn one_line(msg: &str) -> String {
         .collect()
 }
 
-/// Reads a boundary from `.poly` or `.json`, by extension.
-pub fn read_boundary(path: &Path) -> Result<Boundary, ReadError> {
+/// A boundary file's text, and whether it is `.poly` (else `.json`); any
+/// other extension is refused.
+fn read_boundary_text(path: &Path) -> Result<(bool, String), ReadError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -290,8 +291,13 @@ pub fn read_boundary(path: &Path) -> Result<Boundary, ReadError> {
     if ext != "poly" && ext != "json" {
         return Err(ReadError::UnknownFormat(quote(&ext)));
     }
-    let text = decode_text(&std::fs::read(path)?);
-    if ext == "poly" {
+    Ok((ext == "poly", decode_text(&std::fs::read(path)?)))
+}
+
+/// Reads a boundary from `.poly` or `.json`, by extension.
+pub fn read_boundary(path: &Path) -> Result<Boundary, ReadError> {
+    let (poly, text) = read_boundary_text(path)?;
+    if poly {
         poly::parse_poly(&text)
     } else {
         boundary_json::parse(&text)
@@ -303,16 +309,8 @@ pub fn read_boundary(path: &Path) -> Result<Boundary, ReadError> {
 /// [`read_boundary`] refuses as a draft to fix. Syntax errors, non-finite
 /// coordinates and segments that do not chain into loops are still errors.
 pub fn read_boundary_loops(path: &Path) -> Result<Vec<Vec<crate::geom::Point>>, ReadError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
-    if ext != "poly" && ext != "json" {
-        return Err(ReadError::UnknownFormat(quote(&ext)));
-    }
-    let text = decode_text(&std::fs::read(path)?);
-    if ext == "poly" {
+    let (poly, text) = read_boundary_text(path)?;
+    if poly {
         let (points, loops, _) = poly::parse_poly_loops(&text)?;
         Ok(loops
             .iter()
