@@ -145,27 +145,23 @@ fn strip_patterns(pts: &[Point; 6]) -> Vec<Pattern> {
 /// Figure 20's does). The caller still checks that an
 /// interior node does not fall on other front edges.
 pub fn fill_six(pts: &[Point; 6]) -> Option<Fill> {
-    let mut best: Option<Fill> = None;
-    let standard = patterns(pts);
-    let valid = |(_, interior, quads): &Pattern| score(pts, interior, quads).is_some();
-    let candidates = if standard.iter().any(valid) {
-        standard
-    } else {
-        strip_patterns(pts)
-    };
-    for (pattern, interior, quads) in candidates {
-        if let Some(min_sj) = score(pts, &interior, &quads) {
-            if best.as_ref().is_none_or(|b| min_sj > b.min_sj) {
-                best = Some(Fill {
-                    pattern,
-                    interior,
-                    quads,
-                    min_sj,
-                });
+    let best = |candidates: Vec<Pattern>| {
+        let mut best: Option<Fill> = None;
+        for (pattern, interior, quads) in candidates {
+            if let Some(min_sj) = score(pts, &interior, &quads) {
+                if best.as_ref().is_none_or(|b| min_sj > b.min_sj) {
+                    best = Some(Fill {
+                        pattern,
+                        interior,
+                        quads,
+                        min_sj,
+                    });
+                }
             }
         }
-    }
-    best
+        best
+    };
+    best(patterns(pts)).or_else(|| best(strip_patterns(pts)))
 }
 
 impl Mesher {
