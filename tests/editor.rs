@@ -1105,8 +1105,9 @@ fn issue17_new_draw_save_and_fix_a_broken_file() {
         reopened.mesher().unwrap().mesh(),
         h.state().doc().mesher().unwrap().mesh()
     );
-    // The loops' numbers, as Resample names them.
-    h.run();
+    // The loops' numbers, as Resample names them (once the finished
+    // mesh's background pass is over).
+    settle(&mut h);
     let texts: Vec<String> = painted(&h).into_iter().map(|t| t.0).collect();
     assert!(texts.iter().any(|t| t == "loop 0 (outer)"), "{texts:?}");
     assert!(texts.iter().any(|t| t == "loop 1 (hole)"), "{texts:?}");
