@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Meshes a folder of generated domains (`cargo run --release --example
 random_domains -- DIR`) with the release CLI, judges every mesh
-(sweep.run_case: the bench's judge.py) and prints a table per family
+(sweep.run_all: the bench's judge.py) and prints a table per family
 (the family is the middle part of NNN_family_seed), every failure grouped by
 kind, and the worst results by minimum scaled Jacobian.
 
@@ -10,17 +10,15 @@ usage: domains_sweep.py DOMAINS_DIR OUTDIR [--jobs 2] [--timeout 60]
 
 Writes OUTDIR/summary.json with every row.
 """
-import argparse
 import json
 import os
 import statistics
 import sys
 import time
 from collections import defaultdict
-from concurrent.futures import ThreadPoolExecutor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sweep import ROOT, run_case  # noqa: E402
+from sweep import parse, parser, run_all  # noqa: E402
 
 
 def family(case):
@@ -46,23 +44,11 @@ def kind(r):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("domains")
-    ap.add_argument("outdir")
-    ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--timeout", type=float, default=60)
-    ap.add_argument("--binary", default=os.path.join(ROOT, "target", "release", "quadex"))
-    argv = sys.argv[1:]
-    extra = []
-    if "--" in argv:
-        k = argv.index("--")
-        argv, extra = argv[:k], argv[k + 1:]
-    a = ap.parse_args(argv)
+    ap = parser("domains")
+    a, extra = parse(ap)
     cases = sorted(os.path.join(a.domains, f) for f in os.listdir(a.domains) if f.endswith(".poly"))
-    os.makedirs(a.outdir, exist_ok=True)
     t0 = time.time()
-    with ThreadPoolExecutor(a.jobs) as ex:
-        rows = list(ex.map(lambda c: run_case(c, a.outdir, a.binary, extra, a.timeout), cases))
+    rows = run_all(cases, a, extra)
     wall = time.time() - t0
     for r, c in zip(rows, cases):
         r["poly"] = os.path.abspath(c)

@@ -70,19 +70,40 @@ def run_case(poly, outdir, binary, extra, timeout):
     return row
 
 
-def main():
+def parser(*positional):
+    """The options every sweep takes (`positional` first, then OUTDIR,
+    --jobs, --timeout, --binary)."""
     ap = argparse.ArgumentParser()
+    for name in positional:
+        ap.add_argument(name)
     ap.add_argument("outdir")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--timeout", type=float, default=60)
-    ap.add_argument("--cases", nargs="*")
     ap.add_argument("--binary", default=os.path.join(ROOT, "target", "release", "quadex"))
+    return ap
+
+
+def parse(ap):
+    """Parses the command line; what follows `--` goes to `quadex mesh`."""
     argv = sys.argv[1:]
     extra = []
     if "--" in argv:
         k = argv.index("--")
         argv, extra = argv[:k], argv[k + 1:]
-    a = ap.parse_args(argv)
+    return ap.parse_args(argv), extra
+
+
+def run_all(cases, a, extra):
+    """Meshes and judges `cases`, `a.jobs` at a time, in order."""
+    os.makedirs(a.outdir, exist_ok=True)
+    with ThreadPoolExecutor(a.jobs) as ex:
+        return list(ex.map(lambda c: run_case(c, a.outdir, a.binary, extra, a.timeout), cases))
+
+
+def main():
+    ap = parser()
+    ap.add_argument("--cases", nargs="*")
+    a, extra = parse(ap)
     cases = []
     for c in a.cases or []:
         if os.path.isdir(c):
@@ -90,9 +111,7 @@ def main():
         else:
             cases.append(c)
     cases = cases or default_cases()
-    os.makedirs(a.outdir, exist_ok=True)
-    with ThreadPoolExecutor(a.jobs) as ex:
-        rows = list(ex.map(lambda c: run_case(c, a.outdir, a.binary, extra, a.timeout), cases))
+    rows = run_all(cases, a, extra)
     print(f"{'case':28} {'ok':>5} {'quads':>7} {'sjmin':>6} {'sjmean':>6} {'irr%':>5} "
           f"{'taper':>7} {'aspect':>7} {'fill':>4} {'secs':>6}")
     good = []
