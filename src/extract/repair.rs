@@ -69,7 +69,11 @@ impl Mesher {
         r.removed += before - self.mesh.quads.len();
         self.rebuild_incidence();
         let loops = Front::link_loops(edges.into_iter().collect(), &self.mesh.nodes);
-        self.front = Front::new(&loops, &self.mesh.nodes, self.grid_cell);
+        self.front = Front::new(
+            &loops,
+            &self.mesh.nodes,
+            super::session::grid_cell(&self.size),
+        );
         self.queue.clear();
         self.version.clear();
         for s in 0..self.front.slots.len() as SlotId {

@@ -28,6 +28,12 @@ use std::sync::Arc;
 /// 200).
 const FILL_BUDGET: f64 = 2.0;
 
+/// Cell width of the front's edge grid: as fine as the finest elements (the
+/// grid caps its cell count), so a query near fine elements stays short.
+pub(super) fn grid_cell(size: &SizeField) -> f64 {
+    2.0 * size.range()[0]
+}
+
 /// The element extraction loop over one boundary.
 #[derive(Clone)]
 pub struct Mesher {
@@ -68,8 +74,6 @@ pub struct Mesher {
     pub(super) relaxes: usize,
     /// Relaxations since the last other step.
     pub(super) relax_streak: usize,
-    /// Cell width of the front's edge grid.
-    pub(super) grid_cell: f64,
     /// Steps after which the region left is filled.
     pub(super) fill_after: usize,
     /// No fill is tried before this step (set after a fill fails).
@@ -90,10 +94,7 @@ impl Mesher {
     pub fn new(boundary: Boundary, model: Arc<dyn Model>, params: MeshParams) -> Mesher {
         let mesh = QuadMesh::from_boundary(&boundary);
         let size = Arc::new(SizeField::of_boundary(&boundary));
-        // The front's edge grid as fine as the finest elements (the grid
-        // caps its cell count), so a query near fine elements stays short.
-        let grid_cell = 2.0 * size.range()[0];
-        let front = Front::new(&mesh.loops, &mesh.nodes, grid_cell);
+        let front = Front::new(&mesh.loops, &mesh.nodes, grid_cell(&size));
         let mut min_seg = f64::INFINITY;
         for (a, b) in boundary.segments() {
             min_seg = min_seg.min(boundary.points[a].distance(boundary.points[b]));
@@ -104,7 +105,6 @@ impl Mesher {
         let quads = size.quad_estimate().min(1e9);
         let mut m = Mesher {
             step_limit,
-            grid_cell,
             row_key: (0, 0),
             size,
             fill_after: (FILL_BUDGET * quads) as usize + boundary.node_count() + 200,
