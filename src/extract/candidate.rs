@@ -442,18 +442,25 @@ impl Mesher {
     /// each of them (snapped); the other types; where the front ahead is
     /// too close for a full element and too far to reach, Pn half-way
     /// across; the rule-based Pn.
+    /// The model's own element at reference slot `s` (its Pn sized to the
+    /// row it continues), and that Pn in world coordinates.
+    fn model_candidate(&self, s: SlotId, pred: Prediction, frame: &Frame) -> (Cand, Point) {
+        let pn_world = self.sized_pn(s, frame.to_world(pred.pn));
+        let cand = match pred.element_type {
+            ElementType::New => Cand::New { s, pn: pn_world },
+            ElementType::Right => Cand::Right { s },
+            ElementType::Left => Cand::Left { s },
+        };
+        (cand, pn_world)
+    }
+
     pub(super) fn candidates(
         &mut self,
         s: SlotId,
         pred: Prediction,
         frame: &Frame,
     ) -> Vec<(Cand, Remedy)> {
-        let pn_world = self.sized_pn(s, frame.to_world(pred.pn));
-        let model_cand = match pred.element_type {
-            ElementType::New => Cand::New { s, pn: pn_world },
-            ElementType::Right => Cand::Right { s },
-            ElementType::Left => Cand::Left { s },
-        };
+        let (model_cand, pn_world) = self.model_candidate(s, pred, frame);
         if self.params.pure_model {
             return vec![(model_cand, Remedy::None)];
         }
@@ -564,6 +571,21 @@ impl Mesher {
     ) -> Result<Option<Chosen>, MeshError> {
         let (slots, frame, pred) = self.predict_at(s, rules);
         let leading: Vec<u32> = slots.iter().map(|&t| self.front.node(t)).collect();
+        // The model's element comes first among the candidates: when it is
+        // excellent the others need not be built.
+        if !self.params.pure_model || rules {
+            let (c, _) = self.model_candidate(s, pred, &frame);
+            if let Some(score) = self.check(c, limits).filter(|&v| v >= EXCELLENT) {
+                return Ok(Some(Chosen {
+                    cand: c,
+                    remedy: Remedy::None,
+                    score,
+                    prediction: pred,
+                    frame,
+                    leading,
+                }));
+            }
+        }
         let mut best: Option<Chosen> = None;
         let mut model: Option<Chosen> = None;
         for (c, remedy) in self.candidates(s, pred, &frame) {

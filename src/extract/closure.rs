@@ -222,6 +222,30 @@ impl Mesher {
         }
     }
 
+    /// A key of what closing or settling small loop `lid` depends on: its
+    /// nodes and where they and the corners of their quads are (never 0).
+    pub(super) fn small_loop_key(&self, lid: u32) -> u64 {
+        let mut h: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut mix = |x: u64| {
+            h = (h ^ x).wrapping_mul(0x1000_0000_01b3).rotate_left(29);
+        };
+        for s in self.front.loop_slots(lid) {
+            let v = self.front.node(s);
+            mix(u64::from(v));
+            for &q in &self.incident[v as usize] {
+                for u in self.mesh.quads[q as usize] {
+                    let p = self.mesh.nodes[u as usize];
+                    mix(p.x.to_bits());
+                    mix(p.y.to_bits());
+                }
+            }
+            let p = self.mesh.nodes[v as usize];
+            mix(p.x.to_bits());
+            mix(p.y.to_bits());
+        }
+        h.max(1)
+    }
+
     /// A loop of 4 or 6 slots that does not close as it stands: its
     /// movable nodes (made by extraction, on the front only once) are moved,
     /// each by a pattern search, to where the worst of their quads and of

@@ -71,6 +71,10 @@ impl Mesher {
             .filter(|&l| self.front.loops[l as usize].len <= 6)
             .collect();
         for lid in small {
+            let key = self.small_loop_key(lid);
+            if self.small_stuck.get(lid as usize) == Some(&key) {
+                continue;
+            }
             if let Some(r) = self.close_small(lid) {
                 return Ok(r);
             }
@@ -78,6 +82,11 @@ impl Mesher {
                 if let Some(r) = self.close_small(lid) {
                     return Ok(r);
                 }
+            } else {
+                if self.small_stuck.len() <= lid as usize {
+                    self.small_stuck.resize(lid as usize + 1, 0);
+                }
+                self.small_stuck[lid as usize] = key;
             }
         }
         // 2. The region inside the first layers is filled directly.

@@ -87,6 +87,10 @@ pub struct Mesher {
     /// Pure-model: the leading points (node ids) of every rejected
     /// prediction, so a prediction met again is counted once.
     pub(super) rejected_inputs: std::collections::BTreeSet<Vec<u32>>,
+    /// Per loop id, the [`Mesher::small_loop_key`] of the state in which
+    /// that small loop last neither closed nor settled (0: none): the same
+    /// state is not tried again.
+    pub(super) small_stuck: Vec<u64>,
 }
 
 impl Mesher {
@@ -132,6 +136,7 @@ impl Mesher {
             row_edges: Vec::new(),
             rip_ups: 0,
             incident: Vec::new(),
+            small_stuck: Vec::new(),
             relaxes: 0,
             relax_streak: 0,
         };
