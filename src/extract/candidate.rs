@@ -571,6 +571,7 @@ impl Mesher {
     ) -> Result<Option<Chosen>, MeshError> {
         let (slots, frame, pred) = self.predict_at(s, rules);
         let leading: Vec<u32> = slots.iter().map(|&t| self.front.node(t)).collect();
+        self.evaluated = self.extent(s, &[self.model_candidate(s, pred, &frame).0]);
         // The model's element comes first among the candidates: when it is
         // excellent the others need not be built.
         if !self.params.pure_model || rules {
@@ -588,7 +589,10 @@ impl Mesher {
         }
         let mut best: Option<Chosen> = None;
         let mut model: Option<Chosen> = None;
-        for (c, remedy) in self.candidates(s, pred, &frame) {
+        let cands = self.candidates(s, pred, &frame);
+        let all: Vec<Cand> = cands.iter().map(|&(c, _)| c).collect();
+        self.evaluated = self.extent(s, &all);
+        for (c, remedy) in cands {
             let Some(score) = self.check(c, limits) else {
                 if self.params.pure_model && !rules {
                     if self.rejected_inputs.insert(leading.clone()) {
@@ -620,6 +624,45 @@ impl Mesher {
             }
         }
         Ok(best)
+    }
+
+    /// A box holding all of the front that evaluating reference slot `s`
+    /// with candidates `cands` reads: the front nodes around it, the
+    /// candidates' points, and the reach of the guard, the snaps and the
+    /// gap search around them (the largest local size there, with room).
+    fn extent(&self, s: SlotId, cands: &[Cand]) -> (Point, Point) {
+        let f = &self.front;
+        let k = self.leading_n().max(6) / 2 + 2;
+        let mut pts = vec![self.world(s)];
+        let (mut a, mut b) = (s, s);
+        for _ in 0..k {
+            a = f.prev(a);
+            b = f.next(b);
+            pts.push(self.world(a));
+            pts.push(self.world(b));
+        }
+        for &c in cands {
+            match c {
+                Cand::New { pn, .. } => pts.push(pn),
+                Cand::Snap { q, .. } => {
+                    pts.extend([q, f.prev(q), f.next(q)].map(|t| self.world(t)));
+                }
+                Cand::Right { .. } | Cand::Left { .. } => {}
+            }
+        }
+        let lo = pts
+            .iter()
+            .fold(Point::splat(f64::INFINITY), |m, &p| m.min(p));
+        let hi = pts
+            .iter()
+            .fold(Point::splat(f64::NEG_INFINITY), |m, &p| m.max(p));
+        let size = [lo, hi, Point::new(lo.x, hi.y), Point::new(hi.x, lo.y)]
+            .into_iter()
+            .chain(pts.iter().copied())
+            .map(|p| self.size.at(p))
+            .fold(0.0, f64::max);
+        let reach = Point::splat(1.5 * (GAP_REACH + 1.0) * size);
+        (lo - reach, hi + reach)
     }
 
     /// The leading slots, frame and prediction at reference slot `s` (with

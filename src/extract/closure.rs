@@ -313,6 +313,7 @@ impl Mesher {
                 self.mesh.nodes[v as usize] = old;
             } else if at != old {
                 moved = true;
+                self.memo.clear();
             }
             self.front.refile_edges_at(s, v, &self.mesh.nodes);
         }

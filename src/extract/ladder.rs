@@ -142,7 +142,18 @@ impl Mesher {
                     return Ok(r);
                 }
             }
-            match self.evaluate(e.slot, limits, false)? {
+            let node = self.front.node(e.slot);
+            let result = match self.memo.get(e.slot, node) {
+                Some(r) => r.clone(),
+                None => {
+                    let r = self.evaluate(e.slot, limits, false)?;
+                    if r.as_ref().is_none_or(|c| c.score < self.params.defer_score) {
+                        self.memo.put(e.slot, node, self.evaluated, r.clone());
+                    }
+                    r
+                }
+            };
+            match result {
                 Some(c) if c.score >= self.params.defer_score => {
                     chosen = Some(c);
                     break;

@@ -18,6 +18,7 @@ pub mod closure;
 pub mod fill;
 pub mod guard;
 mod ladder;
+mod memo;
 mod params;
 mod queue;
 mod repair;

@@ -91,6 +91,10 @@ pub struct Mesher {
     /// that small loop last neither closed nor settled (0: none): the same
     /// state is not tried again.
     pub(super) small_stuck: Vec<u64>,
+    /// Evaluations of reference points put back in the queue.
+    pub(super) memo: super::memo::EvalMemo,
+    /// The box of the front the last [`Mesher::evaluate`] read.
+    pub(super) evaluated: (Point, Point),
 }
 
 impl Mesher {
@@ -137,6 +141,8 @@ impl Mesher {
             rip_ups: 0,
             incident: Vec::new(),
             small_stuck: Vec::new(),
+            memo: Default::default(),
+            evaluated: (Point::ZERO, Point::ZERO),
             relaxes: 0,
             relax_streak: 0,
         };
@@ -256,12 +262,28 @@ impl Mesher {
             Err(e) => {
                 if self.params.fill && !self.replaying {
                     if let Some(r) = self.rewind_and_fill() {
+                        self.memo.clear();
                         return Ok(StepOutcome::Stepped(Box::new(r)));
                     }
                 }
                 return Err(e);
             }
         };
+        match r.kind {
+            StepKind::Element if r.removed == 0 => {
+                let corners = r
+                    .quads
+                    .iter()
+                    .flatten()
+                    .map(|&v| self.mesh.nodes[v as usize]);
+                let lo = corners
+                    .clone()
+                    .fold(Point::splat(f64::INFINITY), Point::min);
+                let hi = corners.fold(Point::splat(f64::NEG_INFINITY), Point::max);
+                self.memo.changed(lo, hi);
+            }
+            _ => self.memo.clear(),
+        }
         r.rejected = std::mem::take(&mut self.rejected);
         if r.kind != StepKind::Relax {
             self.relax_streak = 0;
@@ -414,6 +436,7 @@ impl Mesher {
     }
 
     pub(super) fn apply_correction(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
+        self.memo.clear();
         let (s, cand) = self.correction_cand(c)?;
         let leading: Vec<u32> = self
             .leading_slots(s, self.leading_n())
@@ -563,6 +586,7 @@ impl Mesher {
     pub fn set_model(&mut self, model: Arc<dyn Model>) {
         self.model_changes.push((self.history.len(), model.clone()));
         self.model = model;
+        self.memo.clear();
     }
 
     pub(super) fn add_node(&mut self, p: Point) -> u32 {
