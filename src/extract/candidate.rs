@@ -22,6 +22,15 @@ pub(super) enum Cand {
     Left { s: SlotId },
 }
 
+impl Cand {
+    /// The reference slot the candidate is built at.
+    pub(super) fn slot(self) -> SlotId {
+        match self {
+            Cand::New { s, .. } | Cand::Snap { s, .. } | Cand::Right { s } | Cand::Left { s } => s,
+        }
+    }
+}
+
 /// One candidate element as [`Mesher::explain`] lists it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CandidateReport {
@@ -150,10 +159,7 @@ impl Mesher {
 
     /// The guard on one candidate: its score when it passes.
     pub(super) fn check(&mut self, c: Cand, limits: Limits) -> Option<f64> {
-        let (Cand::New { s: p0, .. }
-        | Cand::Snap { s: p0, .. }
-        | Cand::Right { s: p0 }
-        | Cand::Left { s: p0 }) = c;
+        let p0 = c.slot();
         // The element at a sharp corner of the front has that corner's
         // angle; the corner opposite may open as far as a kite with right
         // angles beside the tip needs.
@@ -172,9 +178,7 @@ impl Mesher {
         };
         let size = self.size.at(at);
         let f = &self.front;
-        let n = self.front.loop_len(match c {
-            Cand::New { s, .. } | Cand::Snap { s, .. } | Cand::Right { s } | Cand::Left { s } => s,
-        });
+        let n = self.front.loop_len(p0);
         let (corners, consumed): ([Corner; 4], Vec<SlotId>) = match c {
             Cand::New { s, pn } => {
                 let (l, r) = (f.prev(s), f.next(s));
@@ -656,9 +660,12 @@ impl Mesher {
         let hi = pts
             .iter()
             .fold(Point::splat(f64::NEG_INFINITY), |m, &p| m.max(p));
+        // The leading points lie between P0 and the box's corners; the
+        // candidates' points reach furthest.
         let size = [lo, hi, Point::new(lo.x, hi.y), Point::new(hi.x, lo.y)]
             .into_iter()
-            .chain(pts.iter().copied())
+            .chain(std::iter::once(pts[0]))
+            .chain(pts[2 * k + 1..].iter().copied())
             .map(|p| self.size.at(p))
             .fold(0.0, f64::max);
         let reach = Point::splat(1.5 * (GAP_REACH + 1.0) * size);

@@ -22,6 +22,9 @@ const SMALL_LOOP: usize = 48;
 /// A stretch of the given boundary this long (nodes) that no row has
 /// reached when the queue moves on gets a row start.
 const ROW_RUN: usize = 4;
+/// Front nodes looked at first, sharpest first, for the best rule-based
+/// element anywhere (step 7 of the ladder).
+const SHARPEST: usize = 32;
 
 impl Mesher {
     pub(super) fn auto_step(&mut self) -> Result<StepReport, MeshError> {
@@ -164,6 +167,18 @@ impl Mesher {
             deferred.push(e.slot);
             skipped += 1;
         }
+        // A remembered element is checked again before it is taken (its
+        // box was read with room to spare, but a guard is a guard).
+        let best = match best {
+            Some(c) if self.check(c.cand, limits).is_none() => {
+                self.memo.clear();
+                match c.cand.slot() {
+                    s if self.front.slot(s).alive => self.evaluate(s, limits, false)?,
+                    _ => None,
+                }
+            }
+            b => b,
+        };
         if let Some(c) = chosen.or(best) {
             let mut r = self.commit_chosen(c);
             r.skipped = skipped;
@@ -208,18 +223,29 @@ impl Mesher {
             max_corner: 170f64.to_radians(),
             min_front: 5f64.to_radians(),
         };
-        let all: Vec<SlotId> = self
+        //    The sharpest front nodes are looked at first, the rest only
+        //    when none of them gives an element (a ring with no corner
+        //    left is long, and its row may start at any of them).
+        let mut all: Vec<(f64, SlotId)> = self
             .front
             .live_loops()
             .flat_map(|l| self.front.loop_slots(l))
+            .map(|s| (self.front.angle(s, &self.mesh.nodes), s))
+            .filter(|&(a, _)| a < PI)
             .collect();
+        all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut best: Option<Chosen> = None;
-        for &s in &all {
-            if self.front.angle(s, &self.mesh.nodes) >= PI {
-                continue;
+        for part in [
+            &all[..all.len().min(SHARPEST)],
+            &all[all.len().min(SHARPEST)..],
+        ] {
+            for &(_, s) in part {
+                if let Some(c) = self.evaluate(s, relaxed, true)? {
+                    c.keep_if_best(&mut best);
+                }
             }
-            if let Some(c) = self.evaluate(s, relaxed, true)? {
-                c.keep_if_best(&mut best);
+            if best.is_some() {
+                break;
             }
         }
         if let Some(c) = best {

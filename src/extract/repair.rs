@@ -59,15 +59,7 @@ impl Mesher {
                 }
             }
         }
-        let before = self.mesh.quads.len();
-        let mut k = 0;
-        self.mesh.quads.retain(|_| {
-            let keep = !removed[k];
-            k += 1;
-            keep
-        });
-        r.removed += before - self.mesh.quads.len();
-        self.rebuild_incidence();
+        r.removed += self.remove_quads(&removed);
         let loops = Front::link_loops(edges.into_iter().collect(), &self.mesh.nodes);
         self.front = Front::new(
             &loops,

@@ -603,12 +603,30 @@ impl Mesher {
         self.mesh.quads.push(q);
     }
 
-    pub(super) fn rebuild_incidence(&mut self) {
-        self.incident = vec![Vec::new(); self.mesh.nodes.len()];
-        for (k, q) in self.mesh.quads.iter().enumerate() {
-            for &v in q {
-                self.incident[v as usize].push(k as u32);
+    /// Removes the quads marked in `removed` (indexed by quad), keeping the
+    /// others in order, and renumbers the incidence lists in place.
+    /// Returns the number removed.
+    pub(super) fn remove_quads(&mut self, removed: &[bool]) -> usize {
+        // New index of each quad: its index less the removed ones before it.
+        let mut new_index = Vec::with_capacity(removed.len());
+        let mut kept = 0u32;
+        for &gone in removed {
+            new_index.push(kept);
+            kept += u32::from(!gone);
+        }
+        for list in &mut self.incident {
+            list.retain(|&k| !removed[k as usize]);
+            for k in list.iter_mut() {
+                *k = new_index[*k as usize];
             }
         }
+        let before = self.mesh.quads.len();
+        let mut k = 0;
+        self.mesh.quads.retain(|_| {
+            let keep = !removed[k];
+            k += 1;
+            keep
+        });
+        before - self.mesh.quads.len()
     }
 }
