@@ -14,6 +14,12 @@ use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation
 
 /// Grid cells along the longer side of the domain's bounding box, at most.
 const MAX_CELLS_PER_SIDE: usize = 1024;
+/// A boundary of `n` nodes gets at most `CELLS_PER_NODE · n` cells a side
+/// (but never fewer than [`MIN_CELLS_PER_SIDE`]): a few nodes carry few
+/// sizes, and the small regions remeshing cuts out are met by the hundred.
+const CELLS_PER_NODE: usize = 4;
+/// The fewest cells a side the node bound leaves.
+const MIN_CELLS_PER_SIDE: usize = 256;
 
 /// The fastest the size may grow with distance (size per unit length): away
 /// from a fine boundary the size rises by at most half the distance, about
@@ -65,9 +71,10 @@ impl SizeField {
         let lo = node_h.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = node_h.iter().copied().fold(0.0, f64::max);
         let extent = size.max_element().max(f64::MIN_POSITIVE);
-        let cell = (extent / MAX_CELLS_PER_SIDE as f64).max(0.5 * lo.min(extent));
-        let nx = ((size.x / cell).ceil() as usize).clamp(1, MAX_CELLS_PER_SIDE + 1) + 1;
-        let ny = ((size.y / cell).ceil() as usize).clamp(1, MAX_CELLS_PER_SIDE + 1) + 1;
+        let per_side = (CELLS_PER_NODE * pts.len()).clamp(MIN_CELLS_PER_SIDE, MAX_CELLS_PER_SIDE);
+        let cell = (extent / per_side as f64).max(0.5 * lo.min(extent));
+        let nx = ((size.x / cell).ceil() as usize).clamp(1, per_side + 1) + 1;
+        let ny = ((size.y / cell).ceil() as usize).clamp(1, per_side + 1) + 1;
         let mut f = SizeField {
             origin: bb.min,
             inv_cell: 1.0 / cell,
@@ -191,7 +198,17 @@ impl SizeField {
                 ((hi.y / cell).ceil() as usize).min(self.ny - 1),
             );
             for j in j0..=j1 {
-                for i in i0..=i1 {
+                // The row's cells under the triangle, a cell to spare each
+                // side (the test below decides): a long thin triangle
+                // costs its own cells, not its bounding box's.
+                let (r0, r1) = match row_span([a.0, b.0, c.0], j as f64 * cell) {
+                    Some((x0, x1)) => (
+                        ((x0 / cell).floor() - 1.0).max(i0 as f64) as usize,
+                        ((x1 / cell).ceil() + 1.0).min(i1 as f64) as usize,
+                    ),
+                    None => (i0, i1),
+                };
+                for i in r0..=r1 {
                     let p = Point::new(i as f64 * cell, j as f64 * cell);
                     let wa = (b.0 - p).perp_dot(c.0 - p) / area2;
                     let wb = (c.0 - p).perp_dot(a.0 - p) / area2;
@@ -211,39 +228,55 @@ impl SizeField {
     /// nothing was covered at all.
     fn fill_gaps(&mut self, fallback: f64) {
         let (nx, ny) = (self.nx, self.ny);
-        let mut todo: Vec<usize> = (0..nx * ny).filter(|&k| self.h[k].is_nan()).collect();
-        while !todo.is_empty() {
-            let mut next = Vec::new();
-            let mut set = Vec::new();
-            for &k in &todo {
-                let (i, j) = (k % nx, k / nx);
+        const UNKNOWN: u32 = u32::MAX;
+        let neighbours = move |k: usize| {
+            let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+            [(-1i64, 0i64), (1, 0), (0, -1), (0, 1)]
+                .into_iter()
+                .map(move |(di, dj)| (i + di, j + dj))
+                .filter(move |&(a, b)| a >= 0 && b >= 0 && (a as usize) < nx && (b as usize) < ny)
+                .map(move |(a, b)| b as usize * nx + a as usize)
+        };
+        // The ring each cell was set in (0: covered by a triangle); ring r
+        // takes the mean of its neighbours of earlier rings.
+        let mut ring: Vec<u32> = self
+            .h
+            .iter()
+            .map(|v| if v.is_nan() { UNKNOWN } else { 0 })
+            .collect();
+        let mut frontier: Vec<usize> = (0..nx * ny)
+            .filter(|&k| ring[k] == UNKNOWN && neighbours(k).any(|u| ring[u] == 0))
+            .collect();
+        let mut r = 1;
+        let mut set = Vec::new();
+        while !frontier.is_empty() {
+            set.clear();
+            for &k in &frontier {
                 let (mut s, mut n) = (0.0f32, 0);
-                for (di, dj) in [(-1i64, 0i64), (1, 0), (0, -1), (0, 1)] {
-                    let (a, b) = (i as i64 + di, j as i64 + dj);
-                    if a >= 0 && b >= 0 && (a as usize) < nx && (b as usize) < ny {
-                        let v = self.h[b as usize * nx + a as usize];
-                        if !v.is_nan() {
-                            s += v;
-                            n += 1;
-                        }
+                for u in neighbours(k) {
+                    if ring[u] < r {
+                        s += self.h[u];
+                        n += 1;
                     }
                 }
-                if n > 0 {
-                    set.push((k, s / n as f32));
-                } else {
-                    next.push(k);
-                }
+                set.push((k, s / n as f32));
             }
-            if set.is_empty() {
-                for k in next {
-                    self.h[k] = fallback as f32;
-                }
-                break;
-            }
-            for (k, v) in set {
+            for &(k, v) in &set {
                 self.h[k] = v;
+                ring[k] = r;
             }
-            todo = next;
+            frontier.clear();
+            for &(k, _) in &set {
+                frontier.extend(neighbours(k).filter(|&u| ring[u] == UNKNOWN));
+            }
+            frontier.sort_unstable();
+            frontier.dedup();
+            r += 1;
+        }
+        for (h, &g) in self.h.iter_mut().zip(&ring) {
+            if g == UNKNOWN {
+                *h = fallback as f32;
+            }
         }
     }
 
@@ -268,6 +301,27 @@ impl SizeField {
     pub fn range(&self) -> [f64; 2] {
         self.range
     }
+}
+
+/// Where the horizontal line at `y` crosses triangle `t`: the smallest and
+/// largest x, or `None` when `y` is outside the triangle's rows.
+fn row_span(t: [Point; 3], y: f64) -> Option<(f64, f64)> {
+    let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
+    for k in 0..3 {
+        let (p, q) = (t[k], t[(k + 1) % 3]);
+        if (p.y - y) * (q.y - y) > 0.0 {
+            continue;
+        }
+        let x = if p.y == q.y {
+            x0 = x0.min(p.x.min(q.x));
+            p.x.max(q.x)
+        } else {
+            p.x + (y - p.y) * (q.x - p.x) / (q.y - p.y)
+        };
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+    }
+    (x0 <= x1).then_some((x0, x1))
 }
 
 #[cfg(test)]
