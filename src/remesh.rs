@@ -30,7 +30,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::boundary::Boundary;
 use crate::cleanup::{improve, CleanupParams};
-use crate::extract::{MeshParams, Mesher, Strategy};
+use crate::extract::{MeshParams, Mesher, StepKind, Strategy};
 use crate::geom::Point;
 use crate::mesh::{boundary_loops, QuadMesh};
 use crate::model::Model;
@@ -116,6 +116,15 @@ struct Patch {
 
 const NEW: u32 = u32::MAX;
 
+/// Extraction steps all patch runs of one mesh may take together, per quad
+/// of the mesh, plus [`WORK_BASE`]; a run that fails is charged its whole
+/// step limit (it has been through its fills as well). This bounds
+/// remeshing on meshes that are poor nearly everywhere, where every patch
+/// is tried with every setting and fails.
+const WORK_PER_QUAD: usize = 16;
+/// Patch steps allowed on any mesh, however small.
+const WORK_BASE: usize = 1000;
+
 /// A patch may have at most this many quads per quad of its cavity (plus
 /// 16 steps of extraction, after which the run is cut short): a much finer
 /// patch than its surroundings is not an improvement.
@@ -146,6 +155,7 @@ impl Work<'_> {
         candidates: &[MeshParams],
         finish: &FinishParams,
         bound: f64,
+        work: &mut usize,
     ) -> Option<Patch> {
         let quads: Vec<[u32; 4]> = cavity
             .iter()
@@ -186,8 +196,20 @@ impl Work<'_> {
                 max_steps: Some(limit),
                 ..params.clone()
             };
+            if *work == 0 {
+                break;
+            }
             let mut mesher = Mesher::new(boundary.clone(), model.clone(), params);
-            if mesher.run(|_| {}).is_err() || mesher.mesh().quads.len() > MAX_QUADS * cavity.len() {
+            let run = mesher.run(|_| {});
+            // A run that fails has tried its fills too: it costs its limit,
+            // as does each fill of a run that finishes.
+            let cost = if run.is_ok() {
+                mesher.steps() + mesher.stats().count(StepKind::Fill) * limit
+            } else {
+                limit
+            };
+            *work = work.saturating_sub(cost.max(1));
+            if run.is_err() || mesher.mesh().quads.len() > MAX_QUADS * cavity.len() {
                 continue;
             }
             let mut sub = mesher.mesh().clone();
@@ -310,13 +332,14 @@ pub fn remesh_bad(
     let mut w = Work { mesh, alive, inc };
     let mut replaced = 0;
     let mut tried = 0;
+    let mut work = WORK_PER_QUAD * old + WORK_BASE;
     let mut bad: Vec<(f64, u32)> = (0..w.mesh.quads.len() as u32)
         .map(|k| (sj(w.mesh, &w.mesh.quads[k as usize]), k))
         .filter(|&(s, _)| s < bound)
         .collect();
     bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     while let Some((_, k)) = (!bad.is_empty()).then(|| bad.remove(0)) {
-        if !w.alive[k as usize] || tried >= rp.max_regions {
+        if !w.alive[k as usize] || tried >= rp.max_regions || work == 0 {
             continue;
         }
         tried += 1;
@@ -329,7 +352,7 @@ pub fn remesh_bad(
                     .map(|&j| sj(w.mesh, &w.mesh.quads[j as usize])),
                 bound,
             );
-            let Some(p) = w.patch(cavity, model, &cands, &patch_finish, bound) else {
+            let Some(p) = w.patch(cavity, model, &cands, &patch_finish, bound, &mut work) else {
                 continue;
             };
             if !improves(p.badness, old) {
