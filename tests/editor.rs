@@ -378,6 +378,28 @@ fn correct_append_refit_and_finish() {
     assert_judged_valid(&out);
 }
 
+/// A Refit with nothing added is the shipped model: the same
+/// coefficients, and the annulus meshed the same as with `default`.
+#[test]
+fn a_refit_with_nothing_added_is_the_shipped_model() {
+    let mut h = harness(example());
+    h.run();
+    h.get_by_label("Refit").click();
+    h.step();
+    settle(&mut h);
+    let d = h.state().doc();
+    let (at, refit) = d.refits().last().cloned().expect("a refit");
+    assert_eq!(at, 0);
+    let shipped = quadex::model::default_model().unwrap();
+    assert_eq!(refit.coefficients, shipped.coefficients);
+    assert!(refit.memory.is_empty());
+    assert!(d.is_done());
+    let b = d.boundary().unwrap().clone();
+    let mut m = quadex::Mesher::new(b, std::sync::Arc::new(shipped), quadex::MeshParams::DEFAULT);
+    m.run(|_| {}).unwrap();
+    assert_eq!(d.mesher().unwrap().mesh(), m.mesh());
+}
+
 #[test]
 fn an_invalid_correction_changes_nothing() {
     let mut h = harness(example());

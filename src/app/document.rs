@@ -610,19 +610,23 @@ impl Document {
         Ok(set)
     }
 
-    /// Refits a model of `form` on the reference samples plus the user's,
-    /// sets it to mesh the rest of the mesh with, and returns the figures
-    /// of the old and the new model on those samples.
+    /// Refits a model of `form` on the reference samples plus the user's
+    /// ([`fit::refit`]: samples collected from meshes join the global fit,
+    /// the user's own elements are layered over it as corrections), sets
+    /// it to mesh the rest of the mesh with, and returns the figures of
+    /// the old and the new model on those samples.
     pub fn refit(&mut self, form: Form) -> Result<RefitFigures, EditorError> {
         let corrections = self.training.len();
+        let base = reference_samples(self.training.points)?;
         let set = self.refit_set()?;
-        let m = self.meshing_mut()?;
+        let name = format!("fitted ({}) {}", form.name(), self.refits().len() + 1);
         let params = FitParams {
             folds: 0,
             ..FitParams::DEFAULT
         };
+        let model = fit::refit(&base, &self.training, form, &name, &params)?.model();
+        let m = self.meshing_mut()?;
         let before = fit::evaluate(m.mesher.model().as_ref(), &set)?;
-        let model = fit::refit(&set, form, &params)?;
         let after = fit::evaluate(&model, &set)?;
         m.mesher.set_model(Arc::new(model.clone()));
         m.refits.push((m.mesher.steps(), model));
@@ -729,8 +733,9 @@ fn boundary_doc_numbered(b: &Boundary, name: &str) -> BoundaryDoc {
     }
 }
 
-/// The reference meshes' samples at `points` input points (the method's
-/// defaults), collected once per run of the program and shared.
+/// The reference meshes' samples at `points` input points, collected as
+/// for the shipped model ([`crate::reference::training_set`]), once per run
+/// of the program and shared.
 pub fn reference_samples(points: usize) -> Result<Arc<TrainingSet>, EditorError> {
     static CACHE: OnceLock<Mutex<BTreeMap<usize, Arc<TrainingSet>>>> = OnceLock::new();
     let cache = CACHE.get_or_init(Default::default);
@@ -738,11 +743,7 @@ pub fn reference_samples(points: usize) -> Result<Arc<TrainingSet>, EditorError>
         return Ok(s);
     }
     let meshes = crate::reference::read_shipped()?;
-    let set = Arc::new(TrainingSet::collect(
-        &meshes,
-        points,
-        &CollectParams::DEFAULT,
-    ));
+    let set = Arc::new(crate::reference::training_set(&meshes, points));
     if let Ok(mut c) = cache.lock() {
         c.insert(points, set.clone());
     }

@@ -17,7 +17,8 @@ pub mod thesis;
 pub use figures::{Figures, FitReport, Split, TypeFigures};
 
 use crate::geom::Point;
-use crate::model::fitted::{Coefficients, FittedModel, ModelFile, TrainingSummary};
+use crate::model::fitted::{Coefficients, ModelFile, TrainingSummary};
+use crate::model::memory::CorrectionMemory;
 use crate::model::Form;
 use crate::normalize::LeadingPoints;
 use crate::samples::{Source, TrainingSet};
@@ -81,6 +82,8 @@ pub enum FitError {
     Folds { folds: usize, samples: usize },
     #[error("the {form} fit gave coefficients that are not finite")]
     Diverged { form: &'static str },
+    #[error("{0}")]
+    Corrections(String),
 }
 
 /// The most folds of the held-out figures (each fold is a full fit).
@@ -363,6 +366,7 @@ pub fn summary(set: &TrainingSet) -> TrainingSummary {
         samples: set.len(),
         types: set.type_counts(),
         sources: sources.into_iter().collect(),
+        corrections: 0,
     }
 }
 
@@ -395,13 +399,75 @@ pub fn fit_model(
     ))
 }
 
-/// The fitted model of a model file (a shorthand for the editor's refit).
-pub fn refit(set: &TrainingSet, form: Form, params: &FitParams) -> Result<FittedModel, FitError> {
-    let data = Data::of(set)?;
-    Ok(FittedModel {
-        name: format!("fitted ({})", form.name()),
-        coefficients: fit_coefficients(&data, form, params)?,
-    })
+/// Fits `form` (or every form, as [`fit_model`]) to `set` and layers
+/// `corrections` over it ([`CorrectionMemory`] with `radius`): the
+/// corrections do not enter the global fit, so that the global model is
+/// the fit of `set` alone and a correction reaches no farther than its
+/// radius. The model file's training summary counts both.
+pub fn fit_with_corrections(
+    set: &TrainingSet,
+    corrections: &TrainingSet,
+    form: Option<Form>,
+    name: &str,
+    params: &FitParams,
+    radius: f64,
+) -> Result<(ModelFile, Vec<FitReport>), FitError> {
+    if corrections.points != set.points && !corrections.is_empty() {
+        return Err(FitError::BadSample {
+            index: 0,
+            msg: format!(
+                "the corrections have {} input points, the samples {}",
+                corrections.points, set.points
+            ),
+        });
+    }
+    let memory = CorrectionMemory::new(radius, corrections.samples.clone());
+    if let Some(msg) = memory.problem(set.n()) {
+        return Err(FitError::Corrections(msg));
+    }
+    let (mut file, reports) = fit_model(set, form, name, params)?;
+    file.training.corrections = corrections.len();
+    Ok((file.with_corrections(memory), reports))
+}
+
+/// A refit as the editor makes it: the global form fitted on `base` (the
+/// shipped model's training set, [`crate::reference::training_set`]) plus
+/// the `added` samples taken from meshes, with the added corrections (the
+/// samples of the user's own elements, [`Source::Correction`]) layered
+/// over it by [`fit_with_corrections`]. With nothing added, at the shipped
+/// model's points and form, this is how the shipped model is made
+/// ([`crate::reference::default_model`]), so it gives the same
+/// coefficients.
+pub fn refit(
+    base: &TrainingSet,
+    added: &TrainingSet,
+    form: Form,
+    name: &str,
+    params: &FitParams,
+) -> Result<ModelFile, FitError> {
+    let (corrections, from_meshes): (Vec<_>, Vec<_>) = added
+        .samples
+        .iter()
+        .cloned()
+        .partition(|s| s.source == Source::Correction);
+    let mut set = base.clone();
+    if !from_meshes.is_empty() {
+        set.samples.extend(from_meshes);
+        set.dedup();
+    }
+    let corrections = TrainingSet {
+        points: added.points,
+        samples: corrections,
+    };
+    let (file, _) = fit_with_corrections(
+        &set,
+        &corrections,
+        Some(form),
+        name,
+        params,
+        crate::model::memory::DEFAULT_RADIUS,
+    )?;
+    Ok(file)
 }
 
 /// Least squares `min |X w − y|` by SVD.

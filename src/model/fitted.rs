@@ -14,6 +14,7 @@
 //!
 //! The fitting itself is in [`crate::fit`].
 
+use super::memory::CorrectionMemory;
 use super::{ElementType, Model, Prediction};
 use crate::fit::FitReport;
 use crate::geom::Point;
@@ -303,13 +304,39 @@ pub struct TrainingSummary {
     pub types: [usize; 3],
     /// The meshes the samples came from (sorted), and "correction".
     pub sources: Vec<String>,
+    /// Corrections layered over the fit (not among `samples`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub corrections: usize,
 }
 
-/// A fitted model as a [`Model`].
+fn is_zero(n: &usize) -> bool {
+    *n == 0
+}
+
+/// A fitted model as a [`Model`]: the global form's coefficients, with the
+/// user's corrections layered over them ([`CorrectionMemory`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FittedModel {
     pub name: String,
     pub coefficients: Coefficients,
+    #[serde(default, skip_serializing_if = "CorrectionMemory::is_empty")]
+    pub memory: CorrectionMemory,
+}
+
+impl FittedModel {
+    /// A model of the global form alone (no corrections).
+    pub fn global(name: &str, coefficients: Coefficients) -> FittedModel {
+        FittedModel {
+            name: name.into(),
+            coefficients,
+            memory: CorrectionMemory::default(),
+        }
+    }
+
+    /// The global form's prediction, without the corrections.
+    pub fn predict_global(&self, input: &LeadingPoints) -> Prediction {
+        self.coefficients.predict(input)
+    }
 }
 
 impl Model for FittedModel {
@@ -322,13 +349,15 @@ impl Model for FittedModel {
     }
 
     fn predict(&self, input: &LeadingPoints) -> Prediction {
-        self.coefficients.predict(input)
+        self.memory.apply(input, self.coefficients.predict(input))
     }
 }
 
-/// The file format's name and version.
+/// The file format's name and the newest version this quadex reads: 1 for
+/// a global model alone, 2 for one that carries corrections (an older
+/// reader refuses it rather than meshing without them).
 pub const MODEL_FORMAT: &str = "quadex-model";
-pub const MODEL_VERSION: u32 = 1;
+pub const MODEL_VERSION: u32 = 2;
 
 /// A model file: versioned JSON with the coefficients, what they were
 /// trained on and how well they fit.
@@ -342,6 +371,9 @@ pub struct ModelFile {
     pub coefficients: Coefficients,
     pub training: TrainingSummary,
     pub figures: Option<FitReport>,
+    /// The user's corrections, layered over the coefficients.
+    #[serde(default, skip_serializing_if = "CorrectionMemory::is_empty")]
+    pub corrections: CorrectionMemory,
 }
 
 /// A model file that cannot be used.
@@ -363,6 +395,8 @@ pub enum ModelFileError {
     },
     #[error("coefficient {what} is not finite")]
     NotFinite { what: &'static str },
+    #[error("{0}")]
+    Corrections(String),
 }
 
 // The cause as text (escaped, one line), not a `source`.
@@ -381,13 +415,32 @@ impl ModelFile {
     ) -> ModelFile {
         ModelFile {
             format: MODEL_FORMAT.into(),
-            version: MODEL_VERSION,
+            version: 1,
             name: name.into(),
             points: 2 * coefficients.n() + 1,
             coefficients,
             training,
             figures,
+            corrections: CorrectionMemory::default(),
         }
+    }
+
+    /// The file with `corrections` layered over its coefficients (version
+    /// 2 when there are any).
+    pub fn with_corrections(mut self, corrections: CorrectionMemory) -> ModelFile {
+        self.version = if corrections.is_empty() { 1 } else { 2 };
+        self.corrections = corrections;
+        self
+    }
+
+    /// The file of a model (its name, coefficients and corrections).
+    pub fn of_model(
+        model: &FittedModel,
+        training: TrainingSummary,
+        figures: Option<FitReport>,
+    ) -> ModelFile {
+        ModelFile::new(&model.name, model.coefficients.clone(), training, figures)
+            .with_corrections(model.memory.clone())
     }
 
     pub fn to_json(&self) -> String {
@@ -416,6 +469,9 @@ impl ModelFile {
             });
         }
         f.check_lengths()?;
+        if let Some(p) = f.corrections.problem(n) {
+            return Err(ModelFileError::Corrections(crate::io::quote_long(&p)));
+        }
         Ok(f)
     }
 
@@ -469,6 +525,7 @@ impl ModelFile {
         FittedModel {
             name: self.name.clone(),
             coefficients: self.coefficients.clone(),
+            memory: self.corrections.clone(),
         }
     }
 }

@@ -10,6 +10,7 @@
 //! regression and fitted models alike.
 
 pub mod fitted;
+pub mod memory;
 pub mod rules;
 pub mod thesis;
 
@@ -18,6 +19,7 @@ use crate::normalize::LeadingPoints;
 use serde::{Deserialize, Serialize};
 
 pub use fitted::{FittedModel, Form, ModelFile, ModelFileError};
+pub use memory::CorrectionMemory;
 pub use rules::RulesModel;
 pub use thesis::ThesisModel;
 
