@@ -40,8 +40,13 @@ fn shipped() -> Arc<dyn Model> {
 /// step's P0–P_r1 distance in a random direction (the first such move that
 /// gives a valid element), and the correction's sample is kept.
 fn corrections(count: usize, seed: u64) -> Vec<Sample> {
+    corrections_in(&CASES, count, seed)
+}
+
+/// [`corrections`] from the runs over `cases`.
+fn corrections_in(cases: &[&str], count: usize, seed: u64) -> Vec<Sample> {
     let model = shipped();
-    let runs: Vec<(Boundary, Vec<usize>)> = CASES
+    let runs: Vec<(Boundary, Vec<usize>)> = cases
         .iter()
         .map(|case| {
             let b = read(case);
@@ -229,4 +234,223 @@ fn a_corrected_element_is_taken_again_at_the_same_place() {
         }
     }
     assert!(hits >= 1, "the corrected input is met again");
+}
+
+fn quadex(args: &[&std::ffi::OsStr]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn run_ok(args: &[&std::ffi::OsStr]) -> String {
+    let o = quadex(args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// Bad input: exit code 2 and one line on stderr naming `what`.
+fn refused(args: &[&std::ffi::OsStr], what: &str) {
+    let o = quadex(args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains(what), "{err}");
+}
+
+#[test]
+fn cli_fit_with_corrections_then_predict() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name);
+    let refs = reference::shipped_dir();
+    let (a, b) = (refs.join("lshape.msh"), refs.join("skewed_quad.msh"));
+    let samples = out("s.csv");
+    run_ok(&[
+        "samples".as_ref(),
+        a.as_os_str(),
+        b.as_os_str(),
+        "-o".as_ref(),
+        samples.as_os_str(),
+    ]);
+    // Three corrections, written as a training set (the editor's export).
+    let cs = corrections_in(&["square", "plate_hole"], 3, 5);
+    let fixes = out("c.csv");
+    TrainingSet {
+        points: 7,
+        samples: cs.clone(),
+    }
+    .write(&fixes)
+    .unwrap();
+    let (with, without) = (out("m.json"), out("plain.json"));
+    let text = run_ok(&[
+        "fit".as_ref(),
+        samples.as_os_str(),
+        "--corrections".as_ref(),
+        fixes.as_os_str(),
+        "--form".as_ref(),
+        "quadratic".as_ref(),
+        "--folds".as_ref(),
+        "0".as_ref(),
+        "-o".as_ref(),
+        with.as_os_str(),
+    ]);
+    assert!(text.contains("and 3 corrections (radius 0.1)"), "{text}");
+    run_ok(&[
+        "fit".as_ref(),
+        samples.as_os_str(),
+        "--form".as_ref(),
+        "quadratic".as_ref(),
+        "--folds".as_ref(),
+        "0".as_ref(),
+        "-o".as_ref(),
+        without.as_os_str(),
+    ]);
+    let file = ModelFile::from_json(&std::fs::read_to_string(&with).unwrap()).unwrap();
+    assert_eq!((file.version, file.corrections.len()), (2, 3));
+    assert_eq!(file.training.corrections, 3);
+    let plain = ModelFile::from_json(&std::fs::read_to_string(&without).unwrap()).unwrap();
+    // The corrections do not enter the global fit.
+    assert_eq!(plain.coefficients, file.coefficients);
+    assert_eq!(plain.version, 1);
+
+    // predict: one `type,xn,yn` row per input row (the corrections file
+    // itself: its type, xn, yn and source columns are ignored).
+    let answers = |model: &std::path::Path| -> Vec<(u8, Point)> {
+        let p = out("p.csv");
+        let text = run_ok(&[
+            "predict".as_ref(),
+            model.as_os_str(),
+            fixes.as_os_str(),
+            "-o".as_ref(),
+            p.as_os_str(),
+        ]);
+        assert!(text.contains("3 rows predicted"), "{text}");
+        let csv = std::fs::read_to_string(&p).unwrap();
+        let mut lines = csv.lines();
+        assert_eq!(lines.next(), Some("type,xn,yn"));
+        lines
+            .map(|l| {
+                let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+                (v[0] as u8, Point::new(v[1], v[2]))
+            })
+            .collect()
+    };
+    let got = answers(&with);
+    assert_eq!(got.len(), 3);
+    for (c, (t, pn)) in cs.iter().zip(&got) {
+        assert_eq!(*t, c.element_type.number());
+        assert!((*pn - c.pn).length() < 1e-9, "{pn:?} vs {:?}", c.pn);
+    }
+    let plain_answers = answers(&without);
+    assert!(plain_answers
+        .iter()
+        .zip(&cs)
+        .any(|((_, pn), c)| (*pn - c.pn).length() > 0.01));
+    // Built-in models predict too.
+    answers("default".as_ref());
+
+    // Bad input: exit 2, one line.
+    let bad = out("bad.csv");
+    std::fs::write(&bad, "xl1,yl1,x0,y0\n1,2,3,4\n").unwrap();
+    let p = out("p.csv");
+    refused(
+        &[
+            "predict".as_ref(),
+            with.as_os_str(),
+            bad.as_os_str(),
+            "-o".as_ref(),
+            p.as_os_str(),
+        ],
+        "bad.csv: the header does not name leading points",
+    );
+    let five = out("five.csv");
+    std::fs::write(
+        &five,
+        "xl2,yl2,xl1,yl1,x0,y0,xr1,yr1,xr2,yr2\n0,2,0,1,0,0,1,0,2,0\n",
+    )
+    .unwrap();
+    refused(
+        &[
+            "predict".as_ref(),
+            with.as_os_str(),
+            five.as_os_str(),
+            "-o".as_ref(),
+            p.as_os_str(),
+        ],
+        "the rows have 5 input points, the model reads 7",
+    );
+    refused(
+        &[
+            "fit".as_ref(),
+            samples.as_os_str(),
+            "--corrections".as_ref(),
+            five.as_os_str(),
+            "-o".as_ref(),
+            with.as_os_str(),
+        ],
+        "five.csv",
+    );
+    refused(
+        &[
+            "fit".as_ref(),
+            samples.as_os_str(),
+            "--corrections".as_ref(),
+            fixes.as_os_str(),
+            "--radius".as_ref(),
+            "0".as_ref(),
+            "-o".as_ref(),
+            with.as_os_str(),
+        ],
+        "--radius",
+    );
+    // A model file whose corrections are broken is refused by `mesh`.
+    let broken = out("broken.json");
+    let text = std::fs::read_to_string(&with)
+        .unwrap()
+        .replace("\"radius\": 0.1", "\"radius\": -1.0");
+    std::fs::write(&broken, text).unwrap();
+    let square = common::bench().join("boundaries/square.poly");
+    refused(
+        &[
+            "mesh".as_ref(),
+            square.as_os_str(),
+            "--model".as_ref(),
+            broken.as_os_str(),
+            "-o".as_ref(),
+            out("x.msh").as_os_str(),
+        ],
+        "correction radius",
+    );
+}
+
+#[test]
+fn quadex_mesh_uses_the_corrections_a_model_file_carries() {
+    // Corrections on the annulus; the refitted model saved as a file;
+    // `quadex mesh --model FILE` gives the mesh the model gives in process,
+    // which is not the shipped model's.
+    let cs = corrections_in(&["annulus"], 3, 11);
+    let model = refitted(&cs);
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("corrected.json");
+    std::fs::write(
+        &file,
+        ModelFile::of_model(&model, Default::default(), None).to_json(),
+    )
+    .unwrap();
+    let annulus = common::bench().join("boundaries/annulus.poly");
+    let msh = dir.path().join("a.msh");
+    run_ok(&[
+        "mesh".as_ref(),
+        annulus.as_os_str(),
+        "--model".as_ref(),
+        file.as_os_str(),
+        "-o".as_ref(),
+        msh.as_os_str(),
+    ]);
+    let b = read("annulus");
+    let (mine, _) = mesh_boundary(&b, Arc::new(model), &Params::DEFAULT, |_| {}).unwrap();
+    let (theirs, _) = mesh_boundary(&b, shipped(), &Params::DEFAULT, |_| {}).unwrap();
+    let written = std::fs::read_to_string(&msh).unwrap();
+    assert_eq!(written, quadex::io::msh::write_msh41(&mine));
+    assert_ne!(mine, theirs);
 }
