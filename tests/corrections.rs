@@ -158,20 +158,24 @@ fn twenty_random_corrections_stick_and_the_rest_stays() {
     assert!(moved_before / 20.0 > 0.05, "{moved_before}");
 
     // 2. Nearby inputs move towards the correction: P_l3 moved so that the
-    //    input is a third of the radius away.
+    //    input is a third of the radius away (within half the radius: the
+    //    corrected element whole), or three quarters (part of the way).
     for c in &cs {
-        let mut near = c.input.clone();
-        let shift = DEFAULT_RADIUS / 3.0 * (5.0f64).sqrt();
-        near.left[2].y += shift;
-        assert!((distance(&near, &c.input) - DEFAULT_RADIUS / 3.0).abs() < 1e-9);
-        let (p, q) = (after.predict(&near), before.predict(&near));
-        assert!(
-            (p.pn - c.pn).length() < (q.pn - c.pn).length(),
-            "{:?}: {:?} is not nearer than {:?}",
-            c.pn,
-            p.pn,
-            q.pn
-        );
+        for (frac, whole) in [(1.0 / 3.0, true), (0.75, false)] {
+            let mut near = c.input.clone();
+            near.left[2].y += DEFAULT_RADIUS * frac * (5.0f64).sqrt();
+            assert!((distance(&near, &c.input) - DEFAULT_RADIUS * frac).abs() < 1e-9);
+            let (p, q) = (after.predict(&near), before.predict(&near));
+            let (moved, was) = ((p.pn - c.pn).length(), (q.pn - c.pn).length());
+            assert!(
+                moved < was,
+                "{:?}: {:?} is not nearer than {:?}",
+                c.pn,
+                p.pn,
+                q.pn
+            );
+            assert_eq!(moved < 1e-12, whole, "{moved} at {frac} of the radius");
+        }
     }
 
     // 3. Inputs outside every correction's radius are predicted as before,
@@ -294,7 +298,7 @@ fn cli_fit_with_corrections_then_predict() {
         "-o".as_ref(),
         with.as_os_str(),
     ]);
-    assert!(text.contains("and 3 corrections (radius 0.1)"), "{text}");
+    assert!(text.contains("and 3 corrections (radius 0.025)"), "{text}");
     run_ok(&[
         "fit".as_ref(),
         samples.as_os_str(),
@@ -407,7 +411,7 @@ fn cli_fit_with_corrections_then_predict() {
     let broken = out("broken.json");
     let text = std::fs::read_to_string(&with)
         .unwrap()
-        .replace("\"radius\": 0.1", "\"radius\": -1.0");
+        .replace("\"radius\": 0.025", "\"radius\": -1.0");
     std::fs::write(&broken, text).unwrap();
     let square = common::bench().join("boundaries/square.poly");
     refused(

@@ -9,9 +9,12 @@
 //! move them at its input, and weighting it until it does bends the whole
 //! form, so every other prediction moves too. The memory instead
 //!
-//! - reproduces a correction exactly at its input (type and Pn);
-//! - moves inputs within [`CorrectionMemory::radius`] of it towards it, the
-//!   more the nearer ([`weight`]);
+//! - reproduces a correction exactly at its input (type and Pn), and at
+//!   inputs within half the radius of it (the same front met again, to
+//!   rounding);
+//! - moves inputs between half the radius and the radius
+//!   ([`CorrectionMemory::radius`]) towards it, the more the nearer
+//!   ([`weight`]);
 //! - leaves every other input's prediction as the global model gives it,
 //!   to the bit, so that a refit with nothing corrected is the global
 //!   model and a correction cannot spoil what it is far from.
@@ -27,8 +30,14 @@ use crate::samples::{variable_points, Sample};
 use serde::{Deserialize, Serialize};
 
 /// The default radius of a correction, in normalised units (root mean
-/// square distance of the varying leading points).
-pub const DEFAULT_RADIUS: f64 = 0.1;
+/// square distance of the varying leading points). It is under the
+/// distance between the inputs of consecutive elements along a front
+/// (about 0.03 along the annulus example's first layer), so that a
+/// correction changes the element it was made at and fronts as alike as
+/// that, not its neighbours: after a reset the run comes to the same place
+/// over the same front and takes the corrected element there. A wider
+/// radius spreads a correction over a family of fronts.
+pub const DEFAULT_RADIUS: f64 = 0.025;
 
 /// The user's corrections with the radius each reaches.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -65,15 +74,19 @@ pub fn distance(a: &LeadingPoints, b: &LeadingPoints) -> f64 {
     (sum / pa.len().max(1) as f64).sqrt()
 }
 
-/// The weight of a correction at distance `d` with radius `r`:
-/// `(1 − (d/r)²)²` inside the radius (1 at the correction, falling
-/// smoothly to 0 at the radius), 0 outside.
+/// The weight of a correction at distance `d` with radius `r`: 1 up to
+/// half the radius, then falling smoothly (a smoothstep) to 0 at the
+/// radius, 0 beyond.
 pub fn weight(d: f64, r: f64) -> f64 {
     if d.is_nan() || d >= r || r <= 0.0 {
         return 0.0;
     }
-    let t = 1.0 - (d / r).powi(2);
-    t * t
+    let core = 0.5 * r;
+    if d <= core {
+        return 1.0;
+    }
+    let t = (d - core) / (r - core);
+    1.0 - t * t * (3.0 - 2.0 * t)
 }
 
 /// The weight above which a correction's type replaces the model's.
@@ -201,7 +214,9 @@ mod tests {
     #[test]
     fn weight_falls_from_one_to_zero_at_the_radius() {
         assert_eq!(weight(0.0, 0.1), 1.0);
-        assert!((weight(0.05, 0.1) - 0.5625).abs() < 1e-12);
+        assert_eq!(weight(0.05, 0.1), 1.0);
+        assert!((weight(0.075, 0.1) - 0.5).abs() < 1e-12);
+        assert!(weight(0.06, 0.1) > weight(0.07, 0.1));
         assert_eq!(weight(0.1, 0.1), 0.0);
         assert_eq!(weight(0.3, 0.1), 0.0);
         assert_eq!(weight(f64::NAN, 0.1), 0.0);
@@ -215,8 +230,11 @@ mod tests {
         let at = m.apply(&input(0.0), BASE);
         assert_eq!(at.element_type, ElementType::New);
         assert!((at.pn - pn).length() < 1e-12);
-        // Nearby (RMS 0.045): between the model's Pn and the correction's.
-        let near = m.apply(&input(0.1), BASE);
+        // Within half the radius (RMS 0.045): the correction too.
+        let core = m.apply(&input(0.1), BASE);
+        assert!((core.pn - pn).length() < 1e-12);
+        // Nearby (RMS 0.067): between the model's Pn and the correction's.
+        let near = m.apply(&input(0.15), BASE);
         let (before, after) = ((BASE.pn - pn).length(), (near.pn - pn).length());
         assert!(after < before && after > 0.0, "{after} vs {before}");
         // Far (RMS 0.13): the model's own prediction, to the bit.
