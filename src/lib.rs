@@ -33,6 +33,7 @@ pub mod app;
 pub mod boundary;
 pub mod boundary_edit;
 pub mod cleanup;
+pub mod compare;
 pub mod domains;
 pub mod extract;
 pub mod factors;
