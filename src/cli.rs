@@ -1,10 +1,11 @@
-//! The command line: `gui` (the default), `mesh`, `quality`, `samples`, `fit`, `predict`, `factors`. Errors are reported once, here, as
+//! The command line: `gui` (the default), `mesh`, `quality`, `samples`, `fit`, `predict`, `compare`, `factors`. Errors are reported once, here, as
 //! one line naming the file and the problem; bad input exits with code 2.
 
 use anyhow::{anyhow, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use quadex::cleanup::CleanupParams;
+use quadex::compare;
 use quadex::extract::{MeshParams, StepKind, StepStats, Strategy};
 use quadex::factors;
 use quadex::fit::{self, FitParams};
@@ -166,6 +167,22 @@ enum Command {
         /// the varying leading points, in normalised units.
         #[arg(long, default_value_t = quadex::model::memory::DEFAULT_RADIUS)]
         radius: f64,
+    },
+    /// Mesh one boundary with several models and compare them (thesis
+    /// Figure 44): a table (finished or not, quads, scaled Jacobian min and
+    /// mean, irregular interior nodes, elements accepted as predicted) and,
+    /// with -o, one SVG with the meshes side by side.
+    Compare {
+        input: PathBuf,
+        /// Comma-separated: `default`, `rules`, `thesis`, model files.
+        #[arg(long, value_delimiter = ',', default_value = "default,rules,thesis")]
+        models: Vec<String>,
+        /// The SVG of the meshes side by side.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Write the figures as JSON.
+        #[arg(long)]
+        report: Option<PathBuf>,
     },
     /// A model's element for each row of inputs: writes `type,xn,yn` (the
     /// normalised frame) per row of ROWS (.csv with the leading points in
@@ -627,6 +644,50 @@ fn run(c: Command) -> Result<()> {
                     "fitted"
                 }
             );
+            Ok(())
+        }
+        Command::Compare {
+            input,
+            models,
+            output,
+            report,
+        } => {
+            for path in output.iter().chain(&report) {
+                check_output(path)?;
+            }
+            let boundary = io::read_boundary(&input)
+                .map_err(|e| InputError(anyhow!("{}: {e}", input.display())))?;
+            let loaded = models
+                .iter()
+                .map(|spec| load_model(spec).map(|m| (spec, m)))
+                .collect::<Result<Vec<_>>>()?;
+            let outcomes: Vec<compare::Outcome> = loaded
+                .into_iter()
+                .map(|(spec, m)| {
+                    let name = Path::new(spec)
+                        .file_stem()
+                        .filter(|_| model::builtin(spec).is_none())
+                        .map_or(spec.clone(), |s| s.to_string_lossy().into_owned());
+                    compare::mesh_with(&name, &boundary, m, &pipeline::Params::DEFAULT)
+                })
+                .collect();
+            print!("{}", compare::table(&outcomes));
+            let mut files: Vec<(PathBuf, String)> = Vec::new();
+            if let Some(path) = output {
+                files.push((path, compare::svg(&outcomes, 400.0)));
+            }
+            if let Some(path) = report {
+                let json = serde_json::to_string_pretty(&serde_json::json!({
+                    "input": input.display().to_string(),
+                    "models": outcomes,
+                }))?;
+                files.push((path, json));
+            }
+            let refs: Vec<(&Path, &[u8])> = files
+                .iter()
+                .map(|(p, t)| (p.as_path(), t.as_bytes()))
+                .collect();
+            io::write_atomic_all(&refs)?;
             Ok(())
         }
         Command::Predict {
