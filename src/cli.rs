@@ -51,7 +51,8 @@ enum Command {
         #[arg(short, long)]
         output: PathBuf,
         /// `default` (the shipped fitted model), `rules`, `thesis` (Table 8
-        /// as printed), or a model file (.json).
+        /// as printed), `ann` (the shipped back-propagation network), or a
+        /// model file (.json).
         #[arg(long, default_value = "default")]
         model: String,
         #[arg(long, value_enum, default_value = "b")]
@@ -140,8 +141,9 @@ enum Command {
     Fit {
         #[arg(required = true)]
         sets: Vec<PathBuf>,
-        /// `thesis` or `quadratic`; without it, both are fitted and the one
-        /// with the better held-out figures is kept.
+        /// `thesis`, `quadratic` or `ann` (a back-propagation network);
+        /// without it, each is fitted and the one with the best held-out
+        /// figures is kept.
         #[arg(long)]
         form: Option<String>,
         #[arg(short, long)]
@@ -538,7 +540,7 @@ fn run(c: Command) -> Result<()> {
             let form = match form.as_deref() {
                 None => None,
                 Some(f) => Some(Form::parse(f).ok_or_else(|| {
-                    InputError(anyhow!("{f}: unknown form (use thesis or quadratic)"))
+                    InputError(anyhow!("{f}: unknown form (use thesis, quadratic or ann)"))
                 })?),
             };
             check_output(&output)?;

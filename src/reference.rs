@@ -273,6 +273,20 @@ pub fn default_model(
     )
 }
 
+/// The shipped network model (`--model ann`, the comparison system of
+/// thesis §2.2.2): [`default_training_set`] fitted in the network form
+/// ([`Form::Ann`]) with `params`, by the same refit as the default model.
+pub fn ann_model(meshes: &[(String, QuadMesh)], params: &FitParams) -> Result<ModelFile, FitError> {
+    let set = default_training_set(meshes);
+    refit(
+        &set,
+        &TrainingSet::new(set.points),
+        Form::Ann,
+        "ann",
+        params,
+    )
+}
+
 /// Every reference mesh with its name.
 pub fn all() -> Result<Vec<(&'static str, QuadMesh)>, ReferenceError> {
     NAMES.iter().map(|&n| build(n).map(|m| (n, m))).collect()

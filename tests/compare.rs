@@ -18,7 +18,7 @@ fn compare_meshes_a_boundary_with_each_model() {
     // A model file among the built-in ones.
     let file = dir.path().join("shipped.json");
     std::fs::write(&file, quadex::model::DEFAULT_MODEL_JSON).unwrap();
-    let models = format!("default,rules,thesis,{}", file.display());
+    let models = format!("default,rules,thesis,ann,{}", file.display());
     let annulus = common::bench().join("boundaries/annulus.poly");
     let o = quadex(&[
         "compare".as_ref(),
@@ -33,21 +33,21 @@ fn compare_meshes_a_boundary_with_each_model() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let table = String::from_utf8_lossy(&o.stdout).into_owned();
     let rows: Vec<&str> = table.lines().collect();
-    assert_eq!(rows.len(), 5, "{table}");
+    assert_eq!(rows.len(), 6, "{table}");
     assert!(rows[0].starts_with("model") && rows[0].contains("accepted"));
     for (row, name) in rows[1..]
         .iter()
-        .zip(["default", "rules", "thesis", "shipped"])
+        .zip(["default", "rules", "thesis", "ann", "shipped"])
     {
         assert!(row.starts_with(name), "{row}");
         assert!(row.contains("yes"), "{row}");
     }
     // The shipped model as a file meshes as `default` does.
-    assert_eq!(rows[1]["default".len()..], rows[4]["shipped".len()..]);
+    assert_eq!(rows[1]["default".len()..], rows[5]["shipped".len()..]);
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     let ms = r["models"].as_array().unwrap();
-    assert_eq!(ms.len(), 4);
+    assert_eq!(ms.len(), 5);
     for m in ms {
         assert_eq!(m["finished"], true);
         assert!(m["quads"].as_u64().unwrap() > 200);
@@ -56,8 +56,8 @@ fn compare_meshes_a_boundary_with_each_model() {
         assert!(m["sj_min"].as_f64().unwrap() <= m["sj_mean"].as_f64().unwrap());
     }
     let pic = std::fs::read_to_string(&svg).unwrap();
-    assert_eq!(pic.matches("<svg ").count(), 5);
-    for name in ["default", "rules", "thesis", "shipped"] {
+    assert_eq!(pic.matches("<svg ").count(), 6);
+    for name in ["default", "rules", "thesis", "ann", "shipped"] {
         assert!(pic.contains(&format!(">{name}</text>")), "{name}");
     }
 

@@ -195,6 +195,30 @@ fn the_shipped_default_model_is_the_refit_of_the_reference_meshes() {
 }
 
 #[test]
+fn the_shipped_ann_model_is_the_fit_of_the_reference_meshes() {
+    // Trained again from the same samples and seed: the same weights, and
+    // the figures the file carries meet the fit targets.
+    let params = FitParams {
+        folds: 0,
+        ..FitParams::DEFAULT
+    };
+    let rebuilt = reference::ann_model(&shipped_reference(), &params).unwrap();
+    let shipped = ModelFile::from_json(model::ANN_MODEL_JSON).unwrap();
+    assert!(matches!(shipped.coefficients, Coefficients::Ann(_)));
+    assert_eq!(rebuilt.coefficients, shipped.coefficients);
+    let f = shipped.figures.unwrap();
+    assert!(f.type_.holdout.accuracy >= 0.95);
+    assert!(f.xn.holdout.r >= 0.95 && f.yn.holdout.r >= 0.95);
+    // It meshes as a built-in model.
+    let ann: Arc<dyn Model> = Arc::from(model::builtin("ann").unwrap());
+    assert_eq!(ann.leading_points(), Some(3));
+    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let b = quadex::io::read_boundary(&bench.join("plate_hole.poly")).unwrap();
+    let (mesh, _) = mesh_boundary(&b, ann, &Params::DEFAULT, |_| {}).unwrap();
+    mesh.check_finished().unwrap();
+}
+
+#[test]
 fn the_richer_form_reaches_the_fit_targets_on_reference_samples() {
     // Issue target: held-out R ≥ 0.95 for Xn and Yn, type accuracy ≥ 95 %.
     let set = TrainingSet::collect(&shipped_reference(), 7, &CollectParams::DEFAULT);
@@ -323,7 +347,9 @@ fn cli_samples_fit_mesh_and_factors() {
     ]);
     // Both forms' tables are printed; the report has the issue's fields.
     assert!(
-        text.contains("form thesis") && text.contains("form quadratic"),
+        text.contains("form thesis")
+            && text.contains("form quadratic")
+            && text.contains("form ann"),
         "{text}"
     );
     let r: serde_json::Value =
@@ -336,7 +362,7 @@ fn cli_samples_fit_mesh_and_factors() {
         }
     }
     assert!(r["type"]["holdout"]["accuracy"].is_number());
-    assert_eq!(r["forms"].as_array().unwrap().len(), 2);
+    assert_eq!(r["forms"].as_array().unwrap().len(), 3);
     // The fitted model meshes a benchmark boundary.
     let square =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries/square.poly");

@@ -176,7 +176,7 @@ pub fn load_model(
         cause,
     };
     let file = match spec {
-        "default" => Some(ModelFile::from_json(model::DEFAULT_MODEL_JSON)),
+        "default" | "ann" => model::shipped_file(spec).map(ModelFile::from_json),
         "rules" | "thesis" => None,
         path => Some(
             std::fs::read(path)

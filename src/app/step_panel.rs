@@ -116,7 +116,7 @@ impl super::View for StepPanel {
                     }
                 })
                 .response
-                .on_hover_text("default: the shipped fitted model; rules: Zeng & Cheng's rules; thesis: Table 8 as printed");
+                .on_hover_text("default: the shipped fitted model; rules: Zeng & Cheng's rules; thesis: Table 8 as printed; ann: the shipped back-propagation network (Yao & Zeng)");
             if ui
                 .button("File…")
                 .on_hover_text("Mesh with a fitted model file (written by `quadex fit`)")

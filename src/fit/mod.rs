@@ -6,10 +6,13 @@
 //!   search over μ1 with least squares inside (replacing the thesis's
 //!   Auto2Fit global optimiser).
 //! - [`quadratic`]: a multinomial logistic classifier for the type (Newton
-//!   iterations with an L2 penalty) and a ridge quadratic per type for Pn.
+//!   iterations with an L2 penalty) and a ridge quadratic per type for Pn;
+//! - [`ann`]: a back-propagation network (Yao & Zeng), trained by Adam
+//!   from a seeded start.
 //!
 //! Linear algebra is nalgebra's.
 
+pub mod ann;
 pub mod figures;
 pub mod quadratic;
 pub mod thesis;
@@ -44,6 +47,11 @@ pub struct FitParams {
     pub newton_iterations: usize,
     /// Range of the μ1 search of the thesis's type model. Default [0.01, 100].
     pub mu1_range: [f64; 2],
+    /// Hidden units of the network form. Default 16.
+    pub ann_hidden: usize,
+    /// Sample visits the network's training makes (whole passes over the
+    /// samples, 5 to 400 of them). Default 2,000,000.
+    pub ann_samples: usize,
 }
 
 impl FitParams {
@@ -54,6 +62,8 @@ impl FitParams {
         logistic_l2: 1.0,
         newton_iterations: 30,
         mu1_range: [0.01, 100.0],
+        ann_hidden: 16,
+        ann_samples: 2_000_000,
     };
 }
 
@@ -177,6 +187,7 @@ pub fn fit_coefficients(
     let c = match form {
         Form::Thesis => thesis::fit(data, params).map(Coefficients::Thesis)?,
         Form::Quadratic => quadratic::fit(data, params).map(Coefficients::Quadratic)?,
+        Form::Ann => ann::fit(data, params).map(Coefficients::Ann)?,
     };
     if !c.all_finite() {
         return Err(FitError::Diverged { form: form.name() });

@@ -10,7 +10,11 @@
 //! - [`QuadraticForm`]: a richer form. The type is a multinomial logistic
 //!   classifier and Pn a ridge-regularised quadratic, one per type, both
 //!   over all leading coordinates (standardised), with every product of
-//!   two of them.
+//!   two of them;
+//! - [`AnnForm`]: the comparison system of thesis §2.2.2 (Yao & Zeng: a
+//!   back-propagation network with the same inputs and outputs): one
+//!   hidden layer of tanh units over the standardised leading coordinates,
+//!   three type scores (softmax) and Pn.
 //!
 //! The fitting itself is in [`crate::fit`].
 
@@ -31,15 +35,18 @@ pub enum Form {
     Thesis,
     /// Multinomial logistic type and per-type ridge quadratic Pn.
     Quadratic,
+    /// A back-propagation network (Yao & Zeng).
+    Ann,
 }
 
 impl Form {
-    pub const ALL: [Form; 2] = [Form::Thesis, Form::Quadratic];
+    pub const ALL: [Form; 3] = [Form::Thesis, Form::Quadratic, Form::Ann];
 
     pub fn name(self) -> &'static str {
         match self {
             Form::Thesis => "thesis",
             Form::Quadratic => "quadratic",
+            Form::Ann => "ann",
         }
     }
 
@@ -233,12 +240,84 @@ pub fn softmax(a: f64, b: f64) -> [f64; 3] {
     [e[0] / s, e[1] / s, e[2] / s]
 }
 
+/// Weights of the network form: `hidden` tanh units over the standardised
+/// raw inputs ([`raw_inputs`]), then five linear outputs: the scores of
+/// types 0, 1, 2 (softmax) and the standardised Xn, Yn.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AnnForm {
+    /// `N`, leading points per side.
+    pub n: usize,
+    /// Standardisation of the raw inputs, as [`QuadraticForm`]'s.
+    pub mean: Vec<f64>,
+    pub scale: Vec<f64>,
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    pub hidden: usize,
+    /// Hidden layer, row by row: `hidden × (inputs + 1)`, the bias last.
+    pub w1: Vec<f64>,
+    /// Output layer, row by row: `5 × (hidden + 1)`, the bias last.
+    pub w2: Vec<f64>,
+    /// Xn, Yn = output × scale + mean.
+    pub pn_mean: [f64; 2],
+    pub pn_scale: [f64; 2],
+}
+
+/// Outputs of the network form.
+pub const ANN_OUTPUTS: usize = 5;
+
+impl AnnForm {
+    /// The standardised inputs of `lp`.
+    pub fn inputs(&self, lp: &LeadingPoints) -> Vec<f64> {
+        raw_inputs(lp)
+            .iter()
+            .enumerate()
+            .map(|(k, x)| (x.clamp(self.lo[k], self.hi[k]) - self.mean[k]) / self.scale[k])
+            .collect()
+    }
+
+    /// The hidden activations and the raw outputs for standardised inputs.
+    pub fn forward(&self, z: &[f64], h: &mut Vec<f64>) -> [f64; ANN_OUTPUTS] {
+        let m = z.len();
+        h.clear();
+        for j in 0..self.hidden {
+            let row = &self.w1[j * (m + 1)..(j + 1) * (m + 1)];
+            h.push((dot(&row[..m], z) + row[m]).tanh());
+        }
+        let mut o = [0.0; ANN_OUTPUTS];
+        for (k, out) in o.iter_mut().enumerate() {
+            let row = &self.w2[k * (self.hidden + 1)..(k + 1) * (self.hidden + 1)];
+            *out = dot(&row[..self.hidden], h) + row[self.hidden];
+        }
+        o
+    }
+
+    /// Type probabilities, type and Pn.
+    pub fn predict_full(&self, lp: &LeadingPoints) -> ([f64; 3], ElementType, Point) {
+        let mut h = Vec::with_capacity(self.hidden);
+        let o = self.forward(&self.inputs(lp), &mut h);
+        let p = softmax(o[1] - o[0], o[2] - o[0]);
+        let k = (0..3).max_by(|&a, &b| p[a].total_cmp(&p[b])).unwrap_or(0);
+        let t = ElementType::from_number(k as u8).unwrap_or(ElementType::New);
+        let pn = Point::new(
+            o[3] * self.pn_scale[0] + self.pn_mean[0],
+            o[4] * self.pn_scale[1] + self.pn_mean[1],
+        );
+        (p, t, pn)
+    }
+
+    pub fn predict(&self, lp: &LeadingPoints) -> Prediction {
+        let (_, element_type, pn) = self.predict_full(lp);
+        Prediction { element_type, pn }
+    }
+}
+
 /// The coefficients of a fitted model, by form.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "form", rename_all = "lowercase")]
 pub enum Coefficients {
     Thesis(ThesisForm),
     Quadratic(QuadraticForm),
+    Ann(AnnForm),
 }
 
 impl Coefficients {
@@ -257,6 +336,16 @@ impl Coefficients {
                     && q.type_logit.iter().all(|v| ok(v))
                     && q.xn.iter().chain(&q.yn).all(|v| ok(v))
             }
+            Coefficients::Ann(a) => {
+                ok(&a.mean)
+                    && ok(&a.scale)
+                    && ok(&a.lo)
+                    && ok(&a.hi)
+                    && ok(&a.w1)
+                    && ok(&a.w2)
+                    && ok(&a.pn_mean)
+                    && ok(&a.pn_scale)
+            }
         }
     }
 
@@ -264,6 +353,7 @@ impl Coefficients {
         match self {
             Coefficients::Thesis(_) => Form::Thesis,
             Coefficients::Quadratic(_) => Form::Quadratic,
+            Coefficients::Ann(_) => Form::Ann,
         }
     }
 
@@ -272,6 +362,7 @@ impl Coefficients {
         match self {
             Coefficients::Thesis(t) => t.n,
             Coefficients::Quadratic(q) => q.n,
+            Coefficients::Ann(a) => a.n,
         }
     }
 
@@ -279,6 +370,7 @@ impl Coefficients {
         match self {
             Coefficients::Thesis(t) => t.predict(lp),
             Coefficients::Quadratic(q) => q.predict(lp),
+            Coefficients::Ann(a) => a.predict(lp),
         }
     }
 
@@ -290,6 +382,10 @@ impl Coefficients {
             Coefficients::Thesis(t) => t.predict_with_score(lp),
             Coefficients::Quadratic(q) => {
                 let (element_type, p, pn) = q.predict_features(&q.features(lp));
+                (p[1] + 2.0 * p[2], Prediction { element_type, pn })
+            }
+            Coefficients::Ann(a) => {
+                let (p, element_type, pn) = a.predict_full(lp);
                 (p[1] + 2.0 * p[2], Prediction { element_type, pn })
             }
         }
@@ -514,6 +610,31 @@ impl ModelFile {
                 }
                 for v in q.xn.iter().chain(&q.yn) {
                     len("xn/yn", v, f)?;
+                }
+                Ok(())
+            }
+            Coefficients::Ann(a) => {
+                len("mean", &a.mean, m)?;
+                len("scale", &a.scale, m)?;
+                len("lo", &a.lo, m)?;
+                len("hi", &a.hi, m)?;
+                if !(1..=1024).contains(&a.hidden) {
+                    return Err(ModelFileError::Length {
+                        what: "hidden",
+                        found: a.hidden,
+                        expected: 16,
+                    });
+                }
+                len("w1", &a.w1, a.hidden * (m + 1))?;
+                len("w2", &a.w2, ANN_OUTPUTS * (a.hidden + 1))?;
+                len("pn_mean", &a.pn_mean, 2)?;
+                len("pn_scale", &a.pn_scale, 2)?;
+                if a.scale.iter().chain(&a.pn_scale).any(|&s| s <= 0.0)
+                    || a.lo.iter().zip(&a.hi).any(|(l, h)| l > h)
+                {
+                    return Err(ModelFileError::NotFinite {
+                        what: "scale/range",
+                    });
                 }
                 Ok(())
             }
