@@ -261,14 +261,19 @@ mod tests {
         Boundary::new(pts, vec![(0..16).collect()], None).unwrap()
     }
 
-    #[test]
-    fn a_square_meshed_by_the_rules_and_its_figures() {
-        let o = mesh_with(
+    /// The square meshed by the rules.
+    fn rules_on_square() -> Outcome {
+        mesh_with(
             "rules",
             &square(),
             Arc::new(RulesModel::default()),
             &Params::DEFAULT,
-        );
+        )
+    }
+
+    #[test]
+    fn a_square_meshed_by_the_rules_and_its_figures() {
+        let o = rules_on_square();
         assert!(o.finished && !o.fill, "{o:?}");
         assert_eq!(o.quads, 16);
         assert!(o.sj_min > 0.99 && o.accepted_share > 0.5, "{o:?}");
@@ -285,12 +290,7 @@ mod tests {
 
     #[test]
     fn worse_is_said_figure_by_figure() {
-        let o = mesh_with(
-            "rules",
-            &square(),
-            Arc::new(RulesModel::default()),
-            &Params::DEFAULT,
-        );
+        let o = rules_on_square();
         let worse = Outcome {
             sj_mean: o.sj_mean - 0.1,
             fill: true,

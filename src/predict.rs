@@ -9,7 +9,7 @@
 use crate::geom::Point;
 use crate::model::{Model, Prediction};
 use crate::normalize::{Frame, LeadingPoints};
-use crate::samples::{TrainingSet, MAX_SAMPLE_COORDINATE};
+use crate::samples::{bad_coordinate, csv_number, TrainingSet};
 use thiserror::Error;
 
 /// Rows that cannot be predicted.
@@ -62,21 +62,15 @@ pub fn read_rows(text: &str) -> Result<(usize, Vec<LeadingPoints>), PredictError
         let line = i + 2;
         let rec = rec.map_err(|e| PredictError::Csv(crate::io::quote_long(&e.to_string())))?;
         let num = |k: usize| -> Result<f64, PredictError> {
-            let f = rec.get(k).ok_or_else(|| PredictError::Parse {
-                line,
-                msg: format!("missing column {}", expected[k]),
-            })?;
-            let v: f64 = f.parse().map_err(|_| PredictError::Parse {
-                line,
-                msg: format!("{}: not a number: `{}`", expected[k], crate::io::quote(f)),
-            })?;
-            if !v.is_finite() || v.abs() > MAX_SAMPLE_COORDINATE {
-                return Err(PredictError::Parse {
+            let v = csv_number(&rec, k, &expected[k])
+                .map_err(|msg| PredictError::Parse { line, msg })?;
+            match bad_coordinate(v) {
+                Some(why) => Err(PredictError::Parse {
                     line,
-                    msg: format!("{} is not a finite coordinate within ±1e6", expected[k]),
-                });
+                    msg: format!("{} {why}", expected[k]),
+                }),
+                None => Ok(v),
             }
-            Ok(v)
         };
         let mut pts = Vec::with_capacity(points);
         for k in 0..points {

@@ -316,33 +316,38 @@ fn changing_the_model_restarts_the_mesh() {
     assert_eq!(h.state().doc().steps(), 1);
 }
 
-#[test]
-fn correct_append_refit_and_finish() {
-    let mut h = harness(example());
+/// Takes five steps, then replaces the last element (type 0) by one whose
+/// Pn is `move_pn(Pn, P0, P_r1)` (world) and checks that it was taken;
+/// returns the step as it was, its Pn and the corrected Pn.
+fn step_five_and_correct(
+    h: &mut Harness<'static, App>,
+    move_pn: impl Fn(quadex::Point, quadex::Point, quadex::Point) -> quadex::Point,
+) -> (quadex::StepReport, quadex::Point, quadex::Point) {
     h.run();
     h.state_mut().apply(Command::StepN(5));
     h.run();
     let last = h.state().doc().last().cloned().unwrap();
     assert_eq!(last.kind, quadex::extract::StepKind::Element);
-    // Move the new node a little towards P0 and commit that instead.
     let m = h.state().doc().mesher().unwrap().mesh().clone();
-    let p0 = last.reference.unwrap();
-    let (pn, at_p0) = (
-        m.nodes[last.pn_node().unwrap() as usize],
-        m.nodes[p0 as usize],
-    );
-    let moved = pn + (at_p0 - pn) * 0.05;
+    let n = last.leading.len() / 2;
+    let at = |k: usize| m.nodes[last.leading[k] as usize];
+    let pn = m.nodes[last.pn_node().unwrap() as usize];
+    let moved = move_pn(pn, at(n), at(n + 1));
     h.state_mut().apply(Command::CorrectLast {
         element_type: ElementType::New,
         pn: moved,
         snap_to: None,
     });
     h.run();
-    assert!(
-        status(&h).starts_with("element corrected"),
-        "{}",
-        status(&h)
-    );
+    assert!(status(h).starts_with("element corrected"), "{}", status(h));
+    (last, pn, moved)
+}
+
+#[test]
+fn correct_append_refit_and_finish() {
+    let mut h = harness(example());
+    // Move the new node a little towards P0 and commit that instead.
+    let (_, _, moved) = step_five_and_correct(&mut h, |pn, p0, _| pn + (p0 - pn) * 0.05);
     let d = h.state().doc();
     assert_eq!(d.steps(), 5);
     assert_eq!(
@@ -407,31 +412,8 @@ fn a_refit_with_nothing_added_is_the_shipped_model() {
 #[test]
 fn a_correction_sticks_through_refit_and_reset_and_the_model_saves() {
     let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(5));
-    h.run();
-    let last = h.state().doc().last().cloned().unwrap();
-    assert_eq!(last.kind, quadex::extract::StepKind::Element);
     // Pn moved sideways by a fifth of P0–P_r1 (a drag on the canvas).
-    let m = h.state().doc().mesher().unwrap().mesh().clone();
-    let n = last.leading.len() / 2;
-    let (p0, r1) = (
-        m.nodes[last.leading[n] as usize],
-        m.nodes[last.leading[n + 1] as usize],
-    );
-    let pn = m.nodes[last.pn_node().unwrap() as usize];
-    let moved = pn + (r1 - p0) * 0.2;
-    h.state_mut().apply(Command::CorrectLast {
-        element_type: ElementType::New,
-        pn: moved,
-        snap_to: None,
-    });
-    h.run();
-    assert!(
-        status(&h).starts_with("element corrected"),
-        "{}",
-        status(&h)
-    );
+    let (last, pn, moved) = step_five_and_correct(&mut h, |pn, p0, r1| pn + (r1 - p0) * 0.2);
     let corrected = h.state().doc().training.samples[0].clone();
     // Before the refit the model predicts something else there.
     let shipped = quadex::model::default_model().unwrap();

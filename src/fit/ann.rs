@@ -8,7 +8,7 @@
 
 use super::quadratic::Standardisation;
 use super::{Data, FitError, FitParams};
-use crate::model::fitted::{raw_inputs, softmax, AnnForm, ANN_OUTPUTS};
+use crate::model::fitted::{softmax, AnnForm, ANN_OUTPUTS};
 use crate::rng::SplitMix64;
 
 /// Samples per Adam step.
@@ -51,16 +51,8 @@ impl Adam {
 /// Trains the network form.
 pub fn fit(data: &Data, params: &FitParams) -> Result<AnnForm, FitError> {
     let n_obs = data.len();
-    if n_obs < 3 {
-        return Err(FitError::TooFew {
-            form: "ann",
-            found: n_obs,
-            needed: 3,
-        });
-    }
-    let raw: Vec<Vec<f64>> = data.inputs.iter().map(raw_inputs).collect();
+    let (raw, st) = Standardisation::of_data(data, "ann")?;
     let m = raw[0].len();
-    let st = Standardisation::of(&raw);
     let z: Vec<Vec<f64>> = raw
         .iter()
         .map(|r| (0..m).map(|k| (r[k] - st.mean[k]) / st.scale[k]).collect())

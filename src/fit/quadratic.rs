@@ -28,6 +28,24 @@ pub(crate) struct Standardisation {
 }
 
 impl Standardisation {
+    /// The raw inputs of `data` ([`raw_inputs`]) and their
+    /// standardisation, for a fit of `form` (at least 3 samples).
+    pub fn of_data(
+        data: &Data,
+        form: &'static str,
+    ) -> Result<(Vec<Vec<f64>>, Standardisation), FitError> {
+        if data.len() < 3 {
+            return Err(FitError::TooFew {
+                form,
+                found: data.len(),
+                needed: 3,
+            });
+        }
+        let raw: Vec<Vec<f64>> = data.inputs.iter().map(raw_inputs).collect();
+        let st = Standardisation::of(&raw);
+        Ok((raw, st))
+    }
+
     /// Of the rows `raw` (at least one, all of one length).
     pub fn of(raw: &[Vec<f64>]) -> Standardisation {
         let n_obs = raw.len();
@@ -67,21 +85,16 @@ impl Standardisation {
 /// Fits the quadratic form.
 pub fn fit(data: &Data, params: &FitParams) -> Result<QuadraticForm, FitError> {
     let n_obs = data.len();
-    if n_obs < 3 {
-        return Err(FitError::TooFew {
-            form: "quadratic",
-            found: n_obs,
-            needed: 3,
-        });
-    }
-    let raw: Vec<Vec<f64>> = data.inputs.iter().map(raw_inputs).collect();
+    let (
+        raw,
+        Standardisation {
+            mean,
+            scale,
+            lo,
+            hi,
+        },
+    ) = Standardisation::of_data(data, "quadratic")?;
     let m = raw[0].len();
-    let Standardisation {
-        mean,
-        scale,
-        lo,
-        hi,
-    } = Standardisation::of(&raw);
     let p = quadratic_len(m);
     let mut rows = Vec::with_capacity(n_obs * p);
     let mut f = Vec::with_capacity(p);

@@ -180,6 +180,22 @@ pub fn raw_inputs(lp: &LeadingPoints) -> Vec<f64> {
         .collect()
 }
 
+/// The raw inputs of `lp` clamped to `[lo, hi]` and standardised:
+/// `z = (clamp(x) − mean) / scale`.
+fn standardised(
+    lp: &LeadingPoints,
+    mean: &[f64],
+    scale: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+) -> Vec<f64> {
+    raw_inputs(lp)
+        .iter()
+        .enumerate()
+        .map(|(k, x)| (x.clamp(lo[k], hi[k]) - mean[k]) / scale[k])
+        .collect()
+}
+
 /// Coefficients of the quadratic form.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct QuadraticForm {
@@ -203,11 +219,7 @@ pub struct QuadraticForm {
 impl QuadraticForm {
     /// The quadratic features of `lp`.
     pub fn features(&self, lp: &LeadingPoints) -> Vec<f64> {
-        let z: Vec<f64> = raw_inputs(lp)
-            .iter()
-            .enumerate()
-            .map(|(k, x)| (x.clamp(self.lo[k], self.hi[k]) - self.mean[k]) / self.scale[k])
-            .collect();
+        let z = standardised(lp, &self.mean, &self.scale, &self.lo, &self.hi);
         let mut f = Vec::with_capacity(quadratic_len(z.len()));
         quadratic_features_into(&z, &mut f);
         f
@@ -268,11 +280,7 @@ pub const ANN_OUTPUTS: usize = 5;
 impl AnnForm {
     /// The standardised inputs of `lp`.
     pub fn inputs(&self, lp: &LeadingPoints) -> Vec<f64> {
-        raw_inputs(lp)
-            .iter()
-            .enumerate()
-            .map(|(k, x)| (x.clamp(self.lo[k], self.hi[k]) - self.mean[k]) / self.scale[k])
-            .collect()
+        standardised(lp, &self.mean, &self.scale, &self.lo, &self.hi)
     }
 
     /// The hidden activations and the raw outputs for standardised inputs.
