@@ -1,10 +1,11 @@
-//! The command line: `gui` (the default), `mesh`, `quality`, `samples`, `fit`, `factors`. Errors are reported once, here, as
+//! The command line: `gui` (the default), `mesh`, `quality`, `samples`, `fit`, `predict`, `compare`, `factors`. Errors are reported once, here, as
 //! one line naming the file and the problem; bad input exits with code 2.
 
 use anyhow::{anyhow, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use quadex::cleanup::CleanupParams;
+use quadex::compare;
 use quadex::extract::{MeshParams, StepKind, StepStats, Strategy};
 use quadex::factors;
 use quadex::fit::{self, FitParams};
@@ -12,6 +13,7 @@ use quadex::io::{self, MeshFormat};
 use quadex::model::Form;
 use quadex::model::{self, Model};
 use quadex::pipeline::{self, FinishParams};
+use quadex::predict;
 use quadex::quality::MeshQuality;
 use quadex::remesh::RemeshParams;
 use quadex::samples::{self, CollectParams, TrainingSet};
@@ -49,7 +51,8 @@ enum Command {
         #[arg(short, long)]
         output: PathBuf,
         /// `default` (the shipped fitted model), `rules`, `thesis` (Table 8
-        /// as printed), or a model file (.json).
+        /// as printed), `ann` (the shipped back-propagation network), or a
+        /// model file (.json).
         #[arg(long, default_value = "default")]
         model: String,
         #[arg(long, value_enum, default_value = "b")]
@@ -138,8 +141,9 @@ enum Command {
     Fit {
         #[arg(required = true)]
         sets: Vec<PathBuf>,
-        /// `thesis` or `quadratic`; without it, both are fitted and the one
-        /// with the better held-out figures is kept.
+        /// `thesis`, `quadratic` or `ann` (a back-propagation network);
+        /// without it, each is fitted and the one with the best held-out
+        /// figures is kept.
         #[arg(long)]
         form: Option<String>,
         #[arg(short, long)]
@@ -155,6 +159,42 @@ enum Command {
         /// The model's name (default: the output file's stem).
         #[arg(long)]
         name: Option<String>,
+        /// Corrections (a training set in the same layout: the samples of
+        /// elements the user made), layered over the fitted model: each is
+        /// reproduced at its input, inputs within --radius move towards
+        /// it, the rest is the fit of the samples alone.
+        #[arg(long)]
+        corrections: Vec<PathBuf>,
+        /// How far a correction reaches: the root mean square distance of
+        /// the varying leading points, in normalised units.
+        #[arg(long, default_value_t = quadex::model::memory::DEFAULT_RADIUS)]
+        radius: f64,
+    },
+    /// Mesh one boundary with several models and compare them (thesis
+    /// Figure 44): a table (finished or not, quads, scaled Jacobian min and
+    /// mean, irregular interior nodes, elements accepted as predicted) and,
+    /// with -o, one SVG with the meshes side by side.
+    Compare {
+        input: PathBuf,
+        /// Comma-separated: `default`, `rules`, `thesis`, model files.
+        #[arg(long, value_delimiter = ',', default_value = "default,rules,thesis")]
+        models: Vec<String>,
+        /// The SVG of the meshes side by side.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Write the figures as JSON.
+        #[arg(long)]
+        report: Option<PathBuf>,
+    },
+    /// A model's element for each row of inputs: writes `type,xn,yn` (the
+    /// normalised frame) per row of ROWS (.csv with the leading points in
+    /// the training-set layout; extra columns are ignored).
+    Predict {
+        /// `default`, `rules`, `thesis` or a model file (.json).
+        model: String,
+        rows: PathBuf,
+        #[arg(short, long)]
+        output: PathBuf,
     },
     /// Critical factors (thesis §4.2): the weight of each leading point.
     /// Inputs are meshes (.msh, sampled at each count) or training sets
@@ -494,11 +534,13 @@ fn run(c: Command) -> Result<()> {
             report,
             folds,
             name,
+            corrections,
+            radius,
         } => {
             let form = match form.as_deref() {
                 None => None,
                 Some(f) => Some(Form::parse(f).ok_or_else(|| {
-                    InputError(anyhow!("{f}: unknown form (use thesis or quadratic)"))
+                    InputError(anyhow!("{f}: unknown form (use thesis, quadratic or ann)"))
                 })?),
             };
             check_output(&output)?;
@@ -538,9 +580,27 @@ fn run(c: Command) -> Result<()> {
                 folds,
                 ..FitParams::DEFAULT
             };
+            let mut fixes = TrainingSet::new(set.points);
+            for path in &corrections {
+                fixes
+                    .merge(read_set(path)?)
+                    .map_err(|e| InputError(anyhow!("{}: {e}", path.display())))?;
+            }
+            if !(radius.is_finite() && radius > 0.0) {
+                return Err(
+                    InputError(anyhow!("--radius {radius}: give a positive number")).into(),
+                );
+            }
             let t0 = Instant::now();
-            let (file, reports) = fit::fit_model(&set, form, &name, &params)
-                .map_err(|e| InputError(anyhow!("{}: {e}", sets[0].display())))?;
+            let (file, reports) = fit::fit_with_corrections(
+                &set, &fixes, form, &name, &params, radius,
+            )
+            .map_err(|e| {
+                let at = corrections
+                    .first()
+                    .filter(|_| matches!(e, fit::FitError::Corrections(_)));
+                InputError(anyhow!("{}: {e}", at.unwrap_or(&sets[0]).display()))
+            })?;
             let seconds = t0.elapsed().as_secs_f64();
             for r in &reports {
                 println!("{}", r.table());
@@ -572,15 +632,84 @@ fn run(c: Command) -> Result<()> {
             }
             io::write_atomic_all(&files)?;
             println!(
-                "{}: form {}, {} samples, {} in {seconds:.2} s",
+                "{}: form {}, {} samples{}, {} in {seconds:.2} s",
                 output.display(),
                 file.coefficients.form().name(),
                 set.len(),
+                match fixes.len() {
+                    0 => String::new(),
+                    k => format!(" and {k} corrections (radius {radius})"),
+                },
                 if folds >= 2 {
                     "fitted and cross-validated"
                 } else {
                     "fitted"
                 }
+            );
+            Ok(())
+        }
+        Command::Compare {
+            input,
+            models,
+            output,
+            report,
+        } => {
+            for path in output.iter().chain(&report) {
+                check_output(path)?;
+            }
+            let boundary = io::read_boundary(&input)
+                .map_err(|e| InputError(anyhow!("{}: {e}", input.display())))?;
+            let loaded = models
+                .iter()
+                .map(|spec| load_model(spec).map(|m| (spec, m)))
+                .collect::<Result<Vec<_>>>()?;
+            let outcomes: Vec<compare::Outcome> = loaded
+                .into_iter()
+                .map(|(spec, m)| {
+                    let name = Path::new(spec)
+                        .file_stem()
+                        .filter(|_| model::builtin(spec).is_none())
+                        .map_or(spec.clone(), |s| s.to_string_lossy().into_owned());
+                    compare::mesh_with(&name, &boundary, m, &pipeline::Params::DEFAULT)
+                })
+                .collect();
+            print!("{}", compare::table(&outcomes));
+            let mut files: Vec<(PathBuf, String)> = Vec::new();
+            if let Some(path) = output {
+                files.push((path, compare::svg(&outcomes, 400.0)));
+            }
+            if let Some(path) = report {
+                let json = serde_json::to_string_pretty(&serde_json::json!({
+                    "input": input.display().to_string(),
+                    "models": outcomes,
+                }))?;
+                files.push((path, json));
+            }
+            let refs: Vec<(&Path, &[u8])> = files
+                .iter()
+                .map(|(p, t)| (p.as_path(), t.as_bytes()))
+                .collect();
+            io::write_atomic_all(&refs)?;
+            Ok(())
+        }
+        Command::Predict {
+            model,
+            rows,
+            output,
+        } => {
+            check_output(&output)?;
+            let m = load_model(&model)?;
+            let text =
+                std::fs::read(&rows).map_err(|e| InputError(anyhow!("{}: {e}", rows.display())))?;
+            let bad = |e: predict::PredictError| InputError(anyhow!("{}: {e}", rows.display()));
+            let (points, inputs) = predict::read_rows(&io::decode_text(&text)).map_err(bad)?;
+            let answers = predict::predict_rows(m.as_ref(), points, &inputs).map_err(bad)?;
+            io::write_atomic(&output, predict::to_csv(&answers).as_bytes())?;
+            println!(
+                "{}: {} predicted by {}",
+                output.display(),
+                plural(answers.len(), "row"),
+                m.name()
             );
             Ok(())
         }
@@ -650,6 +779,15 @@ fn check_against(m: &quadex::QuadMesh, b: &quadex::Boundary) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// `n thing(s)`.
+fn plural(n: usize, thing: &str) -> String {
+    if n == 1 {
+        format!("1 {thing}")
+    } else {
+        format!("{n} {thing}s")
+    }
 }
 
 fn progress_bar(front: usize) -> Option<ProgressBar> {

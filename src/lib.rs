@@ -21,7 +21,8 @@
 //! files), [`extract`] (the step loop, guard, closure, fill), [`smooth`],
 //! [`quality`], [`io`] (file formats), [`samples`] (training samples,
 //! thesis Chapter 3), [`fit`] (model fitting and fit figures, Chapter 4),
-//! [`factors`] (critical factors, §4.2), [`domains`] (seeded awkward test
+//! [`factors`] (critical factors, §4.2), [`predict`] (a model's answers
+//! for rows of inputs), [`domains`] (seeded awkward test
 //! domains), [`mapped`] (transfinite mapped meshing) and
 //! [`reference`](mod@reference) (the meshes the shipped model learns from).
 //! `app` is the desktop editor, the only module that uses egui (behind the
@@ -32,6 +33,7 @@ pub mod app;
 pub mod boundary;
 pub mod boundary_edit;
 pub mod cleanup;
+pub mod compare;
 pub mod domains;
 pub mod extract;
 pub mod factors;
@@ -44,6 +46,7 @@ pub mod mesh;
 pub mod model;
 pub mod normalize;
 pub mod pipeline;
+pub mod predict;
 pub mod quality;
 pub mod reference;
 pub mod remesh;

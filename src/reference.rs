@@ -8,7 +8,7 @@
 //! writes them to `assets/reference/` and the tests check that the shipped
 //! files are what the generator makes.
 
-use crate::fit::{fit_model, FitError, FitParams};
+use crate::fit::{refit, FitError, FitParams};
 use crate::geom::Point;
 use crate::io::msh::read_msh;
 use crate::mapped::{graded, map_grid, merge, Block};
@@ -242,14 +242,21 @@ pub fn read_shipped() -> Result<Vec<(String, QuadMesh)>, ReferenceError> {
 /// (as [`read_shipped`] gives them): their 7-point samples with
 /// [`DEFAULT_MODEL_TURN`], duplicates dropped.
 pub fn default_training_set(meshes: &[(String, QuadMesh)]) -> TrainingSet {
+    training_set(meshes, DEFAULT_MODEL_POINTS)
+}
+
+/// The reference meshes' samples at `points` input points, collected as
+/// for the shipped model (what the editor's refit fits on).
+pub fn training_set(meshes: &[(String, QuadMesh)], points: usize) -> TrainingSet {
     let params = CollectParams {
         turn: DEFAULT_MODEL_TURN,
         ..CollectParams::DEFAULT
     };
-    TrainingSet::collect(meshes, DEFAULT_MODEL_POINTS, &params)
+    TrainingSet::collect(meshes, points, &params)
 }
 
-/// The shipped default model: [`default_training_set`] fitted in
+/// The shipped default model: [`default_training_set`] refitted with
+/// nothing added ([`crate::fit::refit`], the editor's refit) in
 /// [`DEFAULT_MODEL_FORM`] with `params` (the shipped file uses
 /// [`FitParams::DEFAULT`]).
 pub fn default_model(
@@ -257,8 +264,27 @@ pub fn default_model(
     params: &FitParams,
 ) -> Result<ModelFile, FitError> {
     let set = default_training_set(meshes);
-    let (file, _) = fit_model(&set, Some(DEFAULT_MODEL_FORM), "default", params)?;
-    Ok(file)
+    refit(
+        &set,
+        &TrainingSet::new(set.points),
+        DEFAULT_MODEL_FORM,
+        "default",
+        params,
+    )
+}
+
+/// The shipped network model (`--model ann`, the comparison system of
+/// thesis §2.2.2): [`default_training_set`] fitted in the network form
+/// ([`Form::Ann`]) with `params`, by the same refit as the default model.
+pub fn ann_model(meshes: &[(String, QuadMesh)], params: &FitParams) -> Result<ModelFile, FitError> {
+    let set = default_training_set(meshes);
+    refit(
+        &set,
+        &TrainingSet::new(set.points),
+        Form::Ann,
+        "ann",
+        params,
+    )
 }
 
 /// Every reference mesh with its name.

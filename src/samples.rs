@@ -353,7 +353,7 @@ impl From<crate::io::WriteError> for SamplesError {
 pub const MAX_SAMPLE_COORDINATE: f64 = 1e6;
 
 /// Why a value cannot be a sample's coordinate, if it cannot.
-fn bad_coordinate(v: f64) -> Option<String> {
+pub(crate) fn bad_coordinate(v: f64) -> Option<String> {
     if !v.is_finite() {
         Some("is not finite".into())
     } else if v.abs() > MAX_SAMPLE_COORDINATE {
@@ -623,14 +623,8 @@ impl TrainingSet {
             let line = i + 2;
             let rec = rec?;
             let num = |k: usize| -> Result<f64, SamplesError> {
-                let f = rec.get(k).ok_or_else(|| SamplesError::Parse {
-                    line,
-                    msg: format!("missing column {}", expected[k]),
-                })?;
-                let v: f64 = f.parse().map_err(|_| SamplesError::Parse {
-                    line,
-                    msg: format!("{}: not a number: `{}`", expected[k], crate::io::quote(f)),
-                })?;
+                let v = csv_number(&rec, k, &expected[k])
+                    .map_err(|msg| SamplesError::Parse { line, msg })?;
                 match bad_coordinate(v) {
                     // The type column is checked on its own.
                     Some(why) if k != coords => Err(SamplesError::Parse {
@@ -712,6 +706,13 @@ impl TrainingSet {
         set.check()?;
         Ok(set)
     }
+}
+
+/// Column `k` (named `name`) of a CSV record as a number, or why not.
+pub(crate) fn csv_number(rec: &csv::StringRecord, k: usize, name: &str) -> Result<f64, String> {
+    let f = rec.get(k).ok_or_else(|| format!("missing column {name}"))?;
+    f.parse()
+        .map_err(|_| format!("{name}: not a number: `{}`", crate::io::quote(f)))
 }
 
 fn is_json(path: &std::path::Path) -> bool {

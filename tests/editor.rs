@@ -316,33 +316,38 @@ fn changing_the_model_restarts_the_mesh() {
     assert_eq!(h.state().doc().steps(), 1);
 }
 
-#[test]
-fn correct_append_refit_and_finish() {
-    let mut h = harness(example());
+/// Takes five steps, then replaces the last element (type 0) by one whose
+/// Pn is `move_pn(Pn, P0, P_r1)` (world) and checks that it was taken;
+/// returns the step as it was, its Pn and the corrected Pn.
+fn step_five_and_correct(
+    h: &mut Harness<'static, App>,
+    move_pn: impl Fn(quadex::Point, quadex::Point, quadex::Point) -> quadex::Point,
+) -> (quadex::StepReport, quadex::Point, quadex::Point) {
     h.run();
     h.state_mut().apply(Command::StepN(5));
     h.run();
     let last = h.state().doc().last().cloned().unwrap();
     assert_eq!(last.kind, quadex::extract::StepKind::Element);
-    // Move the new node a little towards P0 and commit that instead.
     let m = h.state().doc().mesher().unwrap().mesh().clone();
-    let p0 = last.reference.unwrap();
-    let (pn, at_p0) = (
-        m.nodes[last.pn_node().unwrap() as usize],
-        m.nodes[p0 as usize],
-    );
-    let moved = pn + (at_p0 - pn) * 0.05;
+    let n = last.leading.len() / 2;
+    let at = |k: usize| m.nodes[last.leading[k] as usize];
+    let pn = m.nodes[last.pn_node().unwrap() as usize];
+    let moved = move_pn(pn, at(n), at(n + 1));
     h.state_mut().apply(Command::CorrectLast {
         element_type: ElementType::New,
         pn: moved,
         snap_to: None,
     });
     h.run();
-    assert!(
-        status(&h).starts_with("element corrected"),
-        "{}",
-        status(&h)
-    );
+    assert!(status(h).starts_with("element corrected"), "{}", status(h));
+    (last, pn, moved)
+}
+
+#[test]
+fn correct_append_refit_and_finish() {
+    let mut h = harness(example());
+    // Move the new node a little towards P0 and commit that instead.
+    let (_, _, moved) = step_five_and_correct(&mut h, |pn, p0, _| pn + (p0 - pn) * 0.05);
     let d = h.state().doc();
     assert_eq!(d.steps(), 5);
     assert_eq!(
@@ -376,6 +381,124 @@ fn correct_append_refit_and_finish() {
     let out = dir.path().join("annulus.vtu");
     h.state_mut().apply(Command::Export(out.clone()));
     assert_judged_valid(&out);
+}
+
+/// A Refit with nothing added is the shipped model: the same
+/// coefficients, and the annulus meshed the same as with `default`.
+#[test]
+fn a_refit_with_nothing_added_is_the_shipped_model() {
+    let mut h = harness(example());
+    h.run();
+    h.get_by_label("Refit").click();
+    h.step();
+    settle(&mut h);
+    let d = h.state().doc();
+    let (at, refit) = d.refits().last().cloned().expect("a refit");
+    assert_eq!(at, 0);
+    let shipped = quadex::model::default_model().unwrap();
+    assert_eq!(refit.coefficients, shipped.coefficients);
+    assert!(refit.memory.is_empty());
+    assert!(d.is_done());
+    let b = d.boundary().unwrap().clone();
+    let mut m = quadex::Mesher::new(b, std::sync::Arc::new(shipped), quadex::MeshParams::DEFAULT);
+    m.run(|_| {}).unwrap();
+    assert_eq!(d.mesher().unwrap().mesh(), m.mesh());
+}
+
+/// Corrections that stick: correct an element, Refit, Reset, step to the
+/// same place: the refitted model predicts the corrected element there.
+/// The refitted model is shown, kept through the reset, saved as a model
+/// file, and `quadex mesh --model` meshes with it.
+#[test]
+fn a_correction_sticks_through_refit_and_reset_and_the_model_saves() {
+    let mut h = harness(example());
+    // Pn moved sideways by a fifth of P0–P_r1 (a drag on the canvas).
+    let (last, pn, moved) = step_five_and_correct(&mut h, |pn, p0, r1| pn + (r1 - p0) * 0.2);
+    let corrected = h.state().doc().training.samples[0].clone();
+    // Before the refit the model predicts something else there.
+    let shipped = quadex::model::default_model().unwrap();
+    use quadex::Model as _;
+    assert!((shipped.predict(&corrected.input).pn - corrected.pn).length() > 0.1);
+    h.get_by_label_contains("model default: quadratic");
+    h.get_by_label("Refit").click();
+    h.step();
+    settle(&mut h);
+    assert_eq!(h.state().doc().settings.model, "fitted (quadratic) 1");
+    // The model shown, what it predicts at the correction, and how it
+    // meshes the boundary against the model before.
+    h.get_by_label_contains("model fitted (quadratic) 1: quadratic, ");
+    h.get_by_label_contains("samples, 1 correction");
+    h.get_by_label("corrections reproduced: 1 of 1");
+    h.get_by_label_contains("meshed from the start now: ");
+    assert!(
+        h.query_by_label("the refitted model meshes this boundary no worse")
+            .is_some()
+            || h.query_by_label_contains("meshes this boundary worse")
+                .is_some()
+    );
+    let f = h.state().doc().last_refit.clone().unwrap();
+    assert_eq!(f.checks.len(), 1);
+    assert!(f.checks[0].reproduced());
+    assert!(f
+        .meshed
+        .as_ref()
+        .is_some_and(|(b, a)| b.finished && a.finished));
+    // Reset: the refitted model stays chosen; step to the same place.
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::R);
+    h.run();
+    assert_eq!(h.state().doc().steps(), 0);
+    assert_eq!(h.state().doc().settings.model, "fitted (quadratic) 1");
+    h.state_mut().apply(Command::StepN(5));
+    h.run();
+    let d = h.state().doc();
+    let r = d.last().cloned().unwrap();
+    assert_eq!(r.reference, last.reference);
+    let p = r.prediction.unwrap();
+    assert_eq!(p.element_type, corrected.element_type);
+    assert!(
+        (p.pn - corrected.pn).length() < 1e-9,
+        "{:?} vs {:?}",
+        p.pn,
+        corrected.pn
+    );
+    assert_eq!(r.remedy, quadex::extract::Remedy::None);
+    // The mesher draws a row's height towards the size field after the
+    // prediction, so the node lands near the corrected one, not on it.
+    let at = d.mesher().unwrap().mesh().nodes[r.pn_node().unwrap() as usize];
+    assert!(
+        (at - moved).length() < 0.25 * (pn - moved).length(),
+        "{at:?} vs {moved:?}"
+    );
+    // A model change and back keeps it in the list.
+    let mut s = d.settings.clone();
+    s.model = "rules".into();
+    h.state_mut().apply(Command::SetSettings(s.clone()));
+    s.model = "fitted (quadratic) 1".into();
+    h.state_mut().apply(Command::SetSettings(s));
+    h.run();
+    assert_eq!(h.state().doc().model_info().corrections, 1);
+    // Saved as a model file, which the command line meshes with.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("corrected.json");
+    h.state_mut().apply(Command::SaveModel(file.clone()));
+    h.run();
+    assert!(status(&h).starts_with("saved the model"), "{}", status(&h));
+    let read =
+        quadex::model::ModelFile::from_json(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    assert_eq!(read.corrections.len(), 1);
+    let msh = dir.path().join("annulus.msh");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
+        .args(["mesh".as_ref(), boundary("annulus.poly").as_os_str()])
+        .args([
+            "--model".as_ref(),
+            file.as_os_str(),
+            "-o".as_ref(),
+            msh.as_os_str(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_judged_valid(&msh);
 }
 
 #[test]
@@ -759,6 +882,10 @@ fn issue17_undo_carries_on_after_reopening_a_project() {
     o.state_mut().apply(Command::Open(path));
     o.run();
     assert_eq!(o.state().doc().steps(), 9);
+    // The refitted model is kept with the project and still chosen.
+    assert_eq!(o.state().doc().models.len(), 1);
+    assert_eq!(o.state().doc().settings.model, "fitted (quadratic) 1");
+    assert_eq!(o.state().doc().model_info().name, "fitted (quadratic) 1");
     // Ctrl+Z: a step at a time, the refit, then the opening.
     let undo = |o: &mut Harness<'static, App>| {
         o.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);

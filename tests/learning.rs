@@ -155,40 +155,67 @@ fn model_file_round_trip_and_checks() {
 
 #[test]
 fn the_shipped_default_model_is_the_refit_of_the_reference_meshes() {
-    // Refit without the held-out folds (the coefficients come from the
-    // full set either way).
+    // The editor's refit with nothing added (`fit::refit` on the reference
+    // meshes' samples, no folds: the coefficients come from the full set
+    // either way) gives the shipped model's coefficients exactly.
     let params = FitParams {
         folds: 0,
         ..FitParams::DEFAULT
     };
-    let rebuilt = reference::default_model(&shipped_reference(), &params).unwrap();
+    let base = reference::training_set(&shipped_reference(), 7);
+    let rebuilt = quadex::fit::refit(
+        &base,
+        &TrainingSet::new(7),
+        Form::Quadratic,
+        "refit 1",
+        &params,
+    )
+    .unwrap();
     let shipped = ModelFile::from_json(model::DEFAULT_MODEL_JSON).unwrap();
     assert_eq!(rebuilt.training, shipped.training);
-    let (Coefficients::Quadratic(a), Coefficients::Quadratic(b)) =
-        (&rebuilt.coefficients, &shipped.coefficients)
-    else {
-        panic!("the default model is the quadratic form");
-    };
-    let flat = |q: &quadex::model::fitted::QuadraticForm| -> Vec<f64> {
-        let mut v = q.mean.clone();
-        for part in [&q.scale, &q.lo, &q.hi] {
-            v.extend(part);
-        }
-        for part in q.type_logit.iter().chain(&q.xn).chain(&q.yn) {
-            v.extend(part);
-        }
-        v
-    };
-    let (fa, fb) = (flat(a), flat(b));
-    assert_eq!(fa.len(), fb.len());
-    for (x, y) in fa.iter().zip(&fb) {
-        assert!((x - y).abs() <= 1e-6 * (1.0 + y.abs()), "{x} vs {y}");
-    }
+    assert_eq!(rebuilt.coefficients, shipped.coefficients);
+    assert!(rebuilt.corrections.is_empty() && shipped.corrections.is_empty());
+    assert!(matches!(shipped.coefficients, Coefficients::Quadratic(_)));
+    // The shipped file is what `reference::default_model` writes.
+    let again = reference::default_model(&shipped_reference(), &params).unwrap();
+    assert_eq!(again.coefficients, shipped.coefficients);
+    // The annulus meshes identically with either.
+    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let b = quadex::io::read_boundary(&bench.join("annulus.poly")).unwrap();
+    let mesh_with = |m: Arc<dyn Model>| mesh_boundary(&b, m, &Params::DEFAULT, |_| {}).unwrap().0;
+    assert_eq!(
+        mesh_with(Arc::new(rebuilt.model())),
+        mesh_with(Arc::from(model::builtin("default").unwrap()))
+    );
     // Its held-out figures meet the targets and beat thesis Table 8
     // (R = 0.84, 0.78, 0.79 on training data).
     let f = shipped.figures.unwrap();
     assert!(f.type_.holdout.accuracy >= 0.95);
     assert!(f.xn.holdout.r >= 0.95 && f.yn.holdout.r >= 0.95);
+}
+
+#[test]
+fn the_shipped_ann_model_is_the_fit_of_the_reference_meshes() {
+    // Trained again from the same samples and seed: the same weights, and
+    // the figures the file carries meet the fit targets.
+    let params = FitParams {
+        folds: 0,
+        ..FitParams::DEFAULT
+    };
+    let rebuilt = reference::ann_model(&shipped_reference(), &params).unwrap();
+    let shipped = ModelFile::from_json(model::ANN_MODEL_JSON).unwrap();
+    assert!(matches!(shipped.coefficients, Coefficients::Ann(_)));
+    assert_eq!(rebuilt.coefficients, shipped.coefficients);
+    let f = shipped.figures.unwrap();
+    assert!(f.type_.holdout.accuracy >= 0.95);
+    assert!(f.xn.holdout.r >= 0.95 && f.yn.holdout.r >= 0.95);
+    // It meshes as a built-in model.
+    let ann: Arc<dyn Model> = Arc::from(model::builtin("ann").unwrap());
+    assert_eq!(ann.leading_points(), Some(3));
+    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let b = quadex::io::read_boundary(&bench.join("plate_hole.poly")).unwrap();
+    let (mesh, _) = mesh_boundary(&b, ann, &Params::DEFAULT, |_| {}).unwrap();
+    mesh.check_finished().unwrap();
 }
 
 #[test]
@@ -320,7 +347,9 @@ fn cli_samples_fit_mesh_and_factors() {
     ]);
     // Both forms' tables are printed; the report has the fields.
     assert!(
-        text.contains("form thesis") && text.contains("form quadratic"),
+        text.contains("form thesis")
+            && text.contains("form quadratic")
+            && text.contains("form ann"),
         "{text}"
     );
     let r: serde_json::Value =
@@ -333,7 +362,7 @@ fn cli_samples_fit_mesh_and_factors() {
         }
     }
     assert!(r["type"]["holdout"]["accuracy"].is_number());
-    assert_eq!(r["forms"].as_array().unwrap().len(), 2);
+    assert_eq!(r["forms"].as_array().unwrap().len(), 3);
     // The fitted model meshes a benchmark boundary.
     let square =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries/square.poly");

@@ -60,6 +60,8 @@ pub enum Command {
     /// Refit the model on the reference samples and the user's; with
     /// `mesh_rest`, mesh the rest with it (one undo takes both back).
     Refit { form: Form, mesh_rest: bool },
+    /// Save the refitted model meshed with now as a model file.
+    SaveModel(PathBuf),
     /// Step on their own at the animation speed, or stop.
     Animate(bool),
     /// Stop the background run; the document stays as before it.
@@ -95,6 +97,8 @@ pub enum Dialog {
     CollectFromFile,
     /// A fitted model file to mesh with.
     ModelFile,
+    /// Where to save the refitted model.
+    SaveModel,
 }
 
 impl Command {

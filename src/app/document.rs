@@ -10,6 +10,7 @@ use super::error::{AtPath, EditorError, ProjectError};
 use crate::boundary::BoundaryError;
 use crate::boundary_edit::Draft;
 use crate::cleanup::CleanupParams;
+use crate::compare;
 use crate::extract::{
     Action, Correction, MeshParams, Mesher, StepKind, StepOutcome, StepReport, Strategy,
 };
@@ -19,7 +20,7 @@ use crate::io;
 use crate::io::boundary_json::BoundaryDoc;
 use crate::mesh::QuadMesh;
 use crate::model::fitted::FittedModel;
-use crate::model::{self, ElementType, Form};
+use crate::model::{self, ElementType, Form, Model as _, ModelFile};
 use crate::pipeline::FinishParams;
 use crate::remesh::RemeshParams;
 use crate::samples::{CollectParams, Sample, TrainingSet};
@@ -111,21 +112,101 @@ pub struct Meshing {
     /// shown, checked and exported as the document's mesh until the
     /// boundary is stepped.
     imported: Option<Arc<QuadMesh>>,
+    /// The model meshed with now (after a refit: the refitted one).
+    pub info: ModelInfo,
+    /// The model the run started with (a refit chooses another for the
+    /// rest and for the next run).
+    start: String,
 }
 
 impl Meshing {
-    fn new(boundary: Boundary, settings: &Settings) -> Result<Meshing, EditorError> {
-        let m = model::load(&settings.model).map_err(|cause| EditorError::Model {
-            spec: settings.model.clone(),
-            cause,
-        })?;
+    fn new(
+        boundary: Boundary,
+        settings: &Settings,
+        models: &[ModelFile],
+    ) -> Result<Meshing, EditorError> {
+        let (m, info) = load_model(&settings.model, models)?;
         Ok(Meshing {
-            mesher: Mesher::new(boundary.clone(), Arc::from(m), settings.params()),
+            mesher: Mesher::new(boundary.clone(), m, settings.params()),
             boundary,
             last: None,
             refits: Vec::new(),
             imported: None,
+            start: settings.model.clone(),
+            info,
         })
+    }
+}
+
+/// What the editor says about the model it meshes with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelInfo {
+    pub name: String,
+    /// `quadratic`, `thesis` (fitted), `rules`, `thesis (Table 8)`, …
+    pub form: String,
+    /// Samples its global part was fitted on (none for rules and presets).
+    pub samples: Option<usize>,
+    /// Corrections layered over it.
+    pub corrections: usize,
+}
+
+impl ModelInfo {
+    fn of_file(f: &ModelFile) -> ModelInfo {
+        ModelInfo {
+            name: f.name.clone(),
+            form: f.coefficients.form().name().into(),
+            samples: Some(f.training.samples),
+            corrections: f.corrections.len(),
+        }
+    }
+}
+
+/// The model named `spec`: one of the document's refitted `models` by
+/// name, a built-in model, or a model file; with what the editor shows of
+/// it.
+pub fn load_model(
+    spec: &str,
+    models: &[ModelFile],
+) -> Result<(Arc<dyn model::Model>, ModelInfo), EditorError> {
+    if let Some(f) = models.iter().find(|f| f.name == spec) {
+        return Ok((Arc::new(f.model()), ModelInfo::of_file(f)));
+    }
+    let failed = |cause| EditorError::Model {
+        spec: spec.to_string(),
+        cause,
+    };
+    let file = match spec {
+        "default" | "ann" => model::shipped_file(spec).map(ModelFile::from_json),
+        "rules" | "thesis" => None,
+        path => Some(
+            std::fs::read(path)
+                .map_err(|e| failed(model::LoadError::Io(e)))
+                .map(|b| ModelFile::from_json(&io::decode_text(&b)))?,
+        ),
+    };
+    match file {
+        Some(f) => {
+            let f = f.map_err(|e| failed(model::LoadError::File(e)))?;
+            let info = ModelInfo {
+                name: spec.to_string(),
+                ..ModelInfo::of_file(&f)
+            };
+            Ok((Arc::new(f.model()), info))
+        }
+        None => {
+            let m = model::load(spec).map_err(failed)?;
+            let info = ModelInfo {
+                name: spec.to_string(),
+                form: if spec == "rules" {
+                    "rules (Zeng & Cheng)".into()
+                } else {
+                    "thesis (Table 8 as printed)".into()
+                },
+                samples: None,
+                corrections: 0,
+            };
+            Ok((Arc::from(m), info))
+        }
     }
 }
 
@@ -150,6 +231,10 @@ pub struct Document {
     pub boundary_edited: bool,
     /// Figures of the last refit (undone with it; not saved).
     pub last_refit: Option<RefitFigures>,
+    /// The models refits made, by name: chosen like the built-in ones,
+    /// they survive a reset, a boundary edit or a model change, are saved
+    /// with the project and can be saved as model files.
+    pub models: Vec<ModelFile>,
 }
 
 /// Figures of the model before and after a refit, on the same samples.
@@ -159,6 +244,39 @@ pub struct RefitFigures {
     pub corrections: usize,
     pub before: (TypeFigures, Figures, Figures),
     pub after: (TypeFigures, Figures, Figures),
+    /// The refitted model's name.
+    pub model: String,
+    /// What the models before and after predict at each correction.
+    pub checks: Vec<CorrectionCheck>,
+    /// The boundary meshed from the start with the model before and the
+    /// refitted one.
+    pub meshed: Option<(compare::Outcome, compare::Outcome)>,
+    /// How the refitted model meshes the boundary worse (empty: it does
+    /// not).
+    pub worse: Vec<String>,
+}
+
+/// A correction and what the models predict at its input (normalised
+/// frame).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CorrectionCheck {
+    /// The position of the correction among the user's samples.
+    pub sample: usize,
+    pub corrected: model::Prediction,
+    pub before: model::Prediction,
+    pub after: model::Prediction,
+}
+
+/// How near the refitted model's Pn must come to the correction's for the
+/// correction to count as reproduced (normalised units).
+pub const REPRODUCED: f64 = 0.05;
+
+impl CorrectionCheck {
+    /// The refitted model predicts the corrected element.
+    pub fn reproduced(&self) -> bool {
+        self.after.element_type == self.corrected.element_type
+            && self.after.pn.distance(self.corrected.pn) <= REPRODUCED
+    }
 }
 
 /// A front node the last element could be closed onto instead, and
@@ -219,6 +337,7 @@ impl Document {
             meshing: None,
             boundary_edited: false,
             last_refit: None,
+            models: Vec::new(),
         }
     }
 
@@ -251,7 +370,7 @@ impl Document {
         let mut doc = Document::empty(settings);
         doc.draft = Draft::of(&boundary);
         doc.problem = None;
-        doc.meshing = Some(Meshing::new(boundary, &doc.settings)?);
+        doc.meshing = Some(Meshing::new(boundary, &doc.settings, &doc.models)?);
         doc.source = source;
         doc.name = name;
         Ok(doc)
@@ -440,7 +559,7 @@ impl Document {
     /// Starts the mesh again with the current settings.
     pub fn reset(&mut self) -> Result<(), EditorError> {
         let boundary = self.meshing_mut()?.boundary.clone();
-        self.meshing = Some(Meshing::new(boundary, &self.settings)?);
+        self.meshing = Some(Meshing::new(boundary, &self.settings, &self.models)?);
         Ok(())
     }
 
@@ -450,7 +569,7 @@ impl Document {
     /// loaded (nothing changes then).
     pub fn set_draft(&mut self, draft: Draft) -> Result<(), EditorError> {
         let (meshing, problem) = match draft.to_boundary() {
-            Ok(b) => (Some(Meshing::new(b, &self.settings)?), None),
+            Ok(b) => (Some(Meshing::new(b, &self.settings, &self.models)?), None),
             Err(e) => (None, Some(e)),
         };
         self.draft = draft;
@@ -466,16 +585,13 @@ impl Document {
     pub fn set_settings(&mut self, settings: Settings) -> Result<bool, EditorError> {
         if self.settings.same_steps(&settings) || self.meshing.is_none() {
             if self.meshing.is_none() {
-                model::load(&settings.model).map_err(|cause| EditorError::Model {
-                    spec: settings.model.clone(),
-                    cause,
-                })?;
+                load_model(&settings.model, &self.models)?;
             }
             self.settings = settings;
             return Ok(false);
         }
         let boundary = self.meshing_mut()?.boundary.clone();
-        let meshing = Meshing::new(boundary, &settings)?;
+        let meshing = Meshing::new(boundary, &settings, &self.models)?;
         self.settings = settings;
         self.meshing = Some(meshing);
         Ok(true)
@@ -610,30 +726,120 @@ impl Document {
         Ok(set)
     }
 
-    /// Refits a model of `form` on the reference samples plus the user's,
-    /// sets it to mesh the rest of the mesh with, and returns the figures
-    /// of the old and the new model on those samples.
+    /// Refits a model of `form` on the reference samples plus the user's
+    /// ([`fit::refit`]: samples collected from meshes join the global fit,
+    /// the user's own elements are layered over it as corrections), adds it
+    /// to the document's models and chooses it (a reset or a boundary edit
+    /// keeps it), sets it to mesh the rest of the mesh with, and returns
+    /// the figures of the old and the new model: on those samples, at each
+    /// correction, and meshing the boundary from the start.
     pub fn refit(&mut self, form: Form) -> Result<RefitFigures, EditorError> {
         let corrections = self.training.len();
+        let base = reference_samples(self.training.points)?;
         let set = self.refit_set()?;
-        let m = self.meshing_mut()?;
+        let mut k = self.models.len() + 1;
+        while self.models.iter().any(|f| f.name == refit_name(form, k)) {
+            k += 1;
+        }
         let params = FitParams {
             folds: 0,
             ..FitParams::DEFAULT
         };
-        let before = fit::evaluate(m.mesher.model().as_ref(), &set)?;
-        let model = fit::refit(&set, form, &params)?;
+        let file = fit::refit(&base, &self.training, form, &refit_name(form, k), &params)?;
+        let model = file.model();
+        let finishing = self.settings.finishing();
+        let old = self.meshing_mut()?.mesher.model().clone();
+        let before = fit::evaluate(old.as_ref(), &set)?;
         let after = fit::evaluate(&model, &set)?;
+        let checks = self
+            .training
+            .samples
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.source == crate::samples::Source::Correction)
+            .map(|(i, s)| CorrectionCheck {
+                sample: i,
+                corrected: model::Prediction {
+                    element_type: s.element_type,
+                    pn: s.pn,
+                },
+                before: old.predict(&s.input),
+                after: model.predict(&s.input),
+            })
+            .collect();
+        let m = self.meshing_mut()?;
+        let meshed = (m.boundary.node_count() <= COMPARE_NODES).then(|| {
+            let params = crate::pipeline::Params {
+                extract: m.mesher.params().clone(),
+                finish: finishing,
+            };
+            (
+                compare::mesh_with(old.name(), &m.boundary, old.clone(), &params),
+                compare::mesh_with(&file.name, &m.boundary, Arc::new(model.clone()), &params),
+            )
+        });
+        let worse = meshed
+            .as_ref()
+            .map(|(b, a)| a.worse_than(b))
+            .unwrap_or_default();
         m.mesher.set_model(Arc::new(model.clone()));
         m.refits.push((m.mesher.steps(), model));
+        m.info = ModelInfo::of_file(&file);
+        self.settings.model = file.name.clone();
         let f = RefitFigures {
             samples: set.len(),
             corrections,
             before,
             after,
+            model: file.name.clone(),
+            checks,
+            meshed,
+            worse,
         };
+        self.models.push(file);
         self.last_refit = Some(f.clone());
         Ok(f)
+    }
+
+    /// The settings for another document: a refitted model of this one
+    /// gives way to the shipped model (the refitted models stay with this
+    /// document and its project).
+    pub fn portable_settings(&self) -> Settings {
+        let mut s = self.settings.clone();
+        if self.model_file(&s.model).is_some() {
+            s.model = Settings::default().model;
+        }
+        s
+    }
+
+    /// The document's model named `name`, if a refit made one.
+    pub fn model_file(&self, name: &str) -> Option<&ModelFile> {
+        self.models.iter().find(|f| f.name == name)
+    }
+
+    /// Writes the refitted model meshed with now as a model file (what
+    /// `quadex mesh --model` reads).
+    pub fn save_model(&self, path: &Path) -> Result<String, EditorError> {
+        let f = self
+            .model_file(&self.model_info().name)
+            .ok_or(EditorError::NoRefittedModel)?;
+        io::write_atomic(path, f.to_json().as_bytes())?;
+        Ok(f.name.clone())
+    }
+
+    /// The model meshed with now.
+    pub fn model_info(&self) -> ModelInfo {
+        match &self.meshing {
+            Some(m) => m.info.clone(),
+            None => load_model(&self.settings.model, &self.models)
+                .map(|(_, i)| i)
+                .unwrap_or(ModelInfo {
+                    name: self.settings.model.clone(),
+                    form: String::new(),
+                    samples: None,
+                    corrections: 0,
+                }),
+        }
     }
 
     /// The finished mesh (cleaned up, smoothed and checked), for export.
@@ -729,8 +935,18 @@ fn boundary_doc_numbered(b: &Boundary, name: &str) -> BoundaryDoc {
     }
 }
 
-/// The reference meshes' samples at `points` input points (the method's
-/// defaults), collected once per run of the program and shared.
+/// The name of the `k`-th refitted model of `form`.
+fn refit_name(form: Form, k: usize) -> String {
+    format!("fitted ({}) {k}", form.name())
+}
+
+/// Boundaries with more nodes than this are not meshed again from the
+/// start after a refit (it would take too long to wait for).
+pub const COMPARE_NODES: usize = 4000;
+
+/// The reference meshes' samples at `points` input points, collected as
+/// for the shipped model ([`crate::reference::training_set`]), once per run
+/// of the program and shared.
 pub fn reference_samples(points: usize) -> Result<Arc<TrainingSet>, EditorError> {
     static CACHE: OnceLock<Mutex<BTreeMap<usize, Arc<TrainingSet>>>> = OnceLock::new();
     let cache = CACHE.get_or_init(Default::default);
@@ -738,11 +954,7 @@ pub fn reference_samples(points: usize) -> Result<Arc<TrainingSet>, EditorError>
         return Ok(s);
     }
     let meshes = crate::reference::read_shipped()?;
-    let set = Arc::new(TrainingSet::collect(
-        &meshes,
-        points,
-        &CollectParams::DEFAULT,
-    ));
+    let set = Arc::new(crate::reference::training_set(&meshes, points));
     if let Ok(mut c) = cache.lock() {
         c.insert(points, set.clone());
     }
@@ -818,6 +1030,13 @@ pub struct Project {
     pub actions: Vec<Action>,
     /// Models set by refits, with the steps taken before each.
     pub refits: Vec<(usize, FittedModel)>,
+    /// The document's refitted models (see [`Document::models`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub models: Vec<ModelFile>,
+    /// The model the run started with, when it is not the one chosen now
+    /// (a refit chose another).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start_model: Option<String>,
     pub training: TrainingSet,
     /// The mesh as stepped (not smoothed).
     pub mesh: QuadMesh,
@@ -842,6 +1061,12 @@ impl Document {
                 .map(|m| m.actions().to_vec())
                 .unwrap_or_default(),
             refits: self.refits().to_vec(),
+            models: self.models.clone(),
+            start_model: self
+                .meshing
+                .as_ref()
+                .map(|m| m.start.clone())
+                .filter(|m| *m != self.settings.model),
             training: self.training.clone(),
             mesh: self.mesher().map(|m| m.mesh().clone()).unwrap_or_default(),
             imported: self
@@ -883,15 +1108,27 @@ impl Document {
             .map(|l| l.iter().map(|&[x, y]| Point::new(x, y)).collect())
             .collect();
         let draft = Draft { loops };
-        let mut doc =
-            Document::from_draft(draft, source, &name, p.settings).map_err(|e| match e {
-                EditorError::Model { cause, .. } => ProjectError::Model(cause),
-                other => ProjectError::Json(other.to_string()),
-            })?;
+        // The run replays from the model it started with; the model chosen
+        // now (a refitted one) is set back after.
+        let chosen = p.settings.model.clone();
+        let mut settings = p.settings;
+        if let Some(m) = p.start_model {
+            settings.model = m;
+        }
+        let mut doc = Document::empty(settings);
+        doc.models = p.models;
+        doc.source = source;
+        doc.name = name;
+        doc.set_draft(draft).map_err(|e| match e {
+            EditorError::Model { cause, .. } => ProjectError::Model(cause),
+            other => ProjectError::Json(other.to_string()),
+        })?;
+        doc.boundary_edited = false;
         doc.training = p.training;
         let mut replayed = Vec::new();
         let Some(mut meshing) = doc.meshing.take() else {
             // A draft: nothing was stepped.
+            doc.settings.model = chosen;
             return match (&doc.problem, p.actions.is_empty()) {
                 (Some(e), false) => Err(ProjectError::Boundary(e.clone())),
                 _ => Ok((doc, replayed)),
@@ -930,6 +1167,18 @@ impl Document {
             meshing.mesher.set_model(Arc::new(m.clone()));
             meshing.refits.push((meshing.mesher.steps(), m));
         }
+        if let Some((_, m)) = meshing.refits.last() {
+            meshing.info = doc
+                .model_file(&m.name)
+                .map(ModelInfo::of_file)
+                .unwrap_or_else(|| ModelInfo {
+                    name: m.name.clone(),
+                    form: m.coefficients.form().name().into(),
+                    samples: None,
+                    corrections: m.memory.len(),
+                });
+        }
+        doc.settings.model = chosen;
         if meshing.mesher.mesh() != &p.mesh {
             return Err(ProjectError::MeshDiffers);
         }

@@ -75,6 +75,10 @@ pub enum EditorError {
     Screenshot { path: PathBuf, cause: String },
     #[error("the window: {0}")]
     Window(String),
+    #[error(
+        "the model meshed with is not a refitted one: refit first (or choose a refitted model)"
+    )]
+    NoRefittedModel,
 }
 
 /// Why a project file does not open.

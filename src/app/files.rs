@@ -18,6 +18,7 @@ impl Dialog {
             Dialog::ExportSamples => "Export training samples (.csv or .json)",
             Dialog::CollectFromFile => "Collect samples from a quad mesh (.msh)",
             Dialog::ModelFile => "Mesh with a fitted model file (.json)",
+            Dialog::SaveModel => "Save the refitted model as (.json)",
         }
     }
 
@@ -29,6 +30,7 @@ impl Dialog {
                 | Dialog::SaveBoundaryAs
                 | Dialog::ExportMesh
                 | Dialog::ExportSamples
+                | Dialog::SaveModel
         )
     }
 
@@ -39,6 +41,7 @@ impl Dialog {
             Dialog::SaveBoundaryAs => format!("{stem}.poly"),
             Dialog::ExportMesh => format!("{stem}.msh"),
             Dialog::ExportSamples => format!("{stem}_samples.csv"),
+            Dialog::SaveModel => format!("{stem}_model.json"),
             _ => String::new(),
         }
     }
@@ -98,6 +101,7 @@ pub fn pick(d: Dialog, dir: Option<&Path>, name: &str) -> Option<PathBuf> {
             .save_file(),
         Dialog::CollectFromFile => f.add_filter("Gmsh", &["msh", "msh22"]).pick_file(),
         Dialog::ModelFile => f.add_filter("quadex model", &["json"]).pick_file(),
+        Dialog::SaveModel => f.add_filter("quadex model", &["json"]).save_file(),
     }
 }
 
@@ -112,6 +116,7 @@ pub fn command_for(d: Dialog, path: PathBuf) -> Command {
         Dialog::ExportSamples => Command::ExportSamples(path),
         Dialog::CollectFromFile => Command::CollectFromFile(path),
         Dialog::ModelFile => Command::UseModel(path),
+        Dialog::SaveModel => Command::SaveModel(path),
     }
 }
 

@@ -33,7 +33,7 @@ use crate::geom::{Aabb, Point};
 use crate::mesh::QuadMesh;
 use crate::pipeline::FinishParams;
 pub use command::{Command, Dialog};
-pub use document::{Document, RefitFigures, Settings, Target};
+pub use document::{CorrectionCheck, Document, ModelInfo, RefitFigures, Settings, Target};
 pub use error::EditorError;
 use files::{Prompt, Recent};
 pub use history::History;
@@ -769,7 +769,7 @@ impl App {
                 Ok(String::new())
             }
             Command::New => {
-                let settings = self.document.doc.settings.clone();
+                let settings = self.document.doc.portable_settings();
                 self.edit("new", |d| {
                     *d = Document::empty(settings);
                     Ok(())
@@ -779,7 +779,7 @@ impl App {
                 Ok("a new boundary: click on the canvas to place the outer loop's nodes".into())
             }
             Command::Open(path) => {
-                let settings = self.document.doc.settings.clone();
+                let settings = self.document.doc.portable_settings();
                 let replayed = self.edit("open", |d| {
                     let (doc, replayed) = Document::open(&path, settings)?;
                     *d = doc;
@@ -790,7 +790,7 @@ impl App {
                 Ok(self.opened_message(&path.display().to_string()))
             }
             Command::OpenExample(name) => {
-                let settings = self.document.doc.settings.clone();
+                let settings = self.document.doc.portable_settings();
                 self.edit("open", |d| {
                     *d = Document::example(name, settings)?;
                     Ok(())
@@ -852,15 +852,21 @@ impl App {
             }
             Command::Refit { form, mesh_rest } => {
                 let f = self.edit("refit", |d| d.refit(form))?;
-                let msg = format!(
-                    "refitted ({}) on {}: Xn R {} to {}, Yn R {} to {}",
-                    form.name(),
+                let mut msg = format!(
+                    "refitted {} on {}: Xn R {} to {}, Yn R {} to {}",
+                    f.model,
                     plural(f.samples, "sample"),
                     figure(f.before.1.r, 3),
                     figure(f.after.1.r, 3),
                     figure(f.before.2.r, 3),
                     figure(f.after.2.r, 3),
                 );
+                if !f.worse.is_empty() {
+                    msg.push_str(&format!(
+                        "; it meshes this boundary worse: {}",
+                        f.worse.join(", ")
+                    ));
+                }
                 if mesh_rest && !self.document.doc.is_done() {
                     if self.background.threads {
                         self.start_run(usize::MAX, "meshing the rest", Record::WithLastEdit)?;
@@ -885,6 +891,10 @@ impl App {
                     res?;
                 }
                 Ok(msg)
+            }
+            Command::SaveModel(path) => {
+                let name = self.document.doc.save_model(&path)?;
+                Ok(format!("saved the model {name} to {}", path.display()))
             }
             Command::Finish => {
                 self.view.finish_failed = None;

@@ -110,9 +110,13 @@ impl super::View for StepPanel {
                     for name in BUILTIN {
                         ui.selectable_value(&mut s.model, name.to_string(), name);
                     }
+                    for f in &doc.models {
+                        ui.selectable_value(&mut s.model, f.name.clone(), &f.name)
+                            .on_hover_text("A model refitted in this document");
+                    }
                 })
                 .response
-                .on_hover_text("default: the shipped fitted model; rules: Zeng & Cheng's rules; thesis: Table 8 as printed");
+                .on_hover_text("default: the shipped fitted model; rules: Zeng & Cheng's rules; thesis: Table 8 as printed; ann: the shipped back-propagation network (Yao & Zeng)");
             if ui
                 .button("File…")
                 .on_hover_text("Mesh with a fitted model file (written by `quadex fit`)")
@@ -121,6 +125,9 @@ impl super::View for StepPanel {
                 out.push(Command::Dialog(Dialog::ModelFile));
             }
         });
+        let info = doc.model_info();
+        ui.label(model_line(&info))
+            .on_hover_text("The model meshed with now: its form, the samples its fit learned from and the corrections layered over it");
         ui.horizontal(|ui| {
             ui.label("strategy");
             ui.selectable_value(&mut s.strategy, Strategy::A, "A")
@@ -327,4 +334,16 @@ impl super::View for StepPanel {
         }
         out
     }
+}
+
+/// The model meshed with, in one line: name, form, samples, corrections.
+pub fn model_line(info: &super::document::ModelInfo) -> String {
+    let mut parts = vec![info.form.clone()];
+    if let Some(n) = info.samples {
+        parts.push(super::plural(n, "sample"));
+    }
+    if info.corrections > 0 {
+        parts.push(super::plural(info.corrections, "correction"));
+    }
+    format!("model {}: {}", info.name, parts.join(", "))
 }

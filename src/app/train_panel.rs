@@ -3,7 +3,7 @@
 //! the training set holds, and refit in one click with the figures before
 //! and after.
 
-use super::command::Command;
+use super::command::{Command, Dialog};
 use super::step_panel::button_enabled;
 use super::Scene;
 use crate::geom::Point;
@@ -125,12 +125,24 @@ impl super::View for TrainPanel {
                 &mut out,
             );
         });
+        if doc.model_file(&doc.model_info().name).is_some() {
+            button_enabled(
+                ui,
+                true,
+                "Save model…",
+                "Save the refitted model as a model file (`quadex mesh --model FILE` reads it)",
+                Command::Dialog(Dialog::SaveModel),
+                &mut out,
+            );
+        }
         if let Some(f) = s.refit {
             ui.label(format!(
-                "last refit: {} ({} of yours)",
+                "last refit: {}: {} ({} of yours)",
+                f.model,
                 super::plural(f.samples, "sample"),
                 f.corrections
             ));
+            refit_outcome(ui, f);
             egui::Grid::new("refit").num_columns(3).show(ui, |ui| {
                 ui.label("");
                 ui.label("before");
@@ -160,4 +172,67 @@ fn pn_scale(doc: &super::Document) -> f64 {
     doc.boundary()
         .map(|b| b.bbox().size().length())
         .unwrap_or(1.0)
+}
+
+/// What a refit did to the corrections and to the mesh of the boundary.
+fn refit_outcome(ui: &mut Ui, f: &super::RefitFigures) {
+    if !f.checks.is_empty() {
+        let kept = f.checks.iter().filter(|c| c.reproduced()).count();
+        ui.label(format!(
+            "corrections reproduced: {kept} of {}",
+            f.checks.len()
+        ))
+        .on_hover_text("The refitted model's element at each correction's input: the corrected type, and Pn within 0.05 (normalised)");
+        let pred = |p: &crate::model::Prediction| {
+            format!("{} ({:.3}, {:.3})", p.element_type.number(), p.pn.x, p.pn.y)
+        };
+        egui::Grid::new("corrections")
+            .num_columns(4)
+            .striped(true)
+            .show(ui, |ui| {
+                ui.label("sample");
+                ui.label("corrected");
+                ui.label("model before");
+                ui.label("model now");
+                ui.end_row();
+                for c in &f.checks {
+                    ui.label(format!("{}", c.sample + 1));
+                    ui.label(pred(&c.corrected));
+                    ui.label(pred(&c.before));
+                    let now = ui.label(pred(&c.after));
+                    if !c.reproduced() {
+                        now.on_hover_text("not reproduced");
+                    }
+                    ui.end_row();
+                }
+            });
+    }
+    if let Some((before, after)) = &f.meshed {
+        let line = |o: &crate::compare::Outcome| {
+            if o.finished {
+                format!(
+                    "{} quads, SJ min {:.3} mean {:.3}{}",
+                    o.quads,
+                    o.sj_min,
+                    o.sj_mean,
+                    if o.fill { ", region fill" } else { "" }
+                )
+            } else {
+                "does not finish".into()
+            }
+        };
+        ui.label(format!("meshed from the start before: {}", line(before)));
+        ui.label(format!("meshed from the start now: {}", line(after)));
+        if f.worse.is_empty() {
+            ui.label("the refitted model meshes this boundary no worse");
+        } else {
+            ui.colored_label(
+                ui.visuals().warn_fg_color,
+                format!(
+                    "the refitted model meshes this boundary worse: {}",
+                    f.worse.join(", ")
+                ),
+            );
+        }
+    }
 }

@@ -6,10 +6,13 @@
 //!   search over μ1 with least squares inside (replacing the thesis's
 //!   Auto2Fit global optimiser).
 //! - [`quadratic`]: a multinomial logistic classifier for the type (Newton
-//!   iterations with an L2 penalty) and a ridge quadratic per type for Pn.
+//!   iterations with an L2 penalty) and a ridge quadratic per type for Pn;
+//! - [`ann`]: a back-propagation network (Yao & Zeng), trained by Adam
+//!   from a seeded start.
 //!
 //! Linear algebra is nalgebra's.
 
+pub mod ann;
 pub mod figures;
 pub mod quadratic;
 pub mod thesis;
@@ -17,7 +20,8 @@ pub mod thesis;
 pub use figures::{Figures, FitReport, Split, TypeFigures};
 
 use crate::geom::Point;
-use crate::model::fitted::{Coefficients, FittedModel, ModelFile, TrainingSummary};
+use crate::model::fitted::{Coefficients, ModelFile, TrainingSummary};
+use crate::model::memory::CorrectionMemory;
 use crate::model::Form;
 use crate::normalize::LeadingPoints;
 use crate::samples::{Source, TrainingSet};
@@ -43,6 +47,11 @@ pub struct FitParams {
     pub newton_iterations: usize,
     /// Range of the μ1 search of the thesis's type model. Default [0.01, 100].
     pub mu1_range: [f64; 2],
+    /// Hidden units of the network form. Default 16.
+    pub ann_hidden: usize,
+    /// Sample visits the network's training makes (whole passes over the
+    /// samples, 5 to 400 of them). Default 2,000,000.
+    pub ann_samples: usize,
 }
 
 impl FitParams {
@@ -53,6 +62,8 @@ impl FitParams {
         logistic_l2: 1.0,
         newton_iterations: 30,
         mu1_range: [0.01, 100.0],
+        ann_hidden: 16,
+        ann_samples: 2_000_000,
     };
 }
 
@@ -81,6 +92,8 @@ pub enum FitError {
     Folds { folds: usize, samples: usize },
     #[error("the {form} fit gave coefficients that are not finite")]
     Diverged { form: &'static str },
+    #[error("{0}")]
+    Corrections(String),
 }
 
 /// The most folds of the held-out figures (each fold is a full fit).
@@ -174,6 +187,7 @@ pub fn fit_coefficients(
     let c = match form {
         Form::Thesis => thesis::fit(data, params).map(Coefficients::Thesis)?,
         Form::Quadratic => quadratic::fit(data, params).map(Coefficients::Quadratic)?,
+        Form::Ann => ann::fit(data, params).map(Coefficients::Ann)?,
     };
     if !c.all_finite() {
         return Err(FitError::Diverged { form: form.name() });
@@ -363,6 +377,7 @@ pub fn summary(set: &TrainingSet) -> TrainingSummary {
         samples: set.len(),
         types: set.type_counts(),
         sources: sources.into_iter().collect(),
+        corrections: 0,
     }
 }
 
@@ -395,13 +410,75 @@ pub fn fit_model(
     ))
 }
 
-/// The fitted model of a model file (a shorthand for the editor's refit).
-pub fn refit(set: &TrainingSet, form: Form, params: &FitParams) -> Result<FittedModel, FitError> {
-    let data = Data::of(set)?;
-    Ok(FittedModel {
-        name: format!("fitted ({})", form.name()),
-        coefficients: fit_coefficients(&data, form, params)?,
-    })
+/// Fits `form` (or every form, as [`fit_model`]) to `set` and layers
+/// `corrections` over it ([`CorrectionMemory`] with `radius`): the
+/// corrections do not enter the global fit, so that the global model is
+/// the fit of `set` alone and a correction reaches no farther than its
+/// radius. The model file's training summary counts both.
+pub fn fit_with_corrections(
+    set: &TrainingSet,
+    corrections: &TrainingSet,
+    form: Option<Form>,
+    name: &str,
+    params: &FitParams,
+    radius: f64,
+) -> Result<(ModelFile, Vec<FitReport>), FitError> {
+    if corrections.points != set.points && !corrections.is_empty() {
+        return Err(FitError::BadSample {
+            index: 0,
+            msg: format!(
+                "the corrections have {} input points, the samples {}",
+                corrections.points, set.points
+            ),
+        });
+    }
+    let memory = CorrectionMemory::new(radius, corrections.samples.clone());
+    if let Some(msg) = memory.problem(set.n()) {
+        return Err(FitError::Corrections(msg));
+    }
+    let (mut file, reports) = fit_model(set, form, name, params)?;
+    file.training.corrections = corrections.len();
+    Ok((file.with_corrections(memory), reports))
+}
+
+/// A refit as the editor makes it: the global form fitted on `base` (the
+/// shipped model's training set, [`crate::reference::training_set`]) plus
+/// the `added` samples taken from meshes, with the added corrections (the
+/// samples of the user's own elements, [`Source::Correction`]) layered
+/// over it by [`fit_with_corrections`]. With nothing added, at the shipped
+/// model's points and form, this is how the shipped model is made
+/// ([`crate::reference::default_model`]), so it gives the same
+/// coefficients.
+pub fn refit(
+    base: &TrainingSet,
+    added: &TrainingSet,
+    form: Form,
+    name: &str,
+    params: &FitParams,
+) -> Result<ModelFile, FitError> {
+    let (corrections, from_meshes): (Vec<_>, Vec<_>) = added
+        .samples
+        .iter()
+        .cloned()
+        .partition(|s| s.source == Source::Correction);
+    let mut set = base.clone();
+    if !from_meshes.is_empty() {
+        set.samples.extend(from_meshes);
+        set.dedup();
+    }
+    let corrections = TrainingSet {
+        points: added.points,
+        samples: corrections,
+    };
+    let (file, _) = fit_with_corrections(
+        &set,
+        &corrections,
+        Some(form),
+        name,
+        params,
+        crate::model::memory::DEFAULT_RADIUS,
+    )?;
+    Ok(file)
 }
 
 /// Least squares `min |X w − y|` by SVD.

@@ -18,41 +18,83 @@ const NEWTON_TOL: f64 = 1e-8;
 /// …or when an iteration lowers the loss by less than this fraction.
 const LOSS_TOL: f64 = 1e-9;
 
+/// The standardisation of raw inputs `z = (clamp(x) − mean) / scale`,
+/// with the range each input is clamped to (the training samples').
+pub(crate) struct Standardisation {
+    pub mean: Vec<f64>,
+    pub scale: Vec<f64>,
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+}
+
+impl Standardisation {
+    /// The raw inputs of `data` ([`raw_inputs`]) and their
+    /// standardisation, for a fit of `form` (at least 3 samples).
+    pub fn of_data(
+        data: &Data,
+        form: &'static str,
+    ) -> Result<(Vec<Vec<f64>>, Standardisation), FitError> {
+        if data.len() < 3 {
+            return Err(FitError::TooFew {
+                form,
+                found: data.len(),
+                needed: 3,
+            });
+        }
+        let raw: Vec<Vec<f64>> = data.inputs.iter().map(raw_inputs).collect();
+        let st = Standardisation::of(&raw);
+        Ok((raw, st))
+    }
+
+    /// Of the rows `raw` (at least one, all of one length).
+    pub fn of(raw: &[Vec<f64>]) -> Standardisation {
+        let n_obs = raw.len();
+        let m = raw.first().map_or(0, Vec::len);
+        let mut mean = vec![0.0; m];
+        for r in raw {
+            for (a, v) in mean.iter_mut().zip(r) {
+                *a += v / n_obs as f64;
+            }
+        }
+        let mut scale = vec![0.0; m];
+        for r in raw {
+            for ((s, v), mu) in scale.iter_mut().zip(r).zip(&mean) {
+                *s += (v - mu) * (v - mu) / n_obs as f64;
+            }
+        }
+        for s in &mut scale {
+            *s = s.sqrt().max(1e-9);
+        }
+        let mut lo = vec![f64::INFINITY; m];
+        let mut hi = vec![f64::NEG_INFINITY; m];
+        for r in raw {
+            for k in 0..m {
+                lo[k] = lo[k].min(r[k]);
+                hi[k] = hi[k].max(r[k]);
+            }
+        }
+        Standardisation {
+            mean,
+            scale,
+            lo,
+            hi,
+        }
+    }
+}
+
 /// Fits the quadratic form.
 pub fn fit(data: &Data, params: &FitParams) -> Result<QuadraticForm, FitError> {
     let n_obs = data.len();
-    if n_obs < 3 {
-        return Err(FitError::TooFew {
-            form: "quadratic",
-            found: n_obs,
-            needed: 3,
-        });
-    }
-    let raw: Vec<Vec<f64>> = data.inputs.iter().map(raw_inputs).collect();
+    let (
+        raw,
+        Standardisation {
+            mean,
+            scale,
+            lo,
+            hi,
+        },
+    ) = Standardisation::of_data(data, "quadratic")?;
     let m = raw[0].len();
-    let mut mean = vec![0.0; m];
-    for r in &raw {
-        for (a, v) in mean.iter_mut().zip(r) {
-            *a += v / n_obs as f64;
-        }
-    }
-    let mut scale = vec![0.0; m];
-    for r in &raw {
-        for ((s, v), mu) in scale.iter_mut().zip(r).zip(&mean) {
-            *s += (v - mu) * (v - mu) / n_obs as f64;
-        }
-    }
-    for s in &mut scale {
-        *s = s.sqrt().max(1e-9);
-    }
-    let mut lo = vec![f64::INFINITY; m];
-    let mut hi = vec![f64::NEG_INFINITY; m];
-    for r in &raw {
-        for k in 0..m {
-            lo[k] = lo[k].min(r[k]);
-            hi[k] = hi[k].max(r[k]);
-        }
-    }
     let p = quadratic_len(m);
     let mut rows = Vec::with_capacity(n_obs * p);
     let mut f = Vec::with_capacity(p);

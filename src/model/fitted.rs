@@ -10,10 +10,15 @@
 //! - [`QuadraticForm`]: a richer form. The type is a multinomial logistic
 //!   classifier and Pn a ridge-regularised quadratic, one per type, both
 //!   over all leading coordinates (standardised), with every product of
-//!   two of them.
+//!   two of them;
+//! - [`AnnForm`]: the comparison system of thesis §2.2.2 (Yao & Zeng: a
+//!   back-propagation network with the same inputs and outputs): one
+//!   hidden layer of tanh units over the standardised leading coordinates,
+//!   three type scores (softmax) and Pn.
 //!
 //! The fitting itself is in [`crate::fit`].
 
+use super::memory::CorrectionMemory;
 use super::{ElementType, Model, Prediction};
 use crate::fit::FitReport;
 use crate::geom::Point;
@@ -30,15 +35,18 @@ pub enum Form {
     Thesis,
     /// Multinomial logistic type and per-type ridge quadratic Pn.
     Quadratic,
+    /// A back-propagation network (Yao & Zeng).
+    Ann,
 }
 
 impl Form {
-    pub const ALL: [Form; 2] = [Form::Thesis, Form::Quadratic];
+    pub const ALL: [Form; 3] = [Form::Thesis, Form::Quadratic, Form::Ann];
 
     pub fn name(self) -> &'static str {
         match self {
             Form::Thesis => "thesis",
             Form::Quadratic => "quadratic",
+            Form::Ann => "ann",
         }
     }
 
@@ -172,6 +180,22 @@ pub fn raw_inputs(lp: &LeadingPoints) -> Vec<f64> {
         .collect()
 }
 
+/// The raw inputs of `lp` clamped to `[lo, hi]` and standardised:
+/// `z = (clamp(x) − mean) / scale`.
+fn standardised(
+    lp: &LeadingPoints,
+    mean: &[f64],
+    scale: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+) -> Vec<f64> {
+    raw_inputs(lp)
+        .iter()
+        .enumerate()
+        .map(|(k, x)| (x.clamp(lo[k], hi[k]) - mean[k]) / scale[k])
+        .collect()
+}
+
 /// Coefficients of the quadratic form.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct QuadraticForm {
@@ -195,11 +219,7 @@ pub struct QuadraticForm {
 impl QuadraticForm {
     /// The quadratic features of `lp`.
     pub fn features(&self, lp: &LeadingPoints) -> Vec<f64> {
-        let z: Vec<f64> = raw_inputs(lp)
-            .iter()
-            .enumerate()
-            .map(|(k, x)| (x.clamp(self.lo[k], self.hi[k]) - self.mean[k]) / self.scale[k])
-            .collect();
+        let z = standardised(lp, &self.mean, &self.scale, &self.lo, &self.hi);
         let mut f = Vec::with_capacity(quadratic_len(z.len()));
         quadratic_features_into(&z, &mut f);
         f
@@ -232,12 +252,80 @@ pub fn softmax(a: f64, b: f64) -> [f64; 3] {
     [e[0] / s, e[1] / s, e[2] / s]
 }
 
+/// Weights of the network form: `hidden` tanh units over the standardised
+/// raw inputs ([`raw_inputs`]), then five linear outputs: the scores of
+/// types 0, 1, 2 (softmax) and the standardised Xn, Yn.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AnnForm {
+    /// `N`, leading points per side.
+    pub n: usize,
+    /// Standardisation of the raw inputs, as [`QuadraticForm`]'s.
+    pub mean: Vec<f64>,
+    pub scale: Vec<f64>,
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    pub hidden: usize,
+    /// Hidden layer, row by row: `hidden × (inputs + 1)`, the bias last.
+    pub w1: Vec<f64>,
+    /// Output layer, row by row: `5 × (hidden + 1)`, the bias last.
+    pub w2: Vec<f64>,
+    /// Xn, Yn = output × scale + mean.
+    pub pn_mean: [f64; 2],
+    pub pn_scale: [f64; 2],
+}
+
+/// Outputs of the network form.
+pub const ANN_OUTPUTS: usize = 5;
+
+impl AnnForm {
+    /// The standardised inputs of `lp`.
+    pub fn inputs(&self, lp: &LeadingPoints) -> Vec<f64> {
+        standardised(lp, &self.mean, &self.scale, &self.lo, &self.hi)
+    }
+
+    /// The hidden activations and the raw outputs for standardised inputs.
+    pub fn forward(&self, z: &[f64], h: &mut Vec<f64>) -> [f64; ANN_OUTPUTS] {
+        let m = z.len();
+        h.clear();
+        for j in 0..self.hidden {
+            let row = &self.w1[j * (m + 1)..(j + 1) * (m + 1)];
+            h.push((dot(&row[..m], z) + row[m]).tanh());
+        }
+        let mut o = [0.0; ANN_OUTPUTS];
+        for (k, out) in o.iter_mut().enumerate() {
+            let row = &self.w2[k * (self.hidden + 1)..(k + 1) * (self.hidden + 1)];
+            *out = dot(&row[..self.hidden], h) + row[self.hidden];
+        }
+        o
+    }
+
+    /// Type probabilities, type and Pn.
+    pub fn predict_full(&self, lp: &LeadingPoints) -> ([f64; 3], ElementType, Point) {
+        let mut h = Vec::with_capacity(self.hidden);
+        let o = self.forward(&self.inputs(lp), &mut h);
+        let p = softmax(o[1] - o[0], o[2] - o[0]);
+        let k = (0..3).max_by(|&a, &b| p[a].total_cmp(&p[b])).unwrap_or(0);
+        let t = ElementType::from_number(k as u8).unwrap_or(ElementType::New);
+        let pn = Point::new(
+            o[3] * self.pn_scale[0] + self.pn_mean[0],
+            o[4] * self.pn_scale[1] + self.pn_mean[1],
+        );
+        (p, t, pn)
+    }
+
+    pub fn predict(&self, lp: &LeadingPoints) -> Prediction {
+        let (_, element_type, pn) = self.predict_full(lp);
+        Prediction { element_type, pn }
+    }
+}
+
 /// The coefficients of a fitted model, by form.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "form", rename_all = "lowercase")]
 pub enum Coefficients {
     Thesis(ThesisForm),
     Quadratic(QuadraticForm),
+    Ann(AnnForm),
 }
 
 impl Coefficients {
@@ -256,6 +344,16 @@ impl Coefficients {
                     && q.type_logit.iter().all(|v| ok(v))
                     && q.xn.iter().chain(&q.yn).all(|v| ok(v))
             }
+            Coefficients::Ann(a) => {
+                ok(&a.mean)
+                    && ok(&a.scale)
+                    && ok(&a.lo)
+                    && ok(&a.hi)
+                    && ok(&a.w1)
+                    && ok(&a.w2)
+                    && ok(&a.pn_mean)
+                    && ok(&a.pn_scale)
+            }
         }
     }
 
@@ -263,6 +361,7 @@ impl Coefficients {
         match self {
             Coefficients::Thesis(_) => Form::Thesis,
             Coefficients::Quadratic(_) => Form::Quadratic,
+            Coefficients::Ann(_) => Form::Ann,
         }
     }
 
@@ -271,6 +370,7 @@ impl Coefficients {
         match self {
             Coefficients::Thesis(t) => t.n,
             Coefficients::Quadratic(q) => q.n,
+            Coefficients::Ann(a) => a.n,
         }
     }
 
@@ -278,6 +378,7 @@ impl Coefficients {
         match self {
             Coefficients::Thesis(t) => t.predict(lp),
             Coefficients::Quadratic(q) => q.predict(lp),
+            Coefficients::Ann(a) => a.predict(lp),
         }
     }
 
@@ -289,6 +390,10 @@ impl Coefficients {
             Coefficients::Thesis(t) => t.predict_with_score(lp),
             Coefficients::Quadratic(q) => {
                 let (element_type, p, pn) = q.predict_features(&q.features(lp));
+                (p[1] + 2.0 * p[2], Prediction { element_type, pn })
+            }
+            Coefficients::Ann(a) => {
+                let (p, element_type, pn) = a.predict_full(lp);
                 (p[1] + 2.0 * p[2], Prediction { element_type, pn })
             }
         }
@@ -303,13 +408,39 @@ pub struct TrainingSummary {
     pub types: [usize; 3],
     /// The meshes the samples came from (sorted), and "correction".
     pub sources: Vec<String>,
+    /// Corrections layered over the fit (not among `samples`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub corrections: usize,
 }
 
-/// A fitted model as a [`Model`].
+fn is_zero(n: &usize) -> bool {
+    *n == 0
+}
+
+/// A fitted model as a [`Model`]: the global form's coefficients, with the
+/// user's corrections layered over them ([`CorrectionMemory`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FittedModel {
     pub name: String,
     pub coefficients: Coefficients,
+    #[serde(default, skip_serializing_if = "CorrectionMemory::is_empty")]
+    pub memory: CorrectionMemory,
+}
+
+impl FittedModel {
+    /// A model of the global form alone (no corrections).
+    pub fn global(name: &str, coefficients: Coefficients) -> FittedModel {
+        FittedModel {
+            name: name.into(),
+            coefficients,
+            memory: CorrectionMemory::default(),
+        }
+    }
+
+    /// The global form's prediction, without the corrections.
+    pub fn predict_global(&self, input: &LeadingPoints) -> Prediction {
+        self.coefficients.predict(input)
+    }
 }
 
 impl Model for FittedModel {
@@ -322,13 +453,15 @@ impl Model for FittedModel {
     }
 
     fn predict(&self, input: &LeadingPoints) -> Prediction {
-        self.coefficients.predict(input)
+        self.memory.apply(input, self.coefficients.predict(input))
     }
 }
 
-/// The file format's name and version.
+/// The file format's name and the newest version this quadex reads: 1 for
+/// a global model alone, 2 for one that carries corrections (an older
+/// reader refuses it rather than meshing without them).
 pub const MODEL_FORMAT: &str = "quadex-model";
-pub const MODEL_VERSION: u32 = 1;
+pub const MODEL_VERSION: u32 = 2;
 
 /// A model file: versioned JSON with the coefficients, what they were
 /// trained on and how well they fit.
@@ -342,6 +475,9 @@ pub struct ModelFile {
     pub coefficients: Coefficients,
     pub training: TrainingSummary,
     pub figures: Option<FitReport>,
+    /// The user's corrections, layered over the coefficients.
+    #[serde(default, skip_serializing_if = "CorrectionMemory::is_empty")]
+    pub corrections: CorrectionMemory,
 }
 
 /// A model file that cannot be used.
@@ -363,6 +499,8 @@ pub enum ModelFileError {
     },
     #[error("coefficient {what} is not finite")]
     NotFinite { what: &'static str },
+    #[error("{0}")]
+    Corrections(String),
 }
 
 // The cause as text (escaped, one line), not a `source`.
@@ -381,13 +519,32 @@ impl ModelFile {
     ) -> ModelFile {
         ModelFile {
             format: MODEL_FORMAT.into(),
-            version: MODEL_VERSION,
+            version: 1,
             name: name.into(),
             points: 2 * coefficients.n() + 1,
             coefficients,
             training,
             figures,
+            corrections: CorrectionMemory::default(),
         }
+    }
+
+    /// The file with `corrections` layered over its coefficients (version
+    /// 2 when there are any).
+    pub fn with_corrections(mut self, corrections: CorrectionMemory) -> ModelFile {
+        self.version = if corrections.is_empty() { 1 } else { 2 };
+        self.corrections = corrections;
+        self
+    }
+
+    /// The file of a model (its name, coefficients and corrections).
+    pub fn of_model(
+        model: &FittedModel,
+        training: TrainingSummary,
+        figures: Option<FitReport>,
+    ) -> ModelFile {
+        ModelFile::new(&model.name, model.coefficients.clone(), training, figures)
+            .with_corrections(model.memory.clone())
     }
 
     pub fn to_json(&self) -> String {
@@ -416,6 +573,9 @@ impl ModelFile {
             });
         }
         f.check_lengths()?;
+        if let Some(p) = f.corrections.problem(n) {
+            return Err(ModelFileError::Corrections(crate::io::quote_long(&p)));
+        }
         Ok(f)
     }
 
@@ -461,6 +621,31 @@ impl ModelFile {
                 }
                 Ok(())
             }
+            Coefficients::Ann(a) => {
+                len("mean", &a.mean, m)?;
+                len("scale", &a.scale, m)?;
+                len("lo", &a.lo, m)?;
+                len("hi", &a.hi, m)?;
+                if !(1..=1024).contains(&a.hidden) {
+                    return Err(ModelFileError::Length {
+                        what: "hidden",
+                        found: a.hidden,
+                        expected: 16,
+                    });
+                }
+                len("w1", &a.w1, a.hidden * (m + 1))?;
+                len("w2", &a.w2, ANN_OUTPUTS * (a.hidden + 1))?;
+                len("pn_mean", &a.pn_mean, 2)?;
+                len("pn_scale", &a.pn_scale, 2)?;
+                if a.scale.iter().chain(&a.pn_scale).any(|&s| s <= 0.0)
+                    || a.lo.iter().zip(&a.hi).any(|(l, h)| l > h)
+                {
+                    return Err(ModelFileError::NotFinite {
+                        what: "scale/range",
+                    });
+                }
+                Ok(())
+            }
         }
     }
 
@@ -469,6 +654,7 @@ impl ModelFile {
         FittedModel {
             name: self.name.clone(),
             coefficients: self.coefficients.clone(),
+            memory: self.corrections.clone(),
         }
     }
 }

@@ -10,6 +10,7 @@
 //! regression and fitted models alike.
 
 pub mod fitted;
+pub mod memory;
 pub mod rules;
 pub mod thesis;
 
@@ -18,6 +19,7 @@ use crate::normalize::LeadingPoints;
 use serde::{Deserialize, Serialize};
 
 pub use fitted::{FittedModel, Form, ModelFile, ModelFileError};
+pub use memory::CorrectionMemory;
 pub use rules::RulesModel;
 pub use thesis::ThesisModel;
 
@@ -80,14 +82,31 @@ pub fn default_model() -> Result<FittedModel, ModelFileError> {
     ModelFile::from_json(DEFAULT_MODEL_JSON).map(|f| f.model())
 }
 
+/// The shipped network model (the comparison system of thesis §2.2.2,
+/// Yao & Zeng's back-propagation network): the network form fitted to the
+/// default model's samples (`cargo run --example default_model` rebuilds
+/// it).
+pub const ANN_MODEL_JSON: &str = include_str!("../../assets/models/ann.json");
+
+/// The file of a shipped fitted model by name (`default`, `ann`).
+pub fn shipped_file(name: &str) -> Option<&'static str> {
+    match name {
+        "default" => Some(DEFAULT_MODEL_JSON),
+        "ann" => Some(ANN_MODEL_JSON),
+        _ => None,
+    }
+}
+
 /// The names of the built-in models.
-pub const BUILTIN: [&str; 3] = ["default", "rules", "thesis"];
+pub const BUILTIN: [&str; 4] = ["default", "rules", "thesis", "ann"];
 
 /// The built-in models by name: `default` (the shipped fitted model),
-/// `rules` or `thesis` (Table 8 as printed).
+/// `rules`, `thesis` (Table 8 as printed) or `ann` (the shipped network).
 pub fn builtin(name: &str) -> Option<Box<dyn Model>> {
     match name {
-        "default" => default_model().ok().map(|m| Box::new(m) as Box<dyn Model>),
+        "default" | "ann" => shipped_file(name)
+            .and_then(|text| ModelFile::from_json(text).ok())
+            .map(|f| Box::new(f.model()) as Box<dyn Model>),
         "rules" => Some(Box::new(RulesModel::default())),
         "thesis" => Some(Box::new(ThesisModel::TABLE_8)),
         _ => None,

@@ -1,0 +1,309 @@
+//! One boundary meshed by several models, side by side (thesis Figure 44,
+//! the comparison of extraction methods): whether each run finishes, and
+//! the figures of its mesh. The editor uses the same figures to say
+//! whether a refitted model meshes the boundary worse than the model
+//! before it.
+
+use crate::extract::{Remedy, StepKind};
+use crate::io::svg::{write_svg, SvgOptions};
+use crate::mesh::QuadMesh;
+use crate::model::Model;
+use crate::pipeline::{mesh_boundary, Params};
+use crate::quality::MeshQuality;
+use crate::Boundary;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::sync::Arc;
+
+/// How one model meshed the boundary.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Outcome {
+    /// The model's name as asked for.
+    pub model: String,
+    /// The run ended with a valid mesh.
+    pub finished: bool,
+    /// Why it did not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    /// The region fill had to finish it.
+    pub fill: bool,
+    pub quads: usize,
+    pub sj_min: f64,
+    pub sj_mean: f64,
+    /// Interior nodes whose valence is not 4, as a share of the interior
+    /// nodes.
+    pub irregular_share: f64,
+    /// Element steps whose element the guard took as the model predicted
+    /// it, as a share of the element steps.
+    pub accepted_share: f64,
+    /// The finished mesh.
+    #[serde(skip)]
+    pub mesh: Option<QuadMesh>,
+}
+
+/// Meshes `boundary` with `model` (named `name`) and measures the result.
+pub fn mesh_with(
+    name: &str,
+    boundary: &Boundary,
+    model: Arc<dyn Model>,
+    params: &Params,
+) -> Outcome {
+    match mesh_boundary(boundary, model, params, |_| {}) {
+        Ok((mesh, stats)) => {
+            let q = MeshQuality::of(&mesh);
+            let elements = stats.count(StepKind::Element);
+            let accepted = stats.by_remedy.get(&Remedy::None).copied().unwrap_or(0);
+            Outcome {
+                model: name.into(),
+                finished: true,
+                error: None,
+                fill: stats.count(StepKind::Fill) > 0,
+                quads: q.quads,
+                sj_min: q.sj_min,
+                sj_mean: q.sj_mean,
+                irregular_share: q.irregular_interior as f64 / q.interior_nodes.max(1) as f64,
+                accepted_share: accepted as f64 / elements.max(1) as f64,
+                mesh: Some(mesh),
+            }
+        }
+        Err(e) => Outcome {
+            model: name.into(),
+            finished: false,
+            error: Some(e.to_string()),
+            fill: false,
+            quads: 0,
+            sj_min: 0.0,
+            sj_mean: 0.0,
+            irregular_share: 0.0,
+            accepted_share: 0.0,
+            mesh: None,
+        },
+    }
+}
+
+/// How much worse a figure may get before it counts.
+pub const WORSE_SJ_MEAN: f64 = 0.005;
+pub const WORSE_SJ_MIN: f64 = 0.02;
+pub const WORSE_IRREGULAR: f64 = 0.02;
+
+impl Outcome {
+    /// The ways this mesh is worse than `before`'s (empty: not worse):
+    /// it does not finish where `before` did, needs the region fill where
+    /// `before` did not, or its mean scaled Jacobian, minimum scaled
+    /// Jacobian or irregular share is worse by more than
+    /// [`WORSE_SJ_MEAN`], [`WORSE_SJ_MIN`], [`WORSE_IRREGULAR`].
+    pub fn worse_than(&self, before: &Outcome) -> Vec<String> {
+        if !before.finished {
+            return Vec::new();
+        }
+        if !self.finished {
+            return vec!["does not finish".into()];
+        }
+        let mut why = Vec::new();
+        if self.fill && !before.fill {
+            why.push("needs the region fill".into());
+        }
+        if self.sj_mean < before.sj_mean - WORSE_SJ_MEAN {
+            why.push(format!(
+                "mean SJ {:.3} → {:.3}",
+                before.sj_mean, self.sj_mean
+            ));
+        }
+        if self.sj_min < before.sj_min - WORSE_SJ_MIN {
+            why.push(format!("min SJ {:.3} → {:.3}", before.sj_min, self.sj_min));
+        }
+        if self.irregular_share > before.irregular_share + WORSE_IRREGULAR {
+            why.push(format!(
+                "irregular {:.1} % → {:.1} %",
+                100.0 * before.irregular_share,
+                100.0 * self.irregular_share
+            ));
+        }
+        why
+    }
+}
+
+/// The outcomes as a text table, one row per model.
+pub fn table(outcomes: &[Outcome]) -> String {
+    let mut s = format!(
+        "{:<16} {:>9} {:>7} {:>7} {:>7} {:>10} {:>9}\n",
+        "model", "finished", "quads", "SJ min", "SJ mean", "irregular", "accepted"
+    );
+    for o in outcomes {
+        let finished = match (o.finished, o.fill) {
+            (false, _) => "no",
+            (true, true) => "fill",
+            (true, false) => "yes",
+        };
+        if o.finished {
+            let _ = writeln!(
+                s,
+                "{:<16} {:>9} {:>7} {:>7.3} {:>7.3} {:>9.1}% {:>8.1}%",
+                o.model,
+                finished,
+                o.quads,
+                o.sj_min,
+                o.sj_mean,
+                100.0 * o.irregular_share,
+                100.0 * o.accepted_share
+            );
+        } else {
+            let _ = writeln!(
+                s,
+                "{:<16} {:>9}  {}",
+                o.model,
+                finished,
+                o.error.as_deref().unwrap_or("")
+            );
+        }
+    }
+    s
+}
+
+/// One SVG with each finished mesh side by side (coloured by scaled
+/// Jacobian), each titled with its model and figures; a run that did not
+/// finish leaves its place with the reason.
+pub fn svg(outcomes: &[Outcome], panel_width: f64) -> String {
+    let title_h = 36.0;
+    let gap = 12.0;
+    let opt = SvgOptions {
+        width: panel_width,
+        ..SvgOptions::default()
+    };
+    let panels: Vec<String> = outcomes
+        .iter()
+        .map(|o| {
+            o.mesh
+                .as_ref()
+                .map_or_else(String::new, |m| write_svg(m, &opt))
+        })
+        .collect();
+    let height = panels
+        .iter()
+        .filter_map(|p| svg_height(p))
+        .fold(panel_width * 0.5, f64::max);
+    let total_w = outcomes.len() as f64 * (panel_width + gap) + gap;
+    let total_h = height + title_h + 2.0 * gap;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{total_w:.0}\" height=\"{total_h:.0}\" viewBox=\"0 0 {total_w:.2} {total_h:.2}\">"
+    );
+    out.push_str("<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n");
+    for (k, (o, panel)) in outcomes.iter().zip(&panels).enumerate() {
+        let x = gap + k as f64 * (panel_width + gap);
+        let line2 = if o.finished {
+            format!(
+                "{} quads, SJ {:.3} / {:.3}, {:.1} % irregular",
+                o.quads,
+                o.sj_min,
+                o.sj_mean,
+                100.0 * o.irregular_share
+            )
+        } else {
+            "did not finish".to_string()
+        };
+        let _ = writeln!(
+            out,
+            "<text x=\"{:.1}\" y=\"{:.1}\" font-family=\"sans-serif\" font-size=\"14\">{}</text>\n<text x=\"{:.1}\" y=\"{:.1}\" font-family=\"sans-serif\" font-size=\"11\">{}</text>",
+            x,
+            gap + 12.0,
+            escape(&o.model),
+            x,
+            gap + 28.0,
+            escape(&line2)
+        );
+        if !panel.is_empty() {
+            // The mesh's own picture, placed as a nested SVG.
+            out.push_str(&panel.replacen(
+                "<svg ",
+                &format!("<svg x=\"{x:.1}\" y=\"{:.1}\" ", gap + title_h),
+                1,
+            ));
+        }
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+/// The height attribute of an SVG's opening tag.
+fn svg_height(svg: &str) -> Option<f64> {
+    let head = svg.lines().next()?;
+    let at = head.find("height=\"")? + "height=\"".len();
+    head[at..].split('"').next()?.parse().ok()
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::RulesModel;
+
+    fn square() -> Boundary {
+        let mut pts = Vec::new();
+        for k in 0..4 {
+            pts.push(crate::Point::new(k as f64, 0.0));
+        }
+        for k in 0..4 {
+            pts.push(crate::Point::new(4.0, k as f64));
+        }
+        for k in 0..4 {
+            pts.push(crate::Point::new(4.0 - k as f64, 4.0));
+        }
+        for k in 0..4 {
+            pts.push(crate::Point::new(0.0, 4.0 - k as f64));
+        }
+        Boundary::new(pts, vec![(0..16).collect()], None).unwrap()
+    }
+
+    /// The square meshed by the rules.
+    fn rules_on_square() -> Outcome {
+        mesh_with(
+            "rules",
+            &square(),
+            Arc::new(RulesModel::default()),
+            &Params::DEFAULT,
+        )
+    }
+
+    #[test]
+    fn a_square_meshed_by_the_rules_and_its_figures() {
+        let o = rules_on_square();
+        assert!(o.finished && !o.fill, "{o:?}");
+        assert_eq!(o.quads, 16);
+        assert!(o.sj_min > 0.99 && o.accepted_share > 0.5, "{o:?}");
+        assert!(o.worse_than(&o).is_empty());
+        let t = table(std::slice::from_ref(&o));
+        assert!(
+            t.lines().nth(1).is_some_and(|l| l.starts_with("rules")),
+            "{t}"
+        );
+        let pic = svg(&[o.clone(), o.clone()], 300.0);
+        assert_eq!(pic.matches("<svg ").count(), 3);
+        assert!(pic.contains("16 quads"));
+    }
+
+    #[test]
+    fn worse_is_said_figure_by_figure() {
+        let o = rules_on_square();
+        let worse = Outcome {
+            sj_mean: o.sj_mean - 0.1,
+            fill: true,
+            ..o.clone()
+        };
+        let why = worse.worse_than(&o);
+        assert_eq!(why.len(), 2, "{why:?}");
+        assert!(o.worse_than(&worse).is_empty());
+        let failed = Outcome {
+            finished: false,
+            ..o.clone()
+        };
+        assert_eq!(failed.worse_than(&o), vec!["does not finish".to_string()]);
+        assert!(o.worse_than(&failed).is_empty());
+    }
+}
