@@ -8,7 +8,7 @@ use super::report::MeshError;
 use super::report::{Remedy, StepKind, StepReport};
 use super::session::Mesher;
 use crate::front::SlotId;
-use crate::geom::{ccw_angle, Point};
+use crate::geom::{ccw_angle, Aabb, Point};
 use crate::model::{rules, ElementType, Model, Prediction};
 use crate::normalize::{Frame, LeadingPoints};
 use std::f64::consts::PI;
@@ -654,12 +654,11 @@ impl Mesher {
                 Cand::Right { .. } | Cand::Left { .. } => {}
             }
         }
-        let lo = pts
-            .iter()
-            .fold(Point::splat(f64::INFINITY), |m, &p| m.min(p));
-        let hi = pts
-            .iter()
-            .fold(Point::splat(f64::NEG_INFINITY), |m, &p| m.max(p));
+        // (`pts` holds P0 at least.)
+        let Aabb { min: lo, max: hi } = Aabb::of(pts.iter().copied()).unwrap_or(Aabb {
+            min: pts[0],
+            max: pts[0],
+        });
         // The leading points lie between P0 and the box's corners; the
         // candidates' points reach furthest.
         let size = [lo, hi, Point::new(lo.x, hi.y), Point::new(hi.x, lo.y)]

@@ -341,13 +341,11 @@ impl Mesher {
     /// No other front edge or node lies inside the loop `slots` (e.g. a hole
     /// not yet joined).
     pub(super) fn loop_is_clear(&mut self, slots: &[SlotId], pts: &[Point]) -> bool {
-        let lo = pts
-            .iter()
-            .fold(Point::splat(f64::INFINITY), |a, &b| a.min(b));
-        let hi = pts
-            .iter()
-            .fold(Point::splat(f64::NEG_INFINITY), |a, &b| a.max(b));
-        self.front.edges_near(lo, hi, &mut self.scratch.near);
+        let Some(bb) = crate::geom::Aabb::of(pts.iter().copied()) else {
+            return true;
+        };
+        self.front
+            .edges_near(bb.min, bb.max, &mut self.scratch.near);
         let lid = self.front.slot(slots[0]).loop_id;
         self.scratch.near.iter().all(|&e| {
             self.front.slot(e).loop_id == lid

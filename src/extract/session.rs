@@ -276,11 +276,10 @@ impl Mesher {
                     .iter()
                     .flatten()
                     .map(|&v| self.mesh.nodes[v as usize]);
-                let lo = corners
-                    .clone()
-                    .fold(Point::splat(f64::INFINITY), Point::min);
-                let hi = corners.fold(Point::splat(f64::NEG_INFINITY), Point::max);
-                self.memo.changed(lo, hi);
+                match crate::geom::Aabb::of(corners) {
+                    Some(bb) => self.memo.changed(bb.min, bb.max),
+                    None => self.memo.clear(),
+                }
             }
             _ => self.memo.clear(),
         }
