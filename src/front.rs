@@ -243,6 +243,20 @@ impl Front {
         v
     }
 
+    /// The area the live loops enclose (the region not meshed yet; holes'
+    /// loops count negative).
+    pub fn open_area(&self, nodes: &[Point]) -> f64 {
+        self.live_loops()
+            .map(|l| {
+                crate::geom::polygon_area(
+                    self.loop_slots(l)
+                        .iter()
+                        .map(|&s| nodes[self.node(s) as usize]),
+                )
+            })
+            .sum()
+    }
+
     /// The node ids of loop `lid`, in order from its head.
     pub fn loop_nodes(&self, lid: u32) -> Vec<u32> {
         self.loop_slots(lid).iter().map(|&s| self.node(s)).collect()
@@ -568,10 +582,12 @@ impl Front {
             if s != l.head {
                 return Err(format!("loop {lid}: does not close after {} slots", l.len));
             }
-            if l.len % 2 != 0 {
-                return Err(format!("loop {lid}: odd length {}", l.len));
-            }
             count += l.len;
+        }
+        // A loop may be odd (a triangular hole); elements change a loop by
+        // an even number of nodes, so the front as a whole stays even.
+        if count % 2 != 0 {
+            return Err(format!("{count} live slots in all: odd"));
         }
         if count != self.alive {
             return Err(format!(

@@ -295,7 +295,15 @@ impl Mesher {
             }
             if f.slot(q).loop_id == f.slot(s).loop_id {
                 let d = self.loop_distance(s, q);
-                if d % 2 == 1 || d < 4 || n - d < 4 {
+                // The part between s and q (the shorter way round) with the
+                // odd loops it takes in must be even.
+                let (from, to) = if f.walk(s, d as isize) == q {
+                    (s, q)
+                } else {
+                    (q, s)
+                };
+                let odd = self.part_parity(f.slot(s).loop_id, from, to);
+                if (d + odd) % 2 == 1 || d < 4 || n - d < 4 {
                     return None;
                 }
             }

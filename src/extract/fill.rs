@@ -132,6 +132,25 @@ const RING_SCALES: [f64; 7] = [0.45, 0.3, 0.2, 0.12, 0.06, 0.03, 0.01];
 /// number of nodes. Fails, with the reason of the last try, when no ring
 /// height gives a valid fill.
 pub fn fill_region(loops: &[Vec<u32>], nodes: &[Point]) -> Result<RegionFill, FillError> {
+    let area = |l: &Vec<u32>| crate::geom::polygon_area(l.iter().map(|&v| nodes[v as usize]));
+    let odd = loops.iter().filter(|l| l.len() % 2 == 1).count();
+    if odd >= 2 && odd % 2 == 0 && loops.iter().any(|l| l.len() >= 3 && area(l) < 0.0) {
+        // One region with odd loops (triangular holes): join them in pairs
+        // by corridors of quads, then fill what is left.
+        let mut joined = RegionFill::new(nodes);
+        let mut loops = loops.to_vec();
+        while let Some(i) = loops.iter().position(|l| l.len() % 2 == 1) {
+            let all: Vec<Point> = nodes.iter().chain(&joined.points).copied().collect();
+            let merged = join_odd(&mut loops, i, &all, &mut joined)?;
+            loops[i] = merged.0;
+            loops.remove(merged.1);
+        }
+        let all: Vec<Point> = nodes.iter().chain(&joined.points).copied().collect();
+        let rest = fill_region(&loops, &all)?;
+        joined.points.extend(rest.points);
+        joined.quads.extend(rest.quads);
+        return Ok(joined);
+    }
     if let Some((loop_index, l)) = loops
         .iter()
         .enumerate()
@@ -142,7 +161,6 @@ pub fn fill_region(loops: &[Vec<u32>], nodes: &[Point]) -> Result<RegionFill, Fi
             len: l.len(),
         });
     }
-    let area = |l: &Vec<u32>| crate::geom::polygon_area(l.iter().map(|&v| nodes[v as usize]));
     if loops.len() > 1 && loops.iter().all(|l| area(l) > 0.0) {
         // No loop is a hole, so each bounds a region of its own.
         let mut all = nodes.to_vec();
@@ -159,6 +177,95 @@ pub fn fill_region(loops: &[Vec<u32>], nodes: &[Point]) -> Result<RegionFill, Fi
         });
     }
     fill_one(loops, nodes)
+}
+
+/// Joins odd loop `i` to the nearest other odd loop it can reach by a
+/// straight corridor of quads between two front edges facing each other
+/// (`a→a'` on one, `b→b'` on the other; the corridor's sides run `a`–`b'`
+/// and `a'`–`b` and are cut about one front edge apart). The two loops become
+/// one, with an even node count: `n1 + n2 + 2(m − 1)` for `m` quads. Adds
+/// the corridor's nodes and quads to `out`; returns the merged loop and the
+/// index of the loop it absorbed.
+fn join_odd(
+    loops: &mut [Vec<u32>],
+    i: usize,
+    nodes: &[Point],
+    out: &mut RegionFill,
+) -> Result<(Vec<u32>, usize), FillError> {
+    let at = |v: u32| nodes[v as usize];
+    let edges: Vec<(Point, Point, u32, u32)> = loops
+        .iter()
+        .flat_map(|l| (0..l.len()).map(move |k| (l[k], l[(k + 1) % l.len()])))
+        .map(|(u, v)| (at(u), at(v), u, v))
+        .collect();
+    let crosses = |p: Point, q: Point, ends: [u32; 4]| {
+        edges.iter().any(|&(c, d, u, v)| {
+            !ends.contains(&u) && !ends.contains(&v) && crate::geom::segments_intersect(p, q, c, d)
+        })
+    };
+    let l1 = &loops[i];
+    let mut best: Option<(f64, usize, usize, usize)> = None;
+    for (j, l2) in loops.iter().enumerate() {
+        if j == i || l2.len() % 2 == 0 {
+            continue;
+        }
+        for k1 in 0..l1.len() {
+            let (a, a2) = (l1[k1], l1[(k1 + 1) % l1.len()]);
+            for k2 in 0..l2.len() {
+                let (b, b2) = (l2[k2], l2[(k2 + 1) % l2.len()]);
+                let (m1, m2) = (at(a).midpoint(at(a2)), at(b).midpoint(at(b2)));
+                let d = m1.distance(m2);
+                if best.is_some_and(|(bd, ..)| d >= bd) {
+                    continue;
+                }
+                // Both edges face the corridor, which is convex and clear.
+                let facing = (at(a2) - at(a)).perp().dot(m2 - m1) > 0.0
+                    && (at(b2) - at(b)).perp().dot(m1 - m2) > 0.0;
+                let ends = [a, a2, b, b2];
+                let poly = [at(a), at(a2), at(b), at(b2)];
+                if !facing
+                    || !crate::geom::is_measurably_convex(poly)
+                    || crosses(at(a), at(b2), ends)
+                    || crosses(at(a2), at(b), ends)
+                    || loops
+                        .iter()
+                        .flatten()
+                        .any(|&v| !ends.contains(&v) && crate::geom::point_in_polygon(at(v), &poly))
+                {
+                    continue;
+                }
+                best = Some((d, j, k1, k2));
+            }
+        }
+    }
+    let (d, j, k1, k2) = best.ok_or(FillError::OddLoop {
+        loop_index: i,
+        len: loops[i].len(),
+    })?;
+    let (l1, l2) = (&loops[i], &loops[j]);
+    let (a, a2) = (l1[k1], l1[(k1 + 1) % l1.len()]);
+    let (b, b2) = (l2[k2], l2[(k2 + 1) % l2.len()]);
+    let h = 0.5 * (at(a).distance(at(a2)) + at(b).distance(at(b2)));
+    let m = ((d / h).round() as usize).max(1);
+    // Side nodes p_t on a–b', q_t on a'–b, for t = 1..m-1.
+    let mut p = vec![a];
+    let mut q = vec![a2];
+    for t in 1..m {
+        let f = t as f64 / m as f64;
+        p.push(out.add(at(a).lerp(at(b2), f)));
+        q.push(out.add(at(a2).lerp(at(b), f)));
+    }
+    p.push(b2);
+    q.push(b);
+    for t in 0..m {
+        out.quads.push([p[t], q[t], q[t + 1], p[t + 1]]);
+    }
+    // a, p_1.., b', on round loop 2 to b, q_{m-1}.., a', on round loop 1.
+    let mut merged = p.clone();
+    merged.extend((1..l2.len()).map(|s| l2[(k2 + 1 + s) % l2.len()]));
+    merged.extend(q.iter().rev().skip(1));
+    merged.extend((1..l1.len() - 1).map(|s| l1[(k1 + 1 + s) % l1.len()]));
+    Ok((merged, j))
 }
 
 /// [`fill_region`] on one region: the direct quadrangulation when one of
@@ -679,6 +786,36 @@ mod tests {
             Point::new(3.5, 1.0),
         ];
         check(&[(0..8).collect(), vec![8, 9, 10, 11]], &nodes);
+    }
+
+    #[test]
+    fn joins_two_triangular_holes_by_a_corridor() {
+        // A square of 8 front nodes with two triangular holes (clockwise):
+        // each hole is odd, the region is even.
+        let mut nodes: Vec<Point> = (0..8)
+            .map(|k| {
+                let t = 4.0 * (k % 2) as f64;
+                match k / 2 {
+                    0 => Point::new(t, 0.0),
+                    1 => Point::new(8.0, t),
+                    2 => Point::new(8.0 - t, 8.0),
+                    _ => Point::new(0.0, 8.0 - t),
+                }
+            })
+            .collect();
+        for (cx, cy) in [(2.5, 4.0), (5.5, 4.0)] {
+            for a in [90.0f64, 330.0, 210.0] {
+                let a = a.to_radians();
+                nodes.push(Point::new(cx + 0.8 * a.cos(), cy + 0.8 * a.sin()));
+            }
+        }
+        let f = check(
+            &[(0..8).collect(), vec![8, 9, 10], vec![11, 12, 13]],
+            &nodes,
+        );
+        assert!(f.quads.len() >= 8, "{}", f.quads.len());
+        // An odd hole alone in its region cannot be joined.
+        assert!(fill_region(&[(0..8).collect(), vec![8, 9, 10]], &nodes).is_err());
     }
 
     #[test]

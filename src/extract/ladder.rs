@@ -10,8 +10,9 @@ use super::params::Strategy;
 
 /// Rip-ups a run may take.
 const RIP_UPS: usize = 64;
+use super::repair::Squares;
 use super::report::{MeshError, Remedy, StepReport};
-use super::session::Mesher;
+use super::session::{Mesher, PROGRESS_WINDOW};
 use crate::front::SlotId;
 use std::f64::consts::PI;
 
@@ -39,6 +40,17 @@ impl Mesher {
                 });
             }
         }
+        if self.params.fill && self.stalled() {
+            if let Some(r) = self.fill_rest() {
+                return Ok(r);
+            }
+            if !self.replaying && !self.rewound {
+                return Err(MeshError::Stalled {
+                    steps: PROGRESS_WINDOW,
+                    remaining: self.front.len(),
+                });
+            }
+        }
         let limits = self.limits();
         // 0. A loop with no reference point starts a row with a square:
         //    a new loop, or (strategy B) a loop left behind the band or
@@ -49,7 +61,7 @@ impl Mesher {
                 && self.front.loops[lid as usize].len > 6
                 && !self.loop_has_reference(lid)
             {
-                if let Some(r) = self.square_cut(Some(lid), limits) {
+                if let Some(r) = self.square_cut(Squares::Loop(lid), limits) {
                     return Ok(r);
                 }
             }
@@ -213,7 +225,7 @@ impl Mesher {
             }
         }
         // 6. No reference point: a square on the shortest front edge.
-        if let Some(mut r) = self.square_cut(None, limits) {
+        if let Some(mut r) = self.square_cut(Squares::Any, limits) {
             r.skipped = skipped;
             return Ok(r);
         }
@@ -251,6 +263,11 @@ impl Mesher {
         if let Some(c) = best {
             let mut r = self.commit_chosen(c);
             r.remedy = Remedy::RuleBased;
+            r.skipped = skipped;
+            return Ok(r);
+        }
+        // 7b. Start a row around a small hole no front has reached.
+        if let Some(mut r) = self.square_cut(Squares::SmallHoles, limits) {
             r.skipped = skipped;
             return Ok(r);
         }

@@ -10,6 +10,19 @@ use crate::front::{Front, SlotId};
 use crate::geom::{ccw_angle, Point};
 use std::f64::consts::PI;
 
+/// Where [`Mesher::square_cut`] looks for the shortest front edge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Squares {
+    /// On one loop of at least 16 nodes.
+    Loop(u32),
+    /// On any loop of at least 16 nodes.
+    Any,
+    /// On holes of the boundary of fewer than 16 nodes that no row has
+    /// reached yet (a triangular hole far from everything has no reference
+    /// point, and no other front reaches it).
+    SmallHoles,
+}
+
 impl Mesher {
     /// Removes every quad within `rings` element rings of loop `lid` and
     /// rebuilds the front around the enlarged hole in the mesh.
@@ -261,11 +274,28 @@ impl Mesher {
 
     /// A square element on the shortest front edge whose square fits
     /// (thesis §5.1: no front node qualifies as a reference point).
-    pub(super) fn square_cut(&mut self, only: Option<u32>, limits: Limits) -> Option<StepReport> {
+    pub(super) fn square_cut(&mut self, only: Squares, limits: Limits) -> Option<StepReport> {
         let mut edges: Vec<(f64, SlotId)> = self
             .front
             .live_loops()
-            .filter(|&l| only.is_none_or(|o| o == l) && self.front.loops[l as usize].len >= 16)
+            .filter(|&l| {
+                // A short loop is closed rather than cut, except a small
+                // hole (asked for apart, after everything else).
+                let len = self.front.loops[l as usize].len;
+                match only {
+                    Squares::Loop(o) => o == l && len >= 16,
+                    Squares::Any => len >= 16,
+                    Squares::SmallHoles => {
+                        len < 16
+                            && self
+                                .front
+                                .loop_slots(l)
+                                .iter()
+                                .all(|&s| self.front.slot(s).layer == 0)
+                            && self.is_hole_loop(l)
+                    }
+                }
+            })
             .flat_map(|l| self.front.loop_slots(l))
             .map(|s| (self.world(s).distance(self.world(self.front.next(s))), s))
             .collect();
@@ -274,6 +304,12 @@ impl Mesher {
             .iter()
             .take(64)
             .find_map(|&(_, s)| self.square_on(s, limits))
+    }
+
+    /// True when loop `lid` runs clockwise: a hole's front, with the
+    /// region outside it.
+    pub(super) fn is_hole_loop(&self, lid: u32) -> bool {
+        crate::geom::polygon_area(self.front.loop_slots(lid).iter().map(|&s| self.world(s))) < 0.0
     }
 
     /// A square element on the front edge from slot `s`, as high as the
@@ -338,6 +374,10 @@ impl Mesher {
         let min_part = 40f64.to_radians();
         let mut best: Option<(f64, SlotId, SlotId, usize)> = None;
         let stride = (n / 200).max(1);
+        let any_odd = self
+            .front
+            .live_loops()
+            .any(|l| self.front.loops[l as usize].len % 2 == 1);
         for i in (0..n).step_by(stride) {
             for j in (i + 2..n).step_by(stride) {
                 if i == 0 && j == n - 1 {
@@ -372,7 +412,12 @@ impl Mesher {
                         + pb.distance(self.world(self.front.prev(b))));
                 let d = j - i;
                 let mut k = ((len / h).round() as usize).saturating_sub(1);
-                if (d + 1 + k) % 2 == 1 {
+                let want = if any_odd {
+                    self.part_parity(lid, a, b)
+                } else {
+                    0
+                };
+                if (d + 1 + k) % 2 != want {
                     k += 1;
                 }
                 if k == 0 && (d + 1 < 4 || n - d + 1 < 4) {
@@ -417,6 +462,37 @@ impl Mesher {
             self.push(s);
         }
         Some(r)
+    }
+
+    /// The parity a part of loop `lid` cut off along a chord must have: a
+    /// region's loops together need an even number of nodes (each quad side
+    /// inside is shared by two quads), so a part that takes in an odd number
+    /// of odd loops (a triangular hole) must be odd itself. The part is the
+    /// loop from slot `a` forward to slot `b`, closed by the chord `b`–`a`.
+    /// Returns 0 or 1; 0 at once when no live loop is odd.
+    pub(super) fn part_parity(&self, lid: u32, a: SlotId, b: SlotId) -> usize {
+        let odd: Vec<u32> = self
+            .front
+            .live_loops()
+            .filter(|&l| l != lid && self.front.loops[l as usize].len % 2 == 1)
+            .collect();
+        if odd.is_empty() {
+            return 0;
+        }
+        let mut part = vec![self.world(a)];
+        let mut s = a;
+        while s != b {
+            s = self.front.next(s);
+            part.push(self.world(s));
+        }
+        odd.iter()
+            .filter(|&&l| {
+                let p =
+                    self.mesh.nodes[self.front.node(self.front.loops[l as usize].head) as usize];
+                crate::geom::point_in_polygon(p, &part)
+            })
+            .count()
+            % 2
     }
 
     /// The open segment between slots `a` and `b` meets no front edge.

@@ -15,6 +15,8 @@ pub enum MeshError {
     Stuck { loop_index: u32, node: u32 },
     #[error("step limit of {limit} reached with {remaining} front nodes left")]
     StepLimit { limit: usize, remaining: usize },
+    #[error("no progress: {steps} steps met less than a quarter of an element's area each, {remaining} front nodes left")]
+    Stalled { steps: usize, remaining: usize },
     #[error("the correction at node {node} is not a valid element")]
     InvalidCorrection { node: u32 },
     #[error("node {node} is not on the front")]

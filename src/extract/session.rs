@@ -28,6 +28,19 @@ use std::sync::Arc;
 /// 200).
 const FILL_BUDGET: f64 = 2.0;
 
+/// The progress watch: every [`PROGRESS_EVERY`] steps the elements still to
+/// make are estimated (the size field's quad count times the share of the
+/// domain's area the front still encloses). A run whose last
+/// [`PROGRESS_WINDOW`] steps took off less than [`PROGRESS_RATE`] of that
+/// estimate per step is going round in circles (elements cut and ripped
+/// up again, rows that grow the front where they should close it), and the
+/// region left is filled.
+pub(super) const PROGRESS_EVERY: usize = 128;
+/// See [`PROGRESS_EVERY`].
+pub(super) const PROGRESS_WINDOW: usize = 1024;
+/// See [`PROGRESS_EVERY`].
+pub(super) const PROGRESS_RATE: f64 = 0.25;
+
 /// Cell width of the front's edge grid: as fine as the finest elements (the
 /// grid caps its cell count), so a query near fine elements stays short.
 pub(super) fn grid_cell(size: &SizeField) -> f64 {
@@ -91,6 +104,9 @@ pub struct Mesher {
     /// that small loop last neither closed nor settled (0: none): the same
     /// state is not tried again.
     pub(super) small_stuck: Vec<u64>,
+    /// The progress watch's checkpoints: (step, elements still to make),
+    /// one per [`PROGRESS_EVERY`] steps.
+    pub(super) progress: Vec<(usize, f64)>,
     /// Evaluations of reference points put back in the queue.
     pub(super) memo: super::memo::EvalMemo,
     /// The box of the front the last [`Mesher::evaluate`] read.
@@ -142,6 +158,7 @@ impl Mesher {
             incident: Vec::new(),
             small_stuck: Vec::new(),
             memo: Default::default(),
+            progress: Vec::new(),
             evaluated: (Point::ZERO, Point::ZERO),
             relaxes: 0,
             relax_streak: 0,
@@ -223,18 +240,7 @@ impl Mesher {
             .iter()
             .map(|q| crate::geom::polygon_area(self.mesh.corners(q)))
             .sum();
-        let open: f64 = self
-            .front
-            .live_loops()
-            .map(|l| {
-                crate::geom::polygon_area(
-                    self.front
-                        .loop_slots(l)
-                        .iter()
-                        .map(|&s| self.mesh.nodes[self.front.node(s) as usize]),
-                )
-            })
-            .sum();
+        let open = self.front.open_area(&self.mesh.nodes);
         let domain = self.boundary.area();
         if (meshed + open - domain).abs() > 1e-9 * domain.abs() {
             return Err(crate::mesh::InvariantError::Area {
@@ -310,6 +316,26 @@ impl Mesher {
             new_nodes: Vec::new(),
             removed: 0,
         }
+    }
+
+    /// The progress watch ([`PROGRESS_EVERY`]): true when the last
+    /// [`PROGRESS_WINDOW`] steps made too little of the mesh.
+    pub(super) fn stalled(&mut self) -> bool {
+        let n = self.history.len();
+        if n == 0 || n % PROGRESS_EVERY != 0 || self.progress.last().is_some_and(|p| p.0 == n) {
+            return false;
+        }
+        let domain = self.boundary.area();
+        let open = self.front.open_area(&self.mesh.nodes);
+        let to_go = self.size.quad_estimate() * (open / domain).clamp(0.0, 1.0);
+        self.progress.push((n, to_go));
+        let Some(k) = n.checked_sub(PROGRESS_WINDOW) else {
+            return false;
+        };
+        let Some(&(_, before)) = self.progress.iter().rev().find(|p| p.0 <= k) else {
+            return false;
+        };
+        before - to_go < PROGRESS_RATE * PROGRESS_WINDOW as f64
     }
 
     /// When extraction has led the front into a state no fill can take, the
