@@ -27,6 +27,7 @@ pub mod smooth_panel;
 pub mod step_panel;
 pub mod tools;
 pub mod train_panel;
+pub mod world_mesh;
 
 use crate::extract::Mesher;
 use crate::geom::{Aabb, Point};
