@@ -35,7 +35,7 @@ use crate::mesh::QuadMesh;
 use crate::pipeline::FinishParams;
 pub use command::{Command, Dialog};
 pub use document::{CorrectionCheck, Document, ModelInfo, RefitFigures, Settings, Target};
-pub use error::EditorError;
+pub use error::{EditorError, ScreenshotError};
 use files::{Prompt, Recent};
 pub use history::History;
 use job::{Job, JobDone, Record, Work};
@@ -2090,13 +2090,19 @@ impl App {
 fn save_png(img: &egui::ColorImage, path: &Path) -> Result<(), EditorError> {
     let [w, h] = img.size;
     let bytes: Vec<u8> = img.pixels.iter().flat_map(|c| c.to_array()).collect();
-    let err = |cause: String| EditorError::Screenshot {
+    let err = |cause| EditorError::Screenshot {
         path: path.to_path_buf(),
         cause,
     };
-    let im = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
-        .ok_or_else(|| err("bad screenshot buffer".into()))?;
-    im.save(path).map_err(|e| err(e.to_string()))
+    let len = bytes.len();
+    let im = image::RgbaImage::from_raw(w as u32, h as u32, bytes).ok_or(err(
+        ScreenshotError::Buffer {
+            width: w,
+            height: h,
+            bytes: len,
+        },
+    ))?;
+    im.save(path).map_err(|e| err(ScreenshotError::Png(e)))
 }
 
 /// The export box of the left panel: a path (beside the document's file
@@ -2172,7 +2178,7 @@ pub fn run(o: GuiOptions) -> Result<(), EditorError> {
             Ok(Box::new(app))
         }),
     )
-    .map_err(|e| EditorError::Window(e.to_string()))
+    .map_err(|cause| EditorError::Window { cause })
 }
 
 #[cfg(test)]
