@@ -552,25 +552,18 @@ mod tests {
         // Degenerate and non-finite polygons change nothing.
         let before = pixels.clone();
         let flat = [Point::ZERO, Point::new(5.0, 5.0), Point::new(9.0, 9.0)];
-        fill_convex(
-            &mut pixels,
-            size,
-            &flat,
-            |p| (p.x, p.y),
-            Color32::RED,
-            false,
-        );
         let nan = [Point::ZERO, Point::new(f64::NAN, 5.0), Point::new(9.0, 0.0)];
-        fill_convex(&mut pixels, size, &nan, |p| (p.x, p.y), Color32::RED, false);
         let huge = [Point::ZERO, Point::new(1e300, 0.0), Point::new(0.0, 1e300)];
-        fill_convex(
-            &mut pixels,
-            size,
-            &huge,
-            |p| (p.x, p.y),
-            Color32::RED,
-            false,
-        );
+        for poly in [flat, nan, huge] {
+            fill_convex(
+                &mut pixels,
+                size,
+                &poly,
+                |p| (p.x, p.y),
+                Color32::RED,
+                false,
+            );
+        }
         assert_eq!(&pixels[..], &before[..]);
     }
 }
