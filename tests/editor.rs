@@ -1064,6 +1064,43 @@ fn issue17_clicking_a_front_node_closes_the_element_onto_it() {
     }
 }
 
+/// 5'. The report's own clicks: on the annulus, clicking the last
+///     element's r2 or l2 with the Correct tool corrects it within a few
+///     steps (before the rework, every such click said "not a valid
+///     element" for 30 steps).
+#[test]
+fn issue17_clicking_r2_or_l2_on_the_annulus_corrects_the_element() {
+    let mut h = harness(open(&boundary("annulus.poly")));
+    h.run();
+    h.get_by_label("correct").click();
+    h.run();
+    let mut said = Vec::new();
+    for _ in 0..30 {
+        h.state_mut().apply(Command::Step);
+        h.run();
+        let Some(last) = h.state().doc().last().cloned() else {
+            continue;
+        };
+        let n = last.leading.len() / 2;
+        if n < 2 {
+            continue;
+        }
+        for node in [last.leading[n + 2], last.leading[n - 2]] {
+            let p = h.state().doc().mesher().unwrap().mesh().nodes[node as usize];
+            let s = screen(&h, p);
+            click_at(&mut h, s);
+            if status(&h).starts_with("element corrected") {
+                return;
+            }
+            said.push(status(&h));
+        }
+    }
+    panic!(
+        "no click on l2 or r2 in 30 steps corrected the element; the last said: {}",
+        said.last().cloned().unwrap_or_default()
+    );
+}
+
 /// 6. Replacing a document that holds unsaved work asks first (Cancel
 ///    keeps it, Don't save goes on, Save saves then goes on); the close
 ///    question names the project file after Save as.

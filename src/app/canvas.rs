@@ -5,13 +5,14 @@
 //! without overlaps.
 
 use super::quality_panel::Metric;
+use super::world_mesh::{QuadImage, WorldMesh, WorldMeshBuilder};
 use crate::extract::{Remedy, StepKind, StepReport};
 use crate::front::EdgeGrid;
 use crate::geom::{point_in_polygon, Aabb, Point};
 use crate::mesh::QuadMesh;
 use crate::quality::QuadQuality;
 use crate::Boundary;
-use egui::epaint::{Mesh, Vertex, WHITE_UV};
+use egui::epaint::Mesh;
 use egui::{Color32, Pos2, Rect, Response, Shape, Stroke, Ui, Vec2};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
@@ -250,26 +251,6 @@ pub fn quality_color(sj: f64) -> Color32 {
     Color32::from_rgb(r, g, b)
 }
 
-/// Adds the segment `a–b` to `mesh` as a thin quad of `width` pixels.
-fn push_segment(mesh: &mut Mesh, a: Pos2, b: Pos2, width: f32, color: Color32) {
-    let d = b - a;
-    let len = d.length();
-    if len <= 0.0 {
-        return;
-    }
-    let n = egui::vec2(-d.y, d.x) * (0.5 * width / len);
-    let base = mesh.vertices.len() as u32;
-    for p in [a + n, b + n, b - n, a - n] {
-        mesh.vertices.push(Vertex {
-            pos: p,
-            uv: WHITE_UV,
-            color,
-        });
-    }
-    mesh.add_triangle(base, base + 1, base + 2);
-    mesh.add_triangle(base, base + 2, base + 3);
-}
-
 /// Adds a convex polygon as a triangle fan.
 fn push_fan(mesh: &mut Mesh, pts: &[Pos2], color: Color32) {
     let base = mesh.vertices.len() as u32;
@@ -281,12 +262,14 @@ fn push_fan(mesh: &mut Mesh, pts: &[Pos2], color: Color32) {
     }
 }
 
-/// What the canvas keeps between frames for one mesh: each quad's colour
-/// and each edge once, rebuilt when the mesh or the colouring changes.
+/// What the canvas keeps between frames for one mesh: each quad's colour,
+/// each edge once, and the mesh, the boundary and the front as triangles
+/// in world coordinates that each frame maps to the screen (a pan or zoom
+/// moves vertices; nothing is built again). Rebuilt when the mesh or the
+/// colouring changes.
 #[derive(Default)]
 pub struct MeshCache {
     key: Option<(u64, usize, Option<Metric>)>,
-    colors: Vec<Color32>,
     edges: Vec<[u32; 2]>,
     /// Quads that miss the thesis criteria.
     poor: Vec<u32>,
@@ -294,20 +277,35 @@ pub struct MeshCache {
     mean_edge: f64,
     /// The quads by place, for hovering.
     pub index: QuadIndex,
-    /// What [`MeshCache::screen`] was built for.
-    screen_key: Option<ScreenKey>,
-    /// The mesh, the boundary and the front as screen-space shapes.
-    screen: Vec<Shape>,
+    /// Bumped whenever the key changes.
+    generation: u64,
+    /// The box of the mesh's nodes.
+    bounds: Option<Aabb>,
+    /// Each quad's colour.
+    colors: Vec<Color32>,
+    /// The quads filled in their colours, and those that miss the thesis
+    /// criteria tinted (built when first drawn).
+    fills: Option<(WorldMesh, WorldMesh)>,
+    /// The fills as an image.
+    image: Option<QuadImage>,
+    /// The edges in this colour (built when first drawn).
+    edge_lines: Option<(Color32, WorldMesh)>,
+    /// The boundary and the front.
+    lines: WorldMesh,
+    /// What [`MeshCache::dashes`] was built for.
+    dashes_key: Option<ScreenKey>,
+    /// The outlines of the quads that miss the thesis criteria, dashed in
+    /// screen space (the dashes are pixels long).
+    dashes: Vec<Shape>,
 }
 
-/// What the screen-space shapes of the mesh depend on.
+/// What the screen-space dashes depend on.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct ScreenKey {
     mesh: Option<(u64, usize, Option<Metric>)>,
     center: Point,
     zoom: f64,
     rect: Rect,
-    edge_color: Color32,
 }
 
 impl MeshCache {
@@ -317,17 +315,8 @@ impl MeshCache {
             return;
         }
         self.key = Some(key);
+        self.generation += 1;
         let m = o.mesh;
-        let plain = Color32::from_rgb(70, 110, 90);
-        self.colors = (0..m.quads.len())
-            .map(|k| {
-                let c = match (o.metric, o.qualities.get(k)) {
-                    (Some(metric), Some(q)) => quality_color(metric.score(q)),
-                    _ => plain,
-                };
-                c.gamma_multiply(0.8)
-            })
-            .collect();
         self.poor = (0..o.qualities.len() as u32)
             .filter(|&k| !o.qualities[k as usize].meets_thesis())
             .collect();
@@ -354,6 +343,87 @@ impl MeshCache {
         };
         self.edges = edges;
         self.index = QuadIndex::of(m);
+        self.bounds = Aabb::of(m.nodes.iter().copied());
+        let plain = Color32::from_rgb(70, 110, 90);
+        self.colors = (0..m.quads.len())
+            .map(|k| {
+                let c = match (o.metric, o.qualities.get(k)) {
+                    (Some(metric), Some(q)) => quality_color(metric.score(q)),
+                    _ => plain,
+                };
+                c.gamma_multiply(0.8)
+            })
+            .collect();
+        self.fills = None;
+        self.edge_lines = None;
+        // Boundary and front.
+        let loops = o.boundary.map_or(0, |b| b.points.len());
+        let front = o.front.iter().map(Vec::len).sum::<usize>();
+        let mut lines = WorldMeshBuilder::new(self.world_box(), loops + front);
+        if let Some(b) = o.boundary {
+            for l in &b.loops {
+                for k in 0..l.len() {
+                    let (a, c) = (b.points[l[k]], b.points[l[(k + 1) % l.len()]]);
+                    lines.segment(a, c, 1.5, Color32::from_gray(200));
+                }
+            }
+        }
+        let front_color = Color32::from_rgb(255, 150, 40);
+        for l in o.front {
+            for k in 0..l.len() {
+                let (a, c) = (l[k] as usize, l[(k + 1) % l.len()] as usize);
+                if let (Some(&a), Some(&c)) = (m.nodes.get(a), m.nodes.get(c)) {
+                    lines.segment(a, c, 3.0, front_color);
+                }
+            }
+        }
+        self.lines = lines.build();
+        self.dashes_key = None;
+    }
+
+    /// The box the chunks are filed in: the mesh's nodes (what lies
+    /// outside goes to the edge chunks).
+    fn world_box(&self) -> Aabb {
+        self.bounds.unwrap_or(Aabb {
+            min: Point::ZERO,
+            max: Point::ZERO,
+        })
+    }
+
+    /// The quads' fills and the tint, as triangles in world coordinates.
+    fn fills(&mut self, mesh: &QuadMesh) -> &mut (WorldMesh, WorldMesh) {
+        if self.fills.is_none() {
+            let bounds = self.world_box();
+            let mut quads = WorldMeshBuilder::new(bounds, mesh.quads.len());
+            for (q, &c) in mesh.quads.iter().zip(&self.colors) {
+                quads.fan(&mesh.corners(q), c);
+            }
+            let mut tint = WorldMeshBuilder::new(bounds, self.poor.len());
+            for q in self.poor.iter().filter_map(|&k| mesh.quads.get(k as usize)) {
+                tint.fan(&mesh.corners(q), POOR_TINT);
+            }
+            self.fills = Some((quads.build(), tint.build()));
+        }
+        self.fills.get_or_insert_with(Default::default)
+    }
+
+    /// The edges in `color`, as triangles in world coordinates.
+    fn edge_lines(&mut self, mesh: &QuadMesh, color: Color32) -> &mut WorldMesh {
+        if self.edge_lines.as_ref().is_none_or(|(c, _)| *c != color) {
+            let mut b = WorldMeshBuilder::new(self.world_box(), self.edges.len());
+            for e in &self.edges {
+                if let (Some(&p), Some(&q)) =
+                    (mesh.nodes.get(e[0] as usize), mesh.nodes.get(e[1] as usize))
+                {
+                    b.segment(p, q, 1.0, color);
+                }
+            }
+            self.edge_lines = Some((color, b.build()));
+        }
+        &mut self
+            .edge_lines
+            .get_or_insert_with(|| (color, WorldMesh::default()))
+            .1
     }
 }
 
@@ -374,6 +444,9 @@ pub struct Overlay<'a> {
     /// Colour quads by this metric (plain when `None`).
     pub metric: Option<Metric>,
 }
+
+/// The tint of quads that miss the thesis criteria.
+const POOR_TINT: Color32 = Color32::from_rgba_unmultiplied_const(200, 60, 220, 90);
 
 /// Steps whose element is drawn highlighted: those that make a few quads
 /// (a fill or a rip-up can make the whole mesh at once).
@@ -402,22 +475,68 @@ pub fn draw(
     }
     painter.add(Shape::mesh(fill));
 
-    // Quads, their edges, the boundary and the front: built in screen
-    // space once per mesh, colouring and view, and kept while none of them
-    // changes (a still frame with a large mesh rebuilds nothing).
+    // Quads, their edges, the boundary and the front: built in world
+    // coordinates once per mesh and colouring, mapped to the screen when
+    // the view changes.
     cache.refresh(o);
-    let key = ScreenKey {
-        mesh: cache.key,
-        center: view.center,
-        zoom: view.zoom,
-        rect,
-        edge_color: ui.visuals().text_color(),
+    let show_edges = cache.mean_edge * view.zoom >= 3.0;
+    // The quads' fills as one image instead of their triangles, unless
+    // the image would be too large (zoomed in far, where few quads are
+    // on the canvas).
+    let as_image = {
+        let MeshCache {
+            generation,
+            bounds,
+            colors,
+            poor,
+            image,
+            ..
+        } = &mut *cache;
+        let m = o.mesh;
+        bounds.is_some_and(|b| {
+            let fills = m.quads.iter().zip(colors.iter());
+            let tints = poor.iter().filter_map(|&k| m.quads.get(k as usize));
+            QuadImage::draw(
+                image,
+                *generation,
+                b,
+                || {
+                    fills
+                        .map(|(q, &c)| (m.corners(q), c, false))
+                        .chain(tints.map(|q| (m.corners(q), POOR_TINT, true)))
+                },
+                painter,
+                view,
+                rect,
+            )
+        })
     };
-    if cache.screen_key.as_ref() != Some(&key) {
-        cache.screen = screen_shapes(cache, o, view, rect, key.edge_color);
-        cache.screen_key = Some(key);
+    if !as_image {
+        cache.fills(o.mesh).0.draw(painter, view, rect);
     }
-    painter.extend(cache.screen.iter().cloned());
+    // Quads that miss the thesis criteria: tinted, and outlined dashed
+    // when edges are drawn.
+    if show_edges {
+        let key = ScreenKey {
+            mesh: cache.key,
+            center: view.center,
+            zoom: view.zoom,
+            rect,
+        };
+        if cache.dashes_key != Some(key) {
+            cache.dashes = poor_outlines(&cache.poor, o.mesh, view, rect);
+            cache.dashes_key = Some(key);
+        }
+        painter.extend(cache.dashes.iter().cloned());
+    }
+    if !as_image {
+        cache.fills(o.mesh).1.draw(painter, view, rect);
+    }
+    if show_edges {
+        let color = ui.visuals().text_color().gamma_multiply(0.7);
+        cache.edge_lines(o.mesh, color).draw(painter, view, rect);
+    }
+    cache.lines.draw(painter, view, rect);
 
     if let Some(r) = o.last {
         draw_step(painter, r, o.mesh, &to);
@@ -436,82 +555,26 @@ pub fn draw(
     hovered_quad
 }
 
-/// The mesh (quads filled in their colours, those that miss the thesis
-/// criteria tinted, edges when they are 3 pixels long or more on average),
-/// the boundary and the front, as screen-space shapes. Nodes are mapped
-/// once; quads and edges off the canvas are left out.
-fn screen_shapes(
-    cache: &MeshCache,
-    o: &Overlay,
-    view: &View,
-    rect: Rect,
-    text_color: Color32,
-) -> Vec<Shape> {
-    let to = |p: Point| view.to_screen(rect, p);
-    let screen: Vec<Pos2> = o.mesh.nodes.iter().map(|&p| to(p)).collect();
-    let mut shapes = Vec::new();
-    let mut quads = Mesh::default();
-    for (q, &color) in o.mesh.quads.iter().zip(&cache.colors) {
-        let s = q.map(|v| screen[v as usize]);
-        if rect.intersects(Rect::from_points(&s)) {
-            push_fan(&mut quads, &s, color);
-        }
-    }
-    shapes.push(Shape::mesh(quads));
-    let show_edges = cache.mean_edge * view.zoom >= 3.0;
-    // Quads that miss the thesis criteria: tinted, and outlined dashed
-    // when edges are drawn.
-    let mut tint = Mesh::default();
-    let poor_color = Color32::from_rgba_unmultiplied(200, 60, 220, 90);
+/// The outlines of the quads `poor` of `mesh` that reach the canvas,
+/// dashed.
+fn poor_outlines(poor: &[u32], mesh: &QuadMesh, view: &View, rect: Rect) -> Vec<Shape> {
     let mut dashed = Vec::new();
-    for &k in &cache.poor {
-        let s = o.mesh.quads[k as usize].map(|v| screen[v as usize]);
+    for &k in poor {
+        let s = mesh
+            .corners(&mesh.quads[k as usize])
+            .map(|p| view.to_screen(rect, p));
         if rect.intersects(Rect::from_points(&s)) {
-            push_fan(&mut tint, &s, poor_color);
-            if show_edges {
-                let mut ring = s.to_vec();
-                ring.push(s[0]);
-                dashed.extend(Shape::dashed_line(
-                    &ring,
-                    Stroke::new(1.5, Color32::from_rgb(230, 90, 255)),
-                    4.0,
-                    3.0,
-                ));
-            }
+            let mut ring = s.to_vec();
+            ring.push(s[0]);
+            dashed.extend(Shape::dashed_line(
+                &ring,
+                Stroke::new(1.5, Color32::from_rgb(230, 90, 255)),
+                4.0,
+                3.0,
+            ));
         }
     }
-    shapes.extend(dashed);
-    shapes.push(Shape::mesh(tint));
-    if show_edges {
-        let mut edges = Mesh::default();
-        let edge_color = text_color.gamma_multiply(0.7);
-        for e in &cache.edges {
-            let (a, b) = (screen[e[0] as usize], screen[e[1] as usize]);
-            if rect.intersects(Rect::from_two_pos(a, b)) {
-                push_segment(&mut edges, a, b, 1.0, edge_color);
-            }
-        }
-        shapes.push(Shape::mesh(edges));
-    }
-    // Boundary and front.
-    let mut lines = Mesh::default();
-    if let Some(b) = o.boundary {
-        for l in &b.loops {
-            for k in 0..l.len() {
-                let (a, c) = (b.points[l[k]], b.points[l[(k + 1) % l.len()]]);
-                push_segment(&mut lines, to(a), to(c), 1.5, Color32::from_gray(200));
-            }
-        }
-    }
-    let front_color = Color32::from_rgb(255, 150, 40);
-    for l in o.front {
-        for k in 0..l.len() {
-            let (a, b) = (screen[l[k] as usize], screen[l[(k + 1) % l.len()] as usize]);
-            push_segment(&mut lines, a, b, 3.0, front_color);
-        }
-    }
-    shapes.push(Shape::mesh(lines));
-    shapes
+    dashed
 }
 
 /// The quad tooltip while hovering quad `k` of the mesh.

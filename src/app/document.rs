@@ -860,8 +860,12 @@ impl Document {
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("json"));
         let text = if json {
-            serde_json::to_string_pretty(&self.boundary_doc())
-                .map_err(|e| EditorError::Window(e.to_string()))?
+            serde_json::to_string_pretty(&self.boundary_doc()).map_err(|cause| {
+                EditorError::Encode {
+                    path: path.to_path_buf(),
+                    cause,
+                }
+            })?
         } else {
             match self.boundary() {
                 Some(b) => io::poly::write_poly(b),
@@ -1078,9 +1082,9 @@ impl Document {
 
     /// Saves the document as a project file (written whole or not at all).
     pub fn save_project(&self, path: &Path) -> Result<(), EditorError> {
-        let json = serde_json::to_string(&self.project()).map_err(|e| EditorError::Project {
+        let json = serde_json::to_string(&self.project()).map_err(|cause| EditorError::Encode {
             path: path.to_path_buf(),
-            cause: ProjectError::Json(e.to_string()),
+            cause,
         })?;
         io::write_atomic(path, json.as_bytes())?;
         Ok(())
@@ -1121,7 +1125,7 @@ impl Document {
         doc.name = name;
         doc.set_draft(draft).map_err(|e| match e {
             EditorError::Model { cause, .. } => ProjectError::Model(cause),
-            other => ProjectError::Json(other.to_string()),
+            other => ProjectError::Start(Box::new(other)),
         })?;
         doc.boundary_edited = false;
         doc.training = p.training;
@@ -1195,7 +1199,7 @@ impl Document {
         let bytes = std::fs::read(path).map_err(ProjectError::Io).at(path)?;
         let text = io::decode_text(&bytes);
         let p: Project = serde_json::from_str(&text)
-            .map_err(|e| ProjectError::Json(io::quote_long(&e.to_string())))
+            .map_err(ProjectError::Json)
             .at(path)?;
         Document::from_project(p, Some(path.to_path_buf())).at(path)
     }

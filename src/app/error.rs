@@ -72,13 +72,37 @@ pub enum EditorError {
     #[error("the background run stopped unexpectedly")]
     JobPanicked,
     #[error("{}: cannot save the screenshot: {cause}", path.display())]
-    Screenshot { path: PathBuf, cause: String },
-    #[error("the window: {0}")]
-    Window(String),
+    Screenshot {
+        path: PathBuf,
+        cause: ScreenshotError,
+    },
+    /// The window could not be opened or ran into an error.
+    #[error("the window: {cause}")]
+    Window { cause: eframe::Error },
+    /// A document part that could not be put into JSON.
+    #[error("{}: cannot write it as JSON: {cause}", path.display())]
+    Encode {
+        path: PathBuf,
+        cause: serde_json::Error,
+    },
     #[error(
         "the model meshed with is not a refitted one: refit first (or choose a refitted model)"
     )]
     NoRefittedModel,
+}
+
+/// Why a screenshot is not saved.
+#[derive(Debug, Error)]
+pub enum ScreenshotError {
+    /// The pixels the window gave do not fill an image of its size.
+    #[error("{bytes} bytes of pixels for a {width} × {height} image")]
+    Buffer {
+        width: usize,
+        height: usize,
+        bytes: usize,
+    },
+    #[error("{0}")]
+    Png(image::ImageError),
 }
 
 /// Why a project file does not open.
@@ -86,8 +110,10 @@ pub enum EditorError {
 pub enum ProjectError {
     #[error("cannot read the file: {0}")]
     Io(std::io::Error),
-    #[error("invalid JSON: {0}")]
-    Json(String),
+    /// Not JSON, or not a project's fields (the parser's message, any
+    /// quoted text of the file cut short).
+    #[error("invalid JSON: {}", crate::io::quote_long(&.0.to_string()))]
+    Json(serde_json::Error),
     #[error("not a quadex project (format \"{0}\")")]
     Format(String),
     #[error("its boundary: {0}")]
@@ -100,6 +126,9 @@ pub enum ProjectError {
     Imported(InvariantError),
     #[error("its model: {0}")]
     Model(LoadError),
+    /// Its boundary is valid but meshing it cannot start.
+    #[error("its mesh cannot start: {0}")]
+    Start(Box<EditorError>),
 }
 
 impl From<MeshError> for EditorError {

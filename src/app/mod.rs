@@ -4,7 +4,8 @@
 //! [`Document`], its [`History`] for undo and redo, the file it is saved
 //! to), the view ([`ViewState`]: the canvas view and the caches drawn
 //! from the document), the panels ([`Panels`]: each a [`View`] that draws
-//! itself from a [`Scene`] and returns [`Command`]s), the background work
+//! itself from the [`Document`] and what little else it shows, and
+//! returns [`Command`]s), the background work
 //! ([`Background`]: runs and the finishing pass in a thread, the animated
 //! run) and the window plumbing ([`Window`]: status line, questions, file
 //! prompts, screenshots). Every user intent is a [`Command`] applied in
@@ -27,6 +28,7 @@ pub mod smooth_panel;
 pub mod step_panel;
 pub mod tools;
 pub mod train_panel;
+pub mod world_mesh;
 
 use crate::extract::Mesher;
 use crate::geom::{Aabb, Point};
@@ -34,7 +36,7 @@ use crate::mesh::QuadMesh;
 use crate::pipeline::FinishParams;
 pub use command::{Command, Dialog};
 pub use document::{CorrectionCheck, Document, ModelInfo, RefitFigures, Settings, Target};
-pub use error::EditorError;
+pub use error::{EditorError, ScreenshotError};
 use files::{Prompt, Recent};
 pub use history::History;
 use job::{Job, JobDone, Record, Work};
@@ -76,10 +78,15 @@ const BACKGROUND_STEPS: usize = 200;
 /// finished mesh is computed again (a dragged value changes every frame).
 const FINISH_DEBOUNCE: std::time::Duration = std::time::Duration::from_millis(250);
 
-/// A panel: draws itself from the scene and returns what the user asked
-/// for (the shape of `egui_demo_lib`'s `View`).
+/// A panel (the shape of `egui_demo_lib`'s `View`): draws itself from the
+/// document, and from the little else of the editor it shows (`Input`),
+/// and returns what the user asked for as commands. A panel changes
+/// nothing but its own state.
 pub trait View {
-    fn ui(&mut self, ui: &mut egui::Ui, scene: &Scene) -> Vec<Command>;
+    /// What the panel reads besides the document (`()` for most).
+    type Input<'a>;
+
+    fn ui(&mut self, ui: &mut egui::Ui, doc: &Document, input: Self::Input<'_>) -> Vec<Command>;
 }
 
 /// Which mesh is on the canvas and in the Quality panel.
@@ -102,21 +109,23 @@ pub struct Shown<'a> {
     pub kind: MeshKind,
 }
 
-/// What the panels see: the document and what the editor derived from it.
-pub struct Scene<'a> {
-    pub doc: &'a Document,
-    pub shown: Shown<'a>,
-    /// Figures of the shown mesh.
+/// The figures of the mesh shown, for the panels that report them.
+#[derive(Clone, Copy)]
+pub struct Figures<'a> {
+    /// Which mesh is shown.
+    pub kind: MeshKind,
     pub stats: &'a MeshStats,
-    pub animating: bool,
-    pub busy: bool,
-    pub can_undo: bool,
-    pub can_redo: bool,
-    pub refit: Option<&'a RefitFigures>,
     /// Changes whenever the mesh as stepped does.
     pub mesh_version: u64,
-    /// Front nodes the last element could close onto.
-    pub targets: &'a [Target],
+}
+
+/// What the stepping panel shows of the editor: the animated run, and
+/// whether there is something to undo or redo.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RunState {
+    pub animating: bool,
+    pub can_undo: bool,
+    pub can_redo: bool,
 }
 
 /// The panels on the right.
@@ -422,22 +431,21 @@ fn shown_of<'a>(
     }
 }
 
-/// What the panels see this frame.
-fn scene_of<'a>(d: &'a DocumentState, v: &'a ViewState, b: &Background) -> Scene<'a> {
-    Scene {
-        doc: &d.doc,
-        shown: shown_of(d, &v.finished, &v.empty),
+/// The front nodes the last element can close onto, when computed for the
+/// mesh as stepped now.
+fn targets_of<'a>(d: &DocumentState, v: &'a ViewState) -> &'a [Target] {
+    match &v.targets {
+        Some((k, t)) if *k == d.mesh_version => t,
+        _ => &[],
+    }
+}
+
+/// The figures of the mesh shown this frame.
+fn figures_of<'a>(d: &'a DocumentState, v: &'a ViewState) -> Figures<'a> {
+    Figures {
+        kind: shown_of(d, &v.finished, &v.empty).kind,
         stats: &v.stats,
-        animating: b.animating.is_some(),
-        busy: b.job.as_ref().is_some_and(Job::is_run),
-        can_undo: d.history.can_undo(),
-        can_redo: d.history.can_redo(),
-        refit: d.doc.last_refit.as_ref(),
         mesh_version: d.mesh_version,
-        targets: match &v.targets {
-            Some((k, t)) if *k == d.mesh_version => t,
-            _ => &[],
-        },
     }
 }
 
@@ -615,10 +623,7 @@ impl App {
     /// The front nodes the last element can close onto (computed when
     /// the canvas needs them).
     pub fn targets(&self) -> &[Target] {
-        match &self.view.targets {
-            Some((v, t)) if *v == self.document.mesh_version => t,
-            _ => &[],
-        }
+        targets_of(&self.document, &self.view)
     }
 
     /// Which mesh is on the canvas.
@@ -1479,15 +1484,21 @@ impl App {
                     // cannot wrap in a narrow window) scrolls instead of
                     // widening the panel over the canvas.
                     egui::ScrollArea::both().show(ui, |ui| {
-                        let scene = scene_of(&self.document, &self.view, &self.background);
+                        let doc = &self.document.doc;
+                        let run = RunState {
+                            animating: self.background.animating.is_some(),
+                            can_undo: self.document.history.can_undo(),
+                            can_redo: self.document.history.can_redo(),
+                        };
                         let mut out = Vec::new();
-                        out.extend(self.panels.step.ui(ui, &scene));
+                        out.extend(self.panels.step.ui(ui, doc, run));
                         ui.separator();
-                        export_box(ui, &mut self.panels.export_path, &scene, &mut out);
+                        export_box(ui, &mut self.panels.export_path, doc, &mut out);
                         ui.separator();
-                        out.extend(self.panels.train.ui(ui, &scene));
+                        let figures = figures_of(&self.document, &self.view);
+                        out.extend(self.panels.train.ui(ui, doc, figures));
                         ui.separator();
-                        out.extend(self.panels.tools.ui(ui, &scene));
+                        out.extend(self.panels.tools.ui(ui, doc, ()));
                         cmds.extend(out);
                     });
                 });
@@ -1509,13 +1520,14 @@ impl App {
                     egui::ScrollArea::both()
                         .id_salt("right_panel")
                         .show(ui, |ui| {
-                            let scene = scene_of(&self.document, &self.view, &self.background);
+                            let doc = &self.document.doc;
+                            let figures = figures_of(&self.document, &self.view);
                             let p = &mut self.panels;
                             let out = match p.tab {
-                                Tab::Quality => p.quality.ui(ui, &scene),
-                                Tab::Model => p.model.ui(ui, &scene),
-                                Tab::Samples => p.samples.ui(ui, &scene),
-                                Tab::Smoothing => p.smooth.ui(ui, &scene),
+                                Tab::Quality => p.quality.ui(ui, doc, figures),
+                                Tab::Model => p.model.ui(ui, doc, ()),
+                                Tab::Samples => p.samples.ui(ui, doc, figures.kind),
+                                Tab::Smoothing => p.smooth.ui(ui, doc, figures),
                             };
                             cmds.extend(out);
                         });
@@ -1526,8 +1538,10 @@ impl App {
             .show(ctx, |ui| {
                 egui::Frame::side_top_panel(ui.style()).show(ui, |ui| {
                     ui.set_width(ui.available_width());
-                    let scene = scene_of(&self.document, &self.view, &self.background);
-                    cmds.extend(self.panels.tools.toolbar(ui, &scene));
+                    let kind = self.shown().kind;
+                    let targets = targets_of(&self.document, &self.view);
+                    let doc = &self.document.doc;
+                    cmds.extend(self.panels.tools.toolbar(ui, doc, kind, targets));
                 });
                 self.canvas(ui, &mut cmds);
             });
@@ -2089,20 +2103,26 @@ impl App {
 fn save_png(img: &egui::ColorImage, path: &Path) -> Result<(), EditorError> {
     let [w, h] = img.size;
     let bytes: Vec<u8> = img.pixels.iter().flat_map(|c| c.to_array()).collect();
-    let err = |cause: String| EditorError::Screenshot {
+    let err = |cause| EditorError::Screenshot {
         path: path.to_path_buf(),
         cause,
     };
-    let im = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
-        .ok_or_else(|| err("bad screenshot buffer".into()))?;
-    im.save(path).map_err(|e| err(e.to_string()))
+    let len = bytes.len();
+    let im = image::RgbaImage::from_raw(w as u32, h as u32, bytes).ok_or(err(
+        ScreenshotError::Buffer {
+            width: w,
+            height: h,
+            bytes: len,
+        },
+    ))?;
+    im.save(path).map_err(|e| err(ScreenshotError::Png(e)))
 }
 
 /// The export box of the left panel: a path (beside the document's file
 /// by default) and the buttons.
-fn export_box(ui: &mut egui::Ui, path: &mut String, s: &Scene, out: &mut Vec<Command>) {
+fn export_box(ui: &mut egui::Ui, path: &mut String, doc: &Document, out: &mut Vec<Command>) {
     ui.label(egui::RichText::new("Export").strong());
-    let done = s.doc.has_mesh();
+    let done = doc.has_mesh();
     ui.add(egui::TextEdit::singleline(path).desired_width(f32::INFINITY))
         .on_hover_text("The file to write; its extension picks the format");
     ui.label(egui::RichText::new(".msh .msh22 .vtk .vtu .inp .svg").weak());
@@ -2171,7 +2191,7 @@ pub fn run(o: GuiOptions) -> Result<(), EditorError> {
             Ok(Box::new(app))
         }),
     )
-    .map_err(|e| EditorError::Window(e.to_string()))
+    .map_err(|cause| EditorError::Window { cause })
 }
 
 #[cfg(test)]

@@ -6,7 +6,6 @@
 
 use super::command::Command;
 use super::document::Document;
-use super::Scene;
 use crate::factors::{factors, Factors, CRITICAL_PERCENT};
 use crate::fit::{evaluate_all, Evaluation, Figures};
 use egui::{Color32, Ui};
@@ -127,7 +126,9 @@ impl ModelPanel {
 }
 
 impl super::View for ModelPanel {
-    fn ui(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
+    type Input<'a> = ();
+
+    fn ui(&mut self, ui: &mut Ui, doc: &Document, _: ()) -> Vec<Command> {
         self.plot_rects.clear();
         ui.horizontal(|ui| {
             ui.label("measured on");
@@ -136,7 +137,7 @@ impl super::View for ModelPanel {
             ui.selectable_value(&mut self.samples, SampleChoice::Yours, "yours")
                 .on_hover_text("Only the samples of your corrections and collections");
         });
-        self.refresh(s.doc);
+        self.refresh(doc);
         let fit = match &self.fit {
             Some(Ok(f)) => f,
             Some(Err(e)) => {

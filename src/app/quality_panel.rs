@@ -3,7 +3,7 @@
 //! scaled Jacobian, and the metric the canvas colours quads by.
 
 use super::command::Command;
-use super::{MeshKind, Scene};
+use super::{Document, Figures, MeshKind};
 use crate::mesh::QuadMesh;
 use crate::quality::{MeshQuality, QuadQuality};
 use egui::Ui;
@@ -117,11 +117,13 @@ impl Default for QualityPanel {
 }
 
 impl super::View for QualityPanel {
-    fn ui(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
+    type Input<'a> = Figures<'a>;
+
+    fn ui(&mut self, ui: &mut Ui, doc: &Document, s: Figures<'_>) -> Vec<Command> {
         let stats = s.stats;
         let q = &stats.summary;
-        let stepped = s.doc.mesher().map_or(0, |m| m.mesh().quads.len());
-        let (what, note) = match s.shown.kind {
+        let stepped = doc.mesher().map_or(0, |m| m.mesh().quads.len());
+        let (what, note) = match s.kind {
             MeshKind::Imported => ("The mesh read from the file", String::new()),
             MeshKind::Finished => (
                 "The finished mesh (cleaned up, remeshed and smoothed)",

@@ -5,7 +5,7 @@
 
 use super::command::{Command, Dialog};
 use super::document::Document;
-use super::{MeshKind, Scene};
+use super::MeshKind;
 use crate::samples::{Sample, Source};
 use egui::Ui;
 use std::collections::BTreeSet;
@@ -48,11 +48,12 @@ impl SamplesPanel {
 }
 
 impl super::View for SamplesPanel {
-    fn ui(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
+    type Input<'a> = MeshKind;
+
+    fn ui(&mut self, ui: &mut Ui, doc: &Document, kind: MeshKind) -> Vec<Command> {
         let mut cmds = Vec::new();
         let out = &mut cmds;
-        let doc = s.doc;
-        let done = matches!(s.shown.kind, MeshKind::Finished | MeshKind::Imported);
+        let done = matches!(kind, MeshKind::Finished | MeshKind::Imported);
         let set = &doc.training;
         let [t0, t1, t2] = set.type_counts();
         ui.label(format!(

@@ -5,7 +5,7 @@
 
 use super::command::Command;
 use super::document::Settings;
-use super::{MeshKind, Scene};
+use super::{Document, Figures, MeshKind};
 use crate::cleanup::CleanupParams;
 use crate::quality::MeshQuality;
 use crate::remesh::RemeshParams;
@@ -22,13 +22,14 @@ pub struct SmoothPanel {
 }
 
 impl super::View for SmoothPanel {
-    fn ui(&mut self, ui: &mut Ui, scene: &Scene) -> Vec<Command> {
+    type Input<'a> = Figures<'a>;
+
+    fn ui(&mut self, ui: &mut Ui, doc: &Document, shown: Figures<'_>) -> Vec<Command> {
         let mut cmds = Vec::new();
         let out = &mut cmds;
-        let doc = scene.doc;
-        let version = scene.mesh_version;
-        let finished = match scene.shown.kind {
-            MeshKind::Finished | MeshKind::Updating => Some(&scene.stats.summary),
+        let version = shown.mesh_version;
+        let finished = match shown.kind {
+            MeshKind::Finished | MeshKind::Updating => Some(&shown.stats.summary),
             _ => None,
         };
         ui.label("Applied to the mesh once it is complete; changing them keeps the steps (the finished mesh is computed again in the background, the previous one shown meanwhile).");
@@ -160,7 +161,7 @@ impl super::View for SmoothPanel {
             ui.label("Run the mesh to the end to see the finished mesh's figures.");
             return cmds;
         };
-        if scene.shown.kind == MeshKind::Updating {
+        if shown.kind == MeshKind::Updating {
             ui.label("Updating the finished mesh for these settings…");
         }
         egui::Grid::new("smooth_effect")

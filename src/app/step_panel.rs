@@ -5,7 +5,7 @@
 
 use super::command::{Command, Dialog};
 use super::document::{kind_name, Settings};
-use super::Scene;
+use super::{Document, RunState};
 use crate::extract::{MeshParams, Remedy, Strategy};
 use crate::model::BUILTIN;
 use egui::Ui;
@@ -95,9 +95,10 @@ fn remedy_name(r: Remedy) -> &'static str {
 }
 
 impl super::View for StepPanel {
-    fn ui(&mut self, ui: &mut Ui, scene: &Scene) -> Vec<Command> {
+    type Input<'a> = RunState;
+
+    fn ui(&mut self, ui: &mut Ui, doc: &Document, run: RunState) -> Vec<Command> {
         let mut out = Vec::new();
-        let doc = scene.doc;
         ui.heading("Extraction");
         let mut s: Settings = doc.settings.clone();
         ui.horizontal_wrapped(|ui| {
@@ -189,7 +190,7 @@ impl super::View for StepPanel {
             );
         });
         ui.horizontal_wrapped(|ui| {
-            let animating = scene.animating;
+            let animating = run.animating;
             let label = if animating { "Pause" } else { "Run" };
             button_enabled(
                 ui,
@@ -232,7 +233,7 @@ impl super::View for StepPanel {
         ui.horizontal_wrapped(|ui| {
             button_enabled(
                 ui,
-                scene.can_undo,
+                run.can_undo,
                 "Undo",
                 "Undo the last step or edit",
                 Command::Undo,
@@ -240,7 +241,7 @@ impl super::View for StepPanel {
             );
             button_enabled(
                 ui,
-                scene.can_redo,
+                run.can_redo,
                 "Redo",
                 "Take the last undone step or edit again (also Ctrl+Y)",
                 Command::Redo,

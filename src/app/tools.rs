@@ -8,7 +8,7 @@
 use super::canvas::{Pointer, View};
 use super::command::Command;
 use super::document::{Document, Target};
-use super::{MeshKind, Scene};
+use super::MeshKind;
 use crate::boundary_edit::{At, Draft};
 use crate::geom::Point;
 use crate::model::ElementType;
@@ -549,8 +549,13 @@ impl Tools {
     /// The tool bar above the canvas: the tools, the one in hand's hint and
     /// options (a split's parts, the loop being drawn, the closing targets
     /// of the Correct tool).
-    pub fn toolbar(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
-        let doc = s.doc;
+    pub fn toolbar(
+        &mut self,
+        ui: &mut Ui,
+        doc: &Document,
+        kind: MeshKind,
+        targets: &[Target],
+    ) -> Vec<Command> {
         // One row whatever the tool says (a taller bar would shrink the
         // canvas and move the drawing under the pointer): long texts are
         // cut, in full on hover.
@@ -568,9 +573,9 @@ impl Tools {
             ui.separator();
             match self.tool {
                 Tool::Correct
-                    if doc.last_element().is_some() && s.shown.kind == MeshKind::Stepped =>
+                    if doc.last_element().is_some() && kind == MeshKind::Stepped =>
                 {
-                    let valid = s.targets.iter().filter(|t| t.valid).count();
+                    let valid = targets.iter().filter(|t| t.valid).count();
                     note(
                         ui,
                         if valid == 0 {
@@ -618,9 +623,10 @@ impl Tools {
 impl super::View for Tools {
     /// The boundary section of the left panel: its loops, resampling, and
     /// whether it is a valid boundary.
-    fn ui(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
+    type Input<'a> = ();
+
+    fn ui(&mut self, ui: &mut Ui, doc: &Document, _: ()) -> Vec<Command> {
         let mut out = Vec::new();
-        let doc = s.doc;
         ui.heading("Boundary");
         let d = &doc.draft;
         if !d.loops.is_empty() {

@@ -5,7 +5,7 @@
 
 use super::command::{Command, Dialog};
 use super::step_panel::button_enabled;
-use super::Scene;
+use super::{Document, Figures};
 use crate::geom::Point;
 use crate::model::{ElementType, Form};
 use egui::Ui;
@@ -36,12 +36,13 @@ impl Default for TrainPanel {
 }
 
 impl super::View for TrainPanel {
-    fn ui(&mut self, ui: &mut Ui, s: &Scene) -> Vec<Command> {
+    type Input<'a> = Figures<'a>;
+
+    fn ui(&mut self, ui: &mut Ui, doc: &Document, s: Figures<'_>) -> Vec<Command> {
         let mut out = Vec::new();
-        let doc = s.doc;
         ui.heading("Correction and training");
         match (doc.last_element(), doc.mesher()) {
-            (Some(r), Some(m)) if s.shown.kind == super::MeshKind::Stepped => {
+            (Some(r), Some(m)) if s.kind == super::MeshKind::Stepped => {
                 // Start from what was committed: the new node, or r2 / l2.
                 let key = s.mesh_version;
                 if self.filled_from != Some(key) {
@@ -135,7 +136,7 @@ impl super::View for TrainPanel {
                 &mut out,
             );
         }
-        if let Some(f) = s.refit {
+        if let Some(f) = doc.last_refit.as_ref() {
             ui.label(format!(
                 "last refit: {}: {} ({} of yours)",
                 f.model,
