@@ -1552,3 +1552,54 @@ fn issue17_menus_ticks_tooltips_and_export_path() {
     let p = PathBuf::from(&h.state().panels.export_path);
     assert_eq!(p.file_name().unwrap(), "lshape.msh");
 }
+
+#[test]
+fn the_compare_panel_meshes_the_boundary_with_each_model() {
+    let mut h = harness(example());
+    h.run();
+    h.get_by_label("Compare").click();
+    h.run();
+    // Two of the four built-in models, to be quick.
+    for name in ["thesis", "ann"] {
+        h.get_by_role_and_label(egui::accesskit::Role::CheckBox, name)
+            .click();
+    }
+    h.run();
+    h.get_by_label("Compare models").click();
+    h.step();
+    assert!(h.state().comparing());
+    let t = Instant::now();
+    while h.state().comparing() {
+        assert!(t.elapsed().as_secs() < 300, "the comparison did not end");
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    h.run();
+    // The table: a heading per column, a row per model.
+    for col in quadex::compare::COLUMNS {
+        h.get_by_label(col);
+    }
+    let c = h.state().comparison().expect("a comparison");
+    let names: Vec<&str> = c.outcomes.iter().map(|o| o.model.as_str()).collect();
+    assert_eq!(names, ["default", "rules"]);
+    // The same figures as `quadex compare` (the core's comparison, with the
+    // editor's default settings).
+    let b = h.state().doc().boundary().unwrap().clone();
+    for o in &c.outcomes {
+        let model: std::sync::Arc<dyn quadex::Model> =
+            std::sync::Arc::from(quadex::model::builtin(&o.model).unwrap());
+        let direct = quadex::compare::mesh_with(&o.model, &b, model, &quadex::Params::DEFAULT);
+        assert_eq!(o.quads, direct.quads);
+        assert_eq!(o.sj_mean, direct.sj_mean);
+        assert_eq!(o.accepted_share, direct.accepted_share);
+        assert_eq!(o.rescaled_share, direct.rescaled_share);
+        assert!(o.finished && o.quads > 200, "{o:?}");
+        // Each row's figures are on screen.
+        for v in o.figures().unwrap() {
+            assert!(
+                !h.query_all_by_label(&v).collect::<Vec<_>>().is_empty(),
+                "{v}"
+            );
+        }
+    }
+}

@@ -67,7 +67,8 @@ impl Default for Settings {
 }
 
 impl Settings {
-    fn params(&self) -> MeshParams {
+    /// The extraction parameters of these settings.
+    pub fn params(&self) -> MeshParams {
         MeshParams {
             strategy: self.strategy,
             leading_points: (self.points - 1) / 2,
