@@ -2,7 +2,8 @@
 """Runs `quadex compare` over the benchmark cases and sums up each model
 (thesis Figure 44 over the whole set): cases finished (by extraction, or
 with the region fill), median SJ min and mean, median irregular share,
-median share of elements accepted as predicted.
+median shares of element steps accepted as predicted, taken with Pn
+rescaled to the size field, and replaced by a remedy.
 
 usage: compare_models.py OUTDIR [--models default,rules,thesis,ann]
                          [--jobs 2] [--timeout 60] [--binary PATH] [--cases ...]
@@ -55,8 +56,8 @@ def main():
     print(f"{len(cases)} cases; {len(failed)} not compared"
           + "".join(f"\n  {n}: {e}" for n, e in failed))
     print("\n| model | finished | of which with the fill | median SJ min | median SJ mean "
-          "| median irregular | median accepted as predicted |")
-    print("|---|---:|---:|---:|---:|---:|---:|")
+          "| median irregular | median accepted as predicted | median rescaled | median replaced |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     summary = {}
     for m in models:
         done = [o for o in per[m] if o["finished"]]
@@ -69,11 +70,14 @@ def main():
             "sj_mean": med("sj_mean"),
             "irregular_share": med("irregular_share"),
             "accepted_share": med("accepted_share"),
+            "rescaled_share": med("rescaled_share"),
+            "replaced_share": med("replaced_share"),
         }
         summary[m] = s
         print(f"| {m} | {s['finished']} of {s['cases']} | {s['fill']} | {s['sj_min']:.3f} "
               f"| {s['sj_mean']:.3f} | {100 * s['irregular_share']:.1f} % "
-              f"| {100 * s['accepted_share']:.1f} % |")
+              f"| {100 * s['accepted_share']:.1f} % | {100 * s['rescaled_share']:.1f} % "
+              f"| {100 * s['replaced_share']:.1f} % |")
     json.dump({"summary": summary, "failed": failed}, open(os.path.join(a.outdir, "compare.json"), "w"),
               indent=1)
 

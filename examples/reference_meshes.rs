@@ -1,8 +1,10 @@
 //! Writes the reference meshes (`quadex::reference`) to `assets/reference/`
 //! as MSH 4.1 and prints their quality and how many of their quads are good
-//! enough to learn from.
+//! enough to learn from. The generated domain's mesh is the recorded one;
+//! with `--record`, it is meshed again by the extraction of this build
+//! (`reference::record_generated`).
 //!
-//! `cargo run --release --example reference_meshes [OUT_DIR]`
+//! `cargo run --release --example reference_meshes [OUT_DIR] [--record]`
 
 use quadex::io::{write_mesh, MeshFormat};
 use quadex::quality::{MeshQuality, QuadQuality};
@@ -10,8 +12,11 @@ use quadex::samples::{is_good, CollectParams};
 use std::path::PathBuf;
 
 fn main() -> anyhow::Result<()> {
-    let dir = std::env::args()
-        .nth(1)
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let record = args.iter().any(|a| a == "--record");
+    let dir = args
+        .iter()
+        .find(|a| !a.starts_with("--"))
         .map(PathBuf::from)
         .unwrap_or_else(quadex::reference::shipped_dir);
     std::fs::create_dir_all(&dir)?;
@@ -19,7 +24,10 @@ fn main() -> anyhow::Result<()> {
         "{:<16} {:>6} {:>7} {:>7} {:>8} {:>6}",
         "mesh", "quads", "sj min", "sj mean", "[45,135]", "good"
     );
-    for (name, mesh) in quadex::reference::all()? {
+    for (name, mut mesh) in quadex::reference::all()? {
+        if record && name == quadex::reference::GENERATED_NAME {
+            mesh = quadex::reference::record_generated()?;
+        }
         let path = dir.join(format!("{name}.{}", MeshFormat::Msh41.extension()));
         write_mesh(&mesh, &path)?;
         let q = MeshQuality::of(&mesh);

@@ -172,8 +172,10 @@ enum Command {
     },
     /// Mesh one boundary with several models and compare them (thesis
     /// Figure 44): a table (finished or not, quads, scaled Jacobian min and
-    /// mean, irregular interior nodes, elements accepted as predicted) and,
-    /// with -o, one SVG with the meshes side by side.
+    /// mean, irregular interior nodes, and the element steps that took the
+    /// model's element as predicted, took it with Pn rescaled to the size
+    /// field, or replaced it) and, with -o, one SVG with the meshes side by
+    /// side.
     Compare {
         input: PathBuf,
         /// Comma-separated: `default`, `rules`, `thesis`, model files.

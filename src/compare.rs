@@ -36,6 +36,12 @@ pub struct Outcome {
     /// Element steps whose element the guard took as the model predicted
     /// it, as a share of the element steps.
     pub accepted_share: f64,
+    /// Element steps that took the model's element with its Pn drawn
+    /// towards the size field ([`Remedy::Rescaled`]), as a share.
+    pub rescaled_share: f64,
+    /// Element steps where the guard used another element (snapped, another
+    /// type, a moved Pn, the rules), as a share.
+    pub replaced_share: f64,
     /// The finished mesh.
     #[serde(skip)]
     pub mesh: Option<QuadMesh>,
@@ -52,7 +58,9 @@ pub fn mesh_with(
         Ok((mesh, stats)) => {
             let q = MeshQuality::of(&mesh);
             let elements = stats.count(StepKind::Element);
-            let accepted = stats.by_remedy.get(&Remedy::None).copied().unwrap_or(0);
+            let share = |n: usize| n as f64 / elements.max(1) as f64;
+            let accepted = stats.remedies(Remedy::None);
+            let rescaled = stats.remedies(Remedy::Rescaled);
             Outcome {
                 model: name.into(),
                 finished: true,
@@ -62,7 +70,9 @@ pub fn mesh_with(
                 sj_min: q.sj_min,
                 sj_mean: q.sj_mean,
                 irregular_share: q.irregular_interior as f64 / q.interior_nodes.max(1) as f64,
-                accepted_share: accepted as f64 / elements.max(1) as f64,
+                accepted_share: share(accepted),
+                rescaled_share: share(rescaled),
+                replaced_share: share(elements.saturating_sub(accepted + rescaled)),
                 mesh: Some(mesh),
             }
         }
@@ -76,6 +86,8 @@ pub fn mesh_with(
             sj_mean: 0.0,
             irregular_share: 0.0,
             accepted_share: 0.0,
+            rescaled_share: 0.0,
+            replaced_share: 0.0,
             mesh: None,
         },
     }
@@ -123,39 +135,69 @@ impl Outcome {
     }
 }
 
-/// The outcomes as a text table, one row per model.
-pub fn table(outcomes: &[Outcome]) -> String {
-    let mut s = format!(
-        "{:<16} {:>9} {:>7} {:>7} {:>7} {:>10} {:>9}\n",
-        "model", "finished", "quads", "SJ min", "SJ mean", "irregular", "accepted"
-    );
-    for o in outcomes {
-        let finished = match (o.finished, o.fill) {
+/// The columns of the comparison after the model's name, as the table
+/// and the editor's panel head them.
+pub const COLUMNS: [&str; 8] = [
+    "finished",
+    "quads",
+    "SJ min",
+    "SJ mean",
+    "irregular",
+    "accepted",
+    "rescaled",
+    "replaced",
+];
+
+impl Outcome {
+    /// `yes`, `fill` (finished with the region fill) or `no`.
+    pub fn finished_label(&self) -> &'static str {
+        match (self.finished, self.fill) {
             (false, _) => "no",
             (true, true) => "fill",
             (true, false) => "yes",
-        };
-        if o.finished {
-            let _ = writeln!(
-                s,
-                "{:<16} {:>9} {:>7} {:>7.3} {:>7.3} {:>9.1}% {:>8.1}%",
-                o.model,
-                finished,
-                o.quads,
-                o.sj_min,
-                o.sj_mean,
-                100.0 * o.irregular_share,
-                100.0 * o.accepted_share
-            );
-        } else {
-            let _ = writeln!(
-                s,
-                "{:<16} {:>9}  {}",
-                o.model,
-                finished,
-                o.error.as_deref().unwrap_or("")
-            );
         }
+    }
+
+    /// The figures under [`COLUMNS`] after `finished` (quads, SJ min and
+    /// mean, then the irregular, accepted, rescaled and replaced shares in
+    /// per cent); none when the run did not finish.
+    pub fn figures(&self) -> Option<[String; 7]> {
+        let pc = |v: f64| format!("{:.1}%", 100.0 * v);
+        self.finished.then(|| {
+            [
+                self.quads.to_string(),
+                format!("{:.3}", self.sj_min),
+                format!("{:.3}", self.sj_mean),
+                pc(self.irregular_share),
+                pc(self.accepted_share),
+                pc(self.rescaled_share),
+                pc(self.replaced_share),
+            ]
+        })
+    }
+}
+
+/// The outcomes as a text table, one row per model.
+pub fn table(outcomes: &[Outcome]) -> String {
+    let widths = [9, 7, 7, 7, 10, 9, 9, 9];
+    let mut s = format!("{:<16}", "model");
+    for (c, w) in COLUMNS.iter().zip(widths) {
+        let _ = write!(s, " {c:>w$}");
+    }
+    s.push('\n');
+    for o in outcomes {
+        let _ = write!(s, "{:<16} {:>9}", o.model, o.finished_label());
+        match o.figures() {
+            Some(f) => {
+                for (v, w) in f.iter().zip(&widths[1..]) {
+                    let _ = write!(s, " {v:>w$}");
+                }
+            }
+            None => {
+                let _ = write!(s, "  {}", o.error.as_deref().unwrap_or(""));
+            }
+        }
+        s.push('\n');
     }
     s
 }

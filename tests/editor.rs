@@ -369,7 +369,13 @@ fn correct_append_refit_and_finish() {
     settle(&mut h);
     let f = h.state().doc().last_refit.clone().expect("refit figures");
     assert_eq!(f.corrections, 2);
-    assert!(f.after.0.accuracy > 0.95 && f.after.1.r > 0.95, "{f:?}");
+    // The fit of the samples is the shipped model's (R of Xn 0.864 on the
+    // shipped set, assets/README.md); the corrections do not spoil it.
+    assert!(f.after.0.accuracy > 0.95, "{f:?}");
+    assert!(
+        f.after.1.r > 0.85 && f.after.1.r >= f.before.1.r - 0.005,
+        "{f:?}"
+    );
     let d = h.state().doc();
     assert!(d.mesher().unwrap().model().name().starts_with("fitted"));
     h.get_by_label("before");
@@ -461,9 +467,17 @@ fn a_correction_sticks_through_refit_and_reset_and_the_model_saves() {
         p.pn,
         corrected.pn
     );
-    assert_eq!(r.remedy, quadex::extract::Remedy::None);
     // The mesher draws a row's height towards the size field after the
-    // prediction, so the node lands near the corrected one, not on it.
+    // prediction, so the node lands near the corrected one, not on it (and
+    // the step says so).
+    assert!(
+        matches!(
+            r.remedy,
+            quadex::extract::Remedy::None | quadex::extract::Remedy::Rescaled
+        ),
+        "{:?}",
+        r.remedy
+    );
     let at = d.mesher().unwrap().mesh().nodes[r.pn_node().unwrap() as usize];
     assert!(
         (at - moved).length() < 0.25 * (pn - moved).length(),
@@ -1580,4 +1594,55 @@ fn issue17_menus_ticks_tooltips_and_export_path() {
     h.run();
     let p = PathBuf::from(&h.state().panels.export_path);
     assert_eq!(p.file_name().unwrap(), "lshape.msh");
+}
+
+#[test]
+fn the_compare_panel_meshes_the_boundary_with_each_model() {
+    let mut h = harness(example());
+    h.run();
+    h.get_by_label("Compare").click();
+    h.run();
+    // Two of the four built-in models, to be quick.
+    for name in ["thesis", "ann"] {
+        h.get_by_role_and_label(egui::accesskit::Role::CheckBox, name)
+            .click();
+    }
+    h.run();
+    h.get_by_label("Compare models").click();
+    h.step();
+    assert!(h.state().comparing());
+    let t = Instant::now();
+    while h.state().comparing() {
+        assert!(t.elapsed().as_secs() < 300, "the comparison did not end");
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    h.run();
+    // The table: a heading per column, a row per model.
+    for col in quadex::compare::COLUMNS {
+        h.get_by_label(col);
+    }
+    let c = h.state().comparison().expect("a comparison");
+    let names: Vec<&str> = c.outcomes.iter().map(|o| o.model.as_str()).collect();
+    assert_eq!(names, ["default", "rules"]);
+    // The same figures as `quadex compare` (the core's comparison, with the
+    // editor's default settings).
+    let b = h.state().doc().boundary().unwrap().clone();
+    for o in &c.outcomes {
+        let model: std::sync::Arc<dyn quadex::Model> =
+            std::sync::Arc::from(quadex::model::builtin(&o.model).unwrap());
+        let direct = quadex::compare::mesh_with(&o.model, &b, model, &quadex::Params::DEFAULT);
+        assert_eq!(o.quads, direct.quads);
+        assert_eq!(o.sj_mean, direct.sj_mean);
+        assert_eq!(o.accepted_share, direct.accepted_share);
+        assert_eq!(o.rescaled_share, direct.rescaled_share);
+        assert!(o.finished && o.quads > 200, "{o:?}");
+        // Each row's figures are on screen.
+        for v in o.figures().unwrap() {
+            assert!(
+                !h.query_all_by_label(&v).collect::<Vec<_>>().is_empty(),
+                "{v}"
+            );
+        }
+    }
 }

@@ -792,10 +792,10 @@ fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn 
     }
     let pn = r.predicted_pn.map(|p| {
         let s = to(p);
-        let c = if r.remedy == Remedy::None {
-            Color32::from_rgb(120, 255, 120)
-        } else {
-            Color32::from_rgb(255, 120, 255)
+        let c = match r.remedy {
+            Remedy::None => Color32::from_rgb(120, 255, 120),
+            Remedy::Rescaled => Color32::from_rgb(120, 220, 255),
+            _ => Color32::from_rgb(255, 120, 255),
         };
         let d = 6.0;
         painter.line_segment(

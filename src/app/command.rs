@@ -80,6 +80,11 @@ pub enum Command {
     CollectFromMesh,
     /// Collect samples from a quad mesh file (`.msh`).
     CollectFromFile(PathBuf),
+    /// Mesh the boundary from the start with each of these models (names as
+    /// in the model list) in the background, for the Compare panel.
+    Compare(Vec<String>),
+    /// Stop the comparison after the model it is meshing.
+    StopCompare,
     /// The boundary as edited on the canvas (valid or not: an invalid
     /// draft shows its problem and has no mesh until it is fixed).
     SetDraft { draft: Draft, what: &'static str },
@@ -143,6 +148,9 @@ impl Command {
 
     /// True for what may be done while a run goes on in the background.
     pub fn allowed_while_running(&self) -> bool {
-        matches!(self, Command::Cancel | Command::FitView | Command::Quit)
+        matches!(
+            self,
+            Command::Cancel | Command::FitView | Command::Quit | Command::StopCompare
+        )
     }
 }

@@ -23,7 +23,7 @@ use crate::model::fitted::FittedModel;
 use crate::model::{self, ElementType, Form, Model as _, ModelFile};
 use crate::pipeline::FinishParams;
 use crate::remesh::RemeshParams;
-use crate::samples::{CollectParams, Sample, TrainingSet};
+use crate::samples::{Sample, TrainingSet};
 use crate::smooth::SmoothParams;
 use crate::Boundary;
 use serde::{Deserialize, Serialize};
@@ -67,7 +67,8 @@ impl Default for Settings {
 }
 
 impl Settings {
-    fn params(&self) -> MeshParams {
+    /// The extraction parameters of these settings.
+    pub fn params(&self) -> MeshParams {
         MeshParams {
             strategy: self.strategy,
             leading_points: (self.points - 1) / 2,
@@ -1005,11 +1006,9 @@ impl Document {
     /// Collects samples from a finished mesh (the current one, or a mesh
     /// file) at the set's input points and appends them; returns how many.
     pub fn collect_samples(&mut self, name: &str, mesh: QuadMesh) -> Result<usize, EditorError> {
-        let set = TrainingSet::collect(
-            &[(name.to_string(), mesh)],
-            self.training.points,
-            &CollectParams::DEFAULT,
-        );
+        // As the shipped model's samples are collected, so that a refit
+        // with them is the self-training of `examples/self_training.rs`.
+        let set = crate::reference::training_set(&[(name.to_string(), mesh)], self.training.points);
         Ok(self.add_samples(set)?)
     }
 

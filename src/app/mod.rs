@@ -16,6 +16,7 @@
 pub mod assets;
 pub mod canvas;
 pub mod command;
+pub mod compare_panel;
 pub mod document;
 pub mod error;
 pub mod files;
@@ -35,6 +36,7 @@ use crate::geom::{Aabb, Point};
 use crate::mesh::QuadMesh;
 use crate::pipeline::FinishParams;
 pub use command::{Command, Dialog};
+use compare_panel::{CompareJob, ComparePanel, CompareState, Comparison};
 pub use document::{CorrectionCheck, Document, ModelInfo, RefitFigures, Settings, Target};
 pub use error::{EditorError, ScreenshotError};
 use files::{Prompt, Recent};
@@ -136,10 +138,17 @@ pub enum Tab {
     Model,
     Samples,
     Smoothing,
+    Compare,
 }
 
 impl Tab {
-    const ALL: [Tab; 4] = [Tab::Quality, Tab::Model, Tab::Samples, Tab::Smoothing];
+    const ALL: [Tab; 5] = [
+        Tab::Quality,
+        Tab::Model,
+        Tab::Samples,
+        Tab::Smoothing,
+        Tab::Compare,
+    ];
 
     fn name(self) -> &'static str {
         match self {
@@ -147,6 +156,7 @@ impl Tab {
             Tab::Model => "Model",
             Tab::Samples => "Training set",
             Tab::Smoothing => "Smoothing",
+            Tab::Compare => "Compare",
         }
     }
 
@@ -156,6 +166,7 @@ impl Tab {
             Tab::Model => "How well the model fits the samples, and the critical factors",
             Tab::Samples => "Your training samples: filter, delete, import, export, collect",
             Tab::Smoothing => "Cleanup, remeshing and smoothing of the finished mesh",
+            Tab::Compare => "The boundary meshed by several models side by side",
         }
     }
 
@@ -165,6 +176,7 @@ impl Tab {
             "model" => Some(Tab::Model),
             "samples" | "training" => Some(Tab::Samples),
             "smoothing" => Some(Tab::Smoothing),
+            "compare" => Some(Tab::Compare),
             _ => None,
         }
     }
@@ -261,6 +273,7 @@ pub struct Panels {
     pub samples: SamplesPanel,
     pub smooth: SmoothPanel,
     pub quality: QualityPanel,
+    pub compare: ComparePanel,
     pub tab: Tab,
     pub show_left: bool,
     pub show_right: bool,
@@ -283,6 +296,10 @@ pub struct Background {
     pub threads: bool,
     /// When the finishing settings last changed.
     settings_changed: Option<std::time::Instant>,
+    /// A comparison of models being made.
+    compare: Option<CompareJob>,
+    /// The last comparison made.
+    comparison: Option<Comparison>,
 }
 
 /// A question the editor asks before going on.
@@ -485,6 +502,7 @@ impl App {
                 samples: SamplesPanel::default(),
                 smooth: SmoothPanel::default(),
                 quality: QualityPanel::default(),
+                compare: ComparePanel::default(),
                 tab: Tab::default(),
                 show_left: true,
                 show_right: true,
@@ -498,6 +516,8 @@ impl App {
                 pending_export: None,
                 threads: true,
                 settings_changed: None,
+                compare: None,
+                comparison: None,
             },
             window: Window {
                 status: String::new(),
@@ -608,6 +628,7 @@ impl App {
             let done = j.wait();
             self.job_done(j, done);
         }
+        self.compare_done();
         if self.document.doc.has_mesh() && self.document.doc.imported().is_none() {
             let key = self.finish_key();
             if self.view.finished.as_ref().is_none_or(|f| f.key != key)
@@ -745,6 +766,14 @@ impl App {
                 Ok(if on { "running…" } else { "paused" }.into())
             }
             Command::Cancel => Ok(self.cancel()),
+            Command::Compare(names) => self.start_compare(&names),
+            Command::StopCompare => Ok(match &self.background.compare {
+                Some(j) => {
+                    j.cancel();
+                    "the comparison stops after the model it is meshing".into()
+                }
+                None => String::new(),
+            }),
             Command::Quit => {
                 // Closing asks first when there is unsaved work.
                 self.window.close_now = true;
@@ -941,6 +970,53 @@ impl App {
                 })
             }),
         }
+    }
+
+    /// Starts meshing the boundary with each of the models `names` (the
+    /// Compare panel), with the document's extraction and finishing
+    /// settings; without threads it is done at once.
+    fn start_compare(&mut self, names: &[String]) -> Result<String, EditorError> {
+        let doc = &self.document.doc;
+        let boundary = doc.boundary().ok_or_else(|| self.no_boundary())?.clone();
+        let models = names
+            .iter()
+            .map(|n| document::load_model(n, &doc.models).map(|(m, _)| (n.clone(), m)))
+            .collect::<Result<Vec<_>, _>>()?;
+        let params = crate::pipeline::Params {
+            extract: doc.settings.params(),
+            finish: doc.settings.finishing(),
+        };
+        let job = CompareJob::start(boundary, models, params);
+        if let Some(old) = self.background.compare.replace(job) {
+            old.cancel();
+        }
+        if !self.background.threads {
+            self.compare_done();
+            return Ok("compared".into());
+        }
+        Ok(format!("comparing {}…", plural(names.len(), "model")))
+    }
+
+    /// Takes the comparison's outcomes when its thread is done.
+    fn compare_done(&mut self) {
+        if let Some(mut j) = self.background.compare.take() {
+            if let Some(outcomes) = j.wait() {
+                self.background.comparison = Some(Comparison {
+                    boundary: j.boundary.clone(),
+                    outcomes,
+                });
+            }
+        }
+    }
+
+    /// True while a comparison of models is being made.
+    pub fn comparing(&self) -> bool {
+        self.background.compare.is_some()
+    }
+
+    /// The last comparison of models made (the Compare panel).
+    pub fn comparison(&self) -> Option<&Comparison> {
+        self.background.comparison.as_ref()
     }
 
     fn no_boundary(&self) -> EditorError {
@@ -1418,6 +1494,14 @@ impl App {
             }
         }
         self.background.orphans.retain(|h| !h.is_finished());
+        if self
+            .background
+            .compare
+            .as_ref()
+            .is_some_and(CompareJob::is_finished)
+        {
+            self.compare_done();
+        }
         let mut cmds = Vec::new();
         self.input_commands(ctx, &mut cmds);
         self.panels.tools.sync(&self.document.doc);
@@ -1522,12 +1606,18 @@ impl App {
                         .show(ui, |ui| {
                             let doc = &self.document.doc;
                             let figures = figures_of(&self.document, &self.view);
+                            let b = &self.background;
+                            let compare_state = CompareState {
+                                comparison: b.comparison.as_ref(),
+                                comparing: b.compare.as_ref().map(|j| (j.done(), j.total)),
+                            };
                             let p = &mut self.panels;
                             let out = match p.tab {
                                 Tab::Quality => p.quality.ui(ui, doc, figures),
                                 Tab::Model => p.model.ui(ui, doc, ()),
                                 Tab::Samples => p.samples.ui(ui, doc, figures.kind),
                                 Tab::Smoothing => p.smooth.ui(ui, doc, figures),
+                                Tab::Compare => p.compare.ui(ui, doc, compare_state),
                             };
                             cmds.extend(out);
                         });
@@ -1550,7 +1640,7 @@ impl App {
             self.apply(c);
         }
         self.animate(ctx);
-        if busy || self.finishing() {
+        if busy || self.finishing() || self.comparing() {
             ctx.request_repaint_after(std::time::Duration::from_millis(50));
         }
         self.screenshot_step(ctx);

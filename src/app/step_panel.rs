@@ -86,6 +86,7 @@ fn row(ui: &mut Ui, name: &str, value: egui::RichText) -> egui::Response {
 fn remedy_name(r: Remedy) -> &'static str {
     match r {
         Remedy::None => "none (the model's element as predicted)",
+        Remedy::Rescaled => "the model's element, Pn drawn to the size field",
         Remedy::Snapped => "Pn snapped onto a front node",
         Remedy::OtherType => "another element type",
         Remedy::CorrectedPn => "Pn moved to the rule-based position",

@@ -5,7 +5,7 @@
 
 use super::guard::{self, Corner, Limits};
 use super::report::MeshError;
-use super::report::{Remedy, StepKind, StepReport};
+use super::report::{Remedy, StepKind, StepReport, RESCALED_BEYOND};
 use super::session::Mesher;
 use crate::front::SlotId;
 use crate::geom::{ccw_angle, Aabb, Point};
@@ -745,7 +745,14 @@ impl Mesher {
         r.predicted_pn = Some(c.frame.to_world(c.prediction.pn));
         r.prediction = Some(c.prediction);
         r.leading = c.leading;
-        r.remedy = c.remedy;
+        r.remedy = match (c.remedy, c.cand) {
+            (Remedy::None, Cand::New { pn, .. })
+                if c.frame.to_local(pn).distance(c.prediction.pn) > RESCALED_BEYOND =>
+            {
+                Remedy::Rescaled
+            }
+            (remedy, _) => remedy,
+        };
         r
     }
 

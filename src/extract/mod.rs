@@ -30,5 +30,6 @@ pub use candidate::CandidateReport;
 pub use params::{MeshParams, Strategy};
 pub use report::{
     Action, Correction, MeshError, Remedy, StepKind, StepOutcome, StepReport, StepStats,
+    RESCALED_BEYOND,
 };
 pub use session::Mesher;

@@ -27,11 +27,21 @@ pub enum MeshError {
     },
 }
 
+/// A type-0 element taken from the model counts as [`Remedy::Rescaled`]
+/// when its Pn lies further than this from the predicted Pn, in the
+/// normalised frame (units of the front edge |P_r1 − P0|).
+pub const RESCALED_BEYOND: f64 = 0.01;
+
 /// What the guard had to do to the model's prediction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Remedy {
     /// The model's element was accepted as predicted.
     None,
+    /// The model's element was taken with its Pn drawn towards the size
+    /// field (the row's height, `Mesher::sized_pn`) by more than
+    /// [`RESCALED_BEYOND`] of the front edge at P0: the model's type and
+    /// direction, not its distance.
+    Rescaled,
     /// Pn was snapped onto a nearby front node.
     Snapped,
     /// Another element type was used.
@@ -125,11 +135,17 @@ pub struct StepStats {
 }
 
 impl StepStats {
-    /// Pure-model mode: the model's elements the guard accepted as
-    /// predicted, and all the model's predictions (accepted + rejected).
+    /// Pure-model mode: the model's elements the guard accepted (as
+    /// predicted or with Pn rescaled to the size field), and all the
+    /// model's predictions (accepted + rejected).
     pub fn model_valid(&self) -> (usize, usize) {
-        let ok = self.by_remedy.get(&Remedy::None).copied().unwrap_or(0);
+        let ok = self.remedies(Remedy::None) + self.remedies(Remedy::Rescaled);
         (ok, ok + self.rejected_predictions)
+    }
+
+    /// Element steps with remedy `r`.
+    pub fn remedies(&self, r: Remedy) -> usize {
+        self.by_remedy.get(&r).copied().unwrap_or(0)
     }
 
     /// Steps of kind `k`.
