@@ -28,13 +28,12 @@ use std::sync::Arc;
 /// 200).
 const FILL_BUDGET: f64 = 2.0;
 
-/// The progress watch: every [`PROGRESS_EVERY`] steps the elements still to
-/// make are estimated (the size field's quad count times the share of the
-/// domain's area the front still encloses). A run whose last
-/// [`PROGRESS_WINDOW`] steps took off less than [`PROGRESS_RATE`] of that
-/// estimate per step is going round in circles (elements cut and ripped
-/// up again, rows that grow the front where they should close it), and the
-/// region left is filled.
+/// The progress watch: every [`PROGRESS_EVERY`] steps the area the front
+/// still encloses is noted. A run whose last [`PROGRESS_WINDOW`] steps took
+/// off less than [`PROGRESS_RATE`] of the mean area of its quads so far per
+/// step is going round in circles (elements cut and ripped up again, rows
+/// that grow the front where they should close it), and the region left is
+/// filled.
 pub(super) const PROGRESS_EVERY: usize = 128;
 /// See [`PROGRESS_EVERY`].
 pub(super) const PROGRESS_WINDOW: usize = 1024;
@@ -104,8 +103,8 @@ pub struct Mesher {
     /// that small loop last neither closed nor settled (0: none): the same
     /// state is not tried again.
     pub(super) small_stuck: Vec<u64>,
-    /// The progress watch's checkpoints: (step, elements still to make),
-    /// one per [`PROGRESS_EVERY`] steps.
+    /// The progress watch's checkpoints: (step, area still open), one per
+    /// [`PROGRESS_EVERY`] steps.
     pub(super) progress: Vec<(usize, f64)>,
     /// Evaluations of reference points put back in the queue.
     pub(super) memo: super::memo::EvalMemo,
@@ -325,17 +324,20 @@ impl Mesher {
         if n == 0 || n % PROGRESS_EVERY != 0 || self.progress.last().is_some_and(|p| p.0 == n) {
             return false;
         }
-        let domain = self.boundary.area();
         let open = self.front.open_area(&self.mesh.nodes);
-        let to_go = self.size.quad_estimate() * (open / domain).clamp(0.0, 1.0);
-        self.progress.push((n, to_go));
+        self.progress.push((n, open));
         let Some(k) = n.checked_sub(PROGRESS_WINDOW) else {
             return false;
         };
         let Some(&(_, before)) = self.progress.iter().rev().find(|p| p.0 <= k) else {
             return false;
         };
-        before - to_go < PROGRESS_RATE * PROGRESS_WINDOW as f64
+        let quads = self.mesh.quads.len();
+        if quads == 0 {
+            return false;
+        }
+        let mean = (self.boundary.area() - open) / quads as f64;
+        before - open < PROGRESS_RATE * PROGRESS_WINDOW as f64 * mean
     }
 
     /// When extraction has led the front into a state no fill can take, the
