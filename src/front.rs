@@ -243,18 +243,20 @@ impl Front {
         v
     }
 
+    /// The signed area loop `lid` encloses (negative for a hole's front,
+    /// which runs clockwise).
+    pub fn loop_area(&self, lid: u32, nodes: &[Point]) -> f64 {
+        crate::geom::polygon_area(
+            self.loop_slots(lid)
+                .iter()
+                .map(|&s| nodes[self.node(s) as usize]),
+        )
+    }
+
     /// The area the live loops enclose (the region not meshed yet; holes'
     /// loops count negative).
     pub fn open_area(&self, nodes: &[Point]) -> f64 {
-        self.live_loops()
-            .map(|l| {
-                crate::geom::polygon_area(
-                    self.loop_slots(l)
-                        .iter()
-                        .map(|&s| nodes[self.node(s) as usize]),
-                )
-            })
-            .sum()
+        self.live_loops().map(|l| self.loop_area(l, nodes)).sum()
     }
 
     /// The node ids of loop `lid`, in order from its head.

@@ -309,7 +309,7 @@ impl Mesher {
     /// True when loop `lid` runs clockwise: a hole's front, with the
     /// region outside it.
     pub(super) fn is_hole_loop(&self, lid: u32) -> bool {
-        crate::geom::polygon_area(self.front.loop_slots(lid).iter().map(|&s| self.world(s))) < 0.0
+        self.front.loop_area(lid, &self.mesh.nodes) < 0.0
     }
 
     /// A square element on the front edge from slot `s`, as high as the
