@@ -83,6 +83,10 @@ enum Command {
         /// the region left filled directly.
         #[arg(long, value_parser = parse_layers)]
         layers: Option<Layers>,
+        /// Transition elements (3 to 1) where a row is this many times finer
+        /// than the boundary's spacing asks for (`off`: none).
+        #[arg(long, value_parser = parse_transitions)]
+        transitions: Option<Transitions>,
         /// Write the quality figures and step counts as JSON.
         #[arg(long)]
         report: Option<PathBuf>,
@@ -241,6 +245,20 @@ fn parse_layers(s: &str) -> Result<Layers, String> {
     }
 }
 
+/// `--transitions`: a ratio above 1, or `off`.
+#[derive(Clone, Copy, Debug)]
+struct Transitions(Option<f64>);
+
+fn parse_transitions(s: &str) -> Result<Transitions, String> {
+    if s == "off" {
+        return Ok(Transitions(None));
+    }
+    match s.parse::<f64>() {
+        Ok(r) if r > 1.0 && r.is_finite() => Ok(Transitions(Some(r))),
+        _ => Err(format!("`{s}` is not a ratio above 1 or `off`")),
+    }
+}
+
 fn parse_points(s: &str) -> Result<usize, String> {
     match s.parse::<usize>() {
         Ok(n @ (5 | 7 | 9 | 11)) => Ok(n),
@@ -372,6 +390,7 @@ fn run(c: Command) -> Result<()> {
             pure_model,
             no_fill,
             layers,
+            transitions,
             report,
         } => {
             let fmt = MeshFormat::from_path(&output)
@@ -392,6 +411,7 @@ fn run(c: Command) -> Result<()> {
                 pure_model,
                 fill: !no_fill,
                 fill_after_layers: layers.map_or(MeshParams::DEFAULT.fill_after_layers, |l| l.0),
+                transition_ratio: transitions.map_or(MeshParams::DEFAULT.transition_ratio, |t| t.0),
                 ..MeshParams::DEFAULT
             };
             let finish = FinishParams {

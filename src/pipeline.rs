@@ -102,6 +102,12 @@ pub fn mesh_boundary(
     m.run(progress)?;
     let mut mesh = finish(&m, &params.finish)?;
     to_world(&mut mesh, origin);
+    // Quads far smaller than the domain's distance from the origin may
+    // turn flat when moved back: the mesh written is checked as written.
+    if origin != crate::geom::Point::ZERO && m.is_done() {
+        mesh.check_finished()
+            .map_err(|problem| MeshError::Final { problem })?;
+    }
     Ok((mesh, m.stats().clone()))
 }
 

@@ -318,6 +318,7 @@ pub fn kind_name(k: StepKind) -> &'static str {
         StepKind::Close6 => "6-node loop closed",
         StepKind::Relax => "loop relaxed",
         StepKind::Seam => "seam",
+        StepKind::Transition => "transition (3 to 1)",
         StepKind::Split => "loop split",
         StepKind::RipUp => "rip-up",
         StepKind::Fill => "fill of the region left",

@@ -766,7 +766,14 @@ impl Mesher {
                 let (l, rr) = (f.prev(s), f.next(s));
                 let layer = f.slot(s).layer + 1;
                 let (p0, r1, l1) = (f.node(s), f.node(rr), f.node(l));
+                let run = self.row_at(s).map(|row| {
+                    let top = if row.right { l1 } else { r1 };
+                    self.row_run[top as usize].saturating_add(1)
+                });
                 let v = self.add_node(pn);
+                if let Some(run) = run {
+                    self.row_run[v as usize] = run;
+                }
                 self.push_quad([p0, r1, v, l1]);
                 self.front.replace_node(s, v, layer, &self.mesh.nodes);
                 r.new_nodes.push(v);

@@ -157,6 +157,15 @@ impl Mesher {
                     return Ok(r);
                 }
             }
+            if e.class > 0 {
+                if let Some(mut r) = self.try_transition(e.slot, limits) {
+                    r.skipped = skipped;
+                    for s in deferred {
+                        self.push(s);
+                    }
+                    return Ok(r);
+                }
+            }
             let node = self.front.node(e.slot);
             let result = match self.memo.get(e.slot, node) {
                 Some(r) => r.clone(),

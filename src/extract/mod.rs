@@ -25,6 +25,7 @@ mod repair;
 mod report;
 mod session;
 pub mod size;
+mod transition;
 
 pub use candidate::CandidateReport;
 pub use params::{MeshParams, Strategy};

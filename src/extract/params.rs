@@ -72,6 +72,11 @@ pub struct MeshParams {
     /// tried; the rule-based element, closure and fill still finish the
     /// mesh, and their steps are counted apart (default false).
     pub pure_model: bool,
+    /// A row whose front edges are this many times finer than the size
+    /// field wants is made coarser by transition elements (three front
+    /// edges to one, [`super::transition`]), one per as many ordinary
+    /// elements as that ratio asks; `None` turns them off (default 1.3).
+    pub transition_ratio: Option<f64>,
 }
 
 impl MeshParams {
@@ -91,6 +96,7 @@ impl MeshParams {
         fill: true,
         fill_after_layers: None,
         pure_model: false,
+        transition_ratio: Some(1.3),
     };
 }
 

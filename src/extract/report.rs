@@ -70,6 +70,9 @@ pub enum StepKind {
     /// A sharp front corner closed by merging its two neighbours (the
     /// seam of paving).
     Seam,
+    /// Three front edges of a row taken by the 3-to-1 transition template
+    /// (four quads): the row goes on coarser.
+    Transition,
     /// A loop split along a chord.
     Split,
     /// Elements around a loop that could not be reduced were removed to

@@ -83,6 +83,9 @@ pub struct Mesher {
     pub(super) rip_ups: usize,
     /// Quads incident to each node.
     pub(super) incident: Vec<Vec<u32>>,
+    /// Per node made by a row: the row's elements since its last
+    /// transition ([`super::transition`]), counted at the element's top.
+    pub(super) row_run: Vec<u32>,
     pub(super) relaxes: usize,
     /// Relaxations since the last other step.
     pub(super) relax_streak: usize,
@@ -155,6 +158,7 @@ impl Mesher {
             row_edges: Vec::new(),
             rip_ups: 0,
             incident: Vec::new(),
+            row_run: Vec::new(),
             small_stuck: Vec::new(),
             memo: Default::default(),
             progress: Vec::new(),
@@ -164,6 +168,7 @@ impl Mesher {
         };
         m.row_start = m.front.live_loops().collect();
         m.incident = vec![Vec::new(); m.mesh.nodes.len()];
+        m.row_run = vec![super::transition::FRESH_ROW; m.mesh.nodes.len()];
         for s in 0..m.front.slots.len() as SlotId {
             m.push(s);
         }
@@ -275,7 +280,7 @@ impl Mesher {
             }
         };
         match r.kind {
-            StepKind::Element if r.removed == 0 => {
+            StepKind::Element | StepKind::Transition if r.removed == 0 => {
                 let corners = r
                     .quads
                     .iter()
@@ -619,6 +624,7 @@ impl Mesher {
     pub(super) fn add_node(&mut self, p: Point) -> u32 {
         self.mesh.nodes.push(p);
         self.incident.push(Vec::new());
+        self.row_run.push(super::transition::FRESH_ROW);
         (self.mesh.nodes.len() - 1) as u32
     }
 

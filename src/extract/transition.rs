@@ -1,0 +1,231 @@
+//! Row coarsening by a transition element (the "tuck" of paving, Blacker
+//! and Stephenson 1991, as the 3-to-1 template). The thesis asks for
+//! element sizes that follow the boundary and change smoothly (§1.2), but
+//! its three element types keep a straight row's node count: type 0 moves
+//! one node forward, and types 1 and 2 need a corner. Where a row runs
+//! along a straight stretch of front whose edges are much shorter than the
+//! size field wants (a fine side facing a coarse one, a ring shrinking
+//! around a disk), the row would go on as ever thinner quads. Instead, three
+//! front edges are taken at once by four quads:
+//!
+//! ```text
+//!  T0 ______________ T3
+//!    |\            /|
+//!    | m1 ------ m2 |
+//!    |  |        |  |
+//!   a0--a1------a2--a3
+//! ```
+//!
+//! `a0..a3` are front nodes in front order, one of `T0` / `T3` is the top
+//! of the row's last element and the other is new, as are `m1` and `m2`.
+//! The front `a0 a1 a2 a3` becomes `T0 T3`: two nodes fewer (the parity of
+//! every loop is kept), and the row goes on three times as coarse.
+
+use super::guard::{self, Corner, Limits};
+use super::report::{StepKind, StepReport};
+use super::session::Mesher;
+use crate::front::SlotId;
+use crate::geom::Point;
+use crate::quality::Shape;
+use std::f64::consts::PI;
+
+/// What a node's row count ([`Mesher::row_run`]) starts at: a row's first
+/// element may be a transition.
+pub(super) const FRESH_ROW: u32 = u32::MAX / 2;
+/// The nodes inside the stretch (`a1`, `a2`) must be this straight: their
+/// front angle within this of 180°.
+const STRAIGHT: f64 = 30.0 * PI / 180.0;
+/// Longest over shortest of the three front edges, at most.
+const EVEN: f64 = 1.6;
+/// The row's height over the mean width, at least: a lower row would give
+/// the template flat quads.
+const MIN_HEIGHT: f64 = 0.9;
+/// Height of `m1`, `m2` as a fraction of the way from `a1`, `a2` to the top.
+const MID: f64 = 0.45;
+/// The template's height moves towards the size field by at most this
+/// factor (as a row's does element by element).
+const HEIGHT_STEP: f64 = 1.1;
+/// Every quad of the template must have at least this scaled Jacobian.
+const MIN_SJ: f64 = 0.4;
+/// The guard's score of the template's outline, at least: where another
+/// front comes near, or the front left would be sharp, the row goes on
+/// with ordinary elements and the fronts meet as they would.
+const MIN_SCORE: f64 = 0.5;
+/// Loops shorter than this are left to the closures.
+const MIN_LOOP: usize = 10;
+
+impl Mesher {
+    /// The transition element at reference slot `s` when the row `s`
+    /// continues runs on along a straight, too-fine stretch of front, if it
+    /// passes the guard: the step that commits it.
+    pub(super) fn try_transition(&mut self, s: SlotId, limits: Limits) -> Option<StepReport> {
+        let coarser = self.params.transition_ratio?;
+        let row = self.row_at(s)?;
+        let f = &self.front;
+        if f.loop_len(s) < MIN_LOOP {
+            return None;
+        }
+        let along = |x: SlotId| if row.right { f.next(x) } else { f.prev(x) };
+        let (b1, top) = (row.base, if row.right { f.prev(s) } else { f.next(s) });
+        let b2 = along(b1);
+        let b3 = along(b2);
+        // Front order: a[0] → a[3]; the existing top stands over a[0] when
+        // the row goes right, over a[3] when it goes left.
+        let a = if row.right {
+            [s, b1, b2, b3]
+        } else {
+            [b3, b2, b1, s]
+        };
+        let ids = a.map(|x| f.node(x));
+        let top_id = f.node(top);
+        for (i, &v) in ids.iter().enumerate() {
+            if v == top_id || ids[i + 1..].contains(&v) {
+                return None;
+            }
+        }
+        for x in [b1, b2] {
+            if (f.angle(x, &self.mesh.nodes) - PI).abs() > STRAIGHT {
+                return None;
+            }
+        }
+        let p = a.map(|x| self.world(x));
+        let e = [
+            p[0].distance(p[1]),
+            p[1].distance(p[2]),
+            p[2].distance(p[3]),
+        ];
+        let (lo, hi) = e.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &l| {
+            (lo.min(l), hi.max(l))
+        });
+        let width = (e[0] + e[1] + e[2]) / 3.0;
+        if !(lo > 0.0 && hi / lo <= EVEN) {
+            return None;
+        }
+        let (under, pt) = if row.right {
+            (p[0], self.world(top))
+        } else {
+            (p[3], self.world(top))
+        };
+        let h0 = under.distance(pt);
+        if h0 < MIN_HEIGHT * width {
+            return None;
+        }
+        let chord = p[3] - p[0];
+        let normal = chord.perp() / chord.length();
+        let want = self.size.at(0.5 * (p[0] + p[3]) + normal * (0.5 * h0));
+        let ratio = want / width;
+        if ratio.is_nan() || ratio < coarser.max(1.0 + 1e-3) {
+            return None;
+        }
+        // A row coarser by `ratio` than its front takes one transition
+        // (three edges to one) per `k` ordinary elements (one to one):
+        // (3 + k) / (1 + k) = ratio.
+        let k = ((3.0 - ratio) / (ratio - 1.0)).max(0.0).round();
+        if f64::from(self.row_run[top_id as usize]) < k {
+            return None;
+        }
+        // The new top: over the other end, along the mean of the chord's
+        // normal and the existing side, the height drawn towards the size.
+        let side = (pt - under) / h0;
+        let dir = (normal + side).normalize_or_zero();
+        if dir == Point::ZERO {
+            return None;
+        }
+        let h = want.clamp(h0 / HEIGHT_STEP, h0 * HEIGHT_STEP);
+        let (t0, t3) = if row.right {
+            (pt, p[3] + dir * h)
+        } else {
+            (p[0] + dir * h, pt)
+        };
+        let total = e[0] + e[1] + e[2];
+        let on_top = |u: f64| t0 + (t3 - t0) * u;
+        let m1 = p[1] + (on_top(e[0] / total) - p[1]) * MID;
+        let m2 = p[2] + (on_top((e[0] + e[1]) / total) - p[2]) * MID;
+        let quads = [
+            [p[0], p[1], m1, t0],
+            [p[1], p[2], m2, m1],
+            [p[2], p[3], t3, m2],
+            [m1, m2, t3, t0],
+        ];
+        for q in quads {
+            if !crate::geom::is_strictly_convex(q) || Shape::of(q).scaled_jacobian < MIN_SJ {
+                return None;
+            }
+        }
+        // Boundary nodes never move: their corners must turn measurably.
+        let bottom_ids = [
+            [Some(ids[0]), Some(ids[1]), None, None],
+            [Some(ids[1]), Some(ids[2]), None, None],
+            [Some(ids[2]), Some(ids[3]), None, None],
+        ];
+        for (q, qi) in quads.iter().zip(bottom_ids) {
+            if !self.pinned_corners_turn(*q, qi) {
+                return None;
+            }
+        }
+        // The template's outline against the rest of the front.
+        let (corners, consumed) = if row.right {
+            (
+                [
+                    Corner::Full(a[0]),
+                    Corner::Partial(a[3]),
+                    Corner::New(t3),
+                    Corner::Partial(top),
+                ],
+                [top, a[0], a[1], a[2]],
+            )
+        } else {
+            (
+                [
+                    Corner::Partial(a[0]),
+                    Corner::Full(a[3]),
+                    Corner::Partial(top),
+                    Corner::New(t0),
+                ],
+                [a[0], a[1], a[2], a[3]],
+            )
+        };
+        let passed = guard::check(
+            &self.front,
+            &self.mesh.nodes,
+            corners,
+            &consumed,
+            limits,
+            want,
+            &mut self.scratch,
+        )?;
+        if passed.score < MIN_SCORE {
+            return None;
+        }
+        // Commit: the reference slot becomes the new top and a1, a2 leave
+        // the front.
+        let mut r = self.report(StepKind::Transition);
+        r.reference = Some(self.front.node(s));
+        let layer = self.front.slot(top).layer;
+        let (v1, v2) = (self.add_node(m1), self.add_node(m2));
+        let vt = self.add_node(if row.right { t3 } else { t0 });
+        let (id0, id3) = if row.right {
+            (top_id, vt)
+        } else {
+            (vt, top_id)
+        };
+        for q in [
+            [ids[0], ids[1], v1, id0],
+            [ids[1], ids[2], v2, v1],
+            [ids[2], ids[3], id3, v2],
+            [v1, v2, id3, id0],
+        ] {
+            self.push_quad(q);
+            r.quads.push(q);
+        }
+        r.new_nodes = vec![v1, v2, vt];
+        self.row_run[vt as usize] = 0;
+        self.front.replace_node(s, vt, layer, &self.mesh.nodes);
+        self.front.remove_pair(a[1], &self.mesh.nodes);
+        let other_end = if row.right { a[3] } else { a[0] };
+        for x in [s, top, other_end] {
+            self.push(x);
+        }
+        Some(r)
+    }
+}

@@ -1,0 +1,93 @@
+//! Transition elements (3 to 1): where a row runs finer than the boundary's
+//! spacing asks, three front edges are taken by four quads and the front
+//! loses two nodes. Runs are stepped through the `Mesher` with the front's
+//! and the mesh's invariants checked after every step.
+
+mod common;
+
+use quadex::extract::{MeshParams, Mesher, StepKind, StepOutcome};
+use quadex::geom::Point;
+use quadex::{io, Boundary, Model};
+use std::sync::Arc;
+
+fn model() -> Arc<dyn Model> {
+    Arc::new(quadex::model::default_model().expect("the shipped model loads"))
+}
+
+/// A 12 × 4 rectangle with `bottom` segments along the bottom, 12 along the
+/// top and 4 up each side: fine below, coarse above.
+fn graded_rectangle(bottom: usize) -> Boundary {
+    let mut points = Vec::new();
+    for i in 0..bottom {
+        points.push(Point::new(12.0 * i as f64 / bottom as f64, 0.0));
+    }
+    for i in 0..4 {
+        points.push(Point::new(12.0, i as f64));
+    }
+    for i in 0..12 {
+        points.push(Point::new(12.0 - i as f64, 4.0));
+    }
+    for i in 0..4 {
+        points.push(Point::new(0.0, 4.0 - i as f64));
+    }
+    let n = points.len();
+    Boundary::new(points, vec![(0..n).collect()], None).expect("a valid boundary")
+}
+
+/// Steps `boundary` to the end, checking the invariants after every step
+/// and what every transition did. Returns the quads and the transitions.
+fn stepped(name: &str, boundary: &Boundary, params: MeshParams) -> (usize, usize) {
+    let mut m = Mesher::new(boundary.clone(), model(), params);
+    let mut transitions = 0;
+    loop {
+        let before = m.front().len();
+        match m.step() {
+            Ok(StepOutcome::Done) => break,
+            Ok(StepOutcome::Stepped(r)) => {
+                assert_ne!(r.kind, StepKind::Fill, "{name}: step {}", r.index);
+                if r.kind == StepKind::Transition {
+                    transitions += 1;
+                    assert_eq!(r.quads.len(), 4, "{name}: step {}", r.index);
+                    assert_eq!(r.new_nodes.len(), 3, "{name}: step {}", r.index);
+                    assert_eq!(m.front().len() + 2, before, "{name}: step {}", r.index);
+                }
+            }
+            Err(e) => panic!("{name}: {e}"),
+        }
+        m.check_invariants()
+            .unwrap_or_else(|e| panic!("{name}: after step {}: {e}", m.steps()));
+    }
+    let mesh = m.mesh();
+    mesh.check_finished()
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    (mesh.quads.len(), transitions)
+}
+
+#[test]
+fn a_fine_side_facing_a_coarse_one_coarsens_by_transitions() {
+    let b = graded_rectangle(48);
+    let (quads, transitions) = stepped("graded rectangle", &b, MeshParams::DEFAULT);
+    assert!(transitions > 0, "no transition");
+    let off = MeshParams {
+        transition_ratio: None,
+        ..MeshParams::DEFAULT
+    };
+    let (plain, none) = stepped("graded rectangle, no transitions", &b, off);
+    assert_eq!(none, 0);
+    assert!(
+        quads < plain,
+        "{quads} quads with transitions, {plain} without"
+    );
+}
+
+/// A disk with 100 boundary nodes: rings shrink inwards, and transitions
+/// keep their elements near the boundary's spacing (about π / h² = 800
+/// quads for h = 2π / 100) where rows of constant node count make 1,400.
+#[test]
+fn disk_rows_keep_the_boundary_spacing() {
+    let path = common::bench().join("boundaries/disk100.poly");
+    let b = io::read_boundary(&path).expect("disk100 reads");
+    let (quads, transitions) = stepped("disk100", &b, MeshParams::DEFAULT);
+    assert!(transitions > 0);
+    assert!(quads < 1200, "{quads} quads");
+}
