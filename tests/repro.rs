@@ -356,6 +356,56 @@ fn r17b_a_large_valid_sunburst_validates_in_under_a_second() {
     assert!(seconds < 1.0, "{seconds} s");
 }
 
+/// The thin annulus of R09 (R09_make.py): outer circle of radius 1 and a
+/// hole of radius 1 − h, 60,000 nodes each, h = 2π/60,000, as `.poly` text.
+fn r09_thin_annulus() -> String {
+    let n = 60_000;
+    let tau = std::f64::consts::TAU;
+    let h = tau / n as f64;
+    let at = |r: f64, k: usize| {
+        let a = tau * k as f64 / n as f64;
+        (r * a.cos(), r * a.sin())
+    };
+    let points = (0..n)
+        .map(|k| at(1.0, k))
+        .chain((0..n).rev().map(|k| at(1.0 - h, k)));
+    let mut text = format!("{} 2 0 0\n", 2 * n);
+    for (k, (x, y)) in points.enumerate() {
+        text.push_str(&format!("{} {x} {y}\n", k + 1));
+    }
+    text.push_str(&format!("{} 0\n", 2 * n));
+    for k in 0..n {
+        text.push_str(&format!("{} {} {}\n", k + 1, k + 1, (k + 1) % n + 1));
+    }
+    for k in 0..n {
+        let (a, b) = (n + k + 1, n + (k + 1) % n + 1);
+        text.push_str(&format!("{a} {a} {b}\n"));
+    }
+    text.push_str("0\n");
+    text
+}
+
+/// R09: the mesh of a thin annulus of 120,000 nodes was refused by the
+/// final check, whose area sums' rounding exceeded its relative tolerance.
+#[test]
+fn r09_a_thin_annulus_of_120k_nodes_is_meshed() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("R09.poly");
+    std::fs::write(&input, r09_thin_annulus()).unwrap();
+    let out = dir.path().join("x.msh");
+    let r = quadex(&[
+        "mesh".as_ref(),
+        input.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    // Read back, the mesh passes the file checks too.
+    let m = io::read_mesh(&out).unwrap();
+    assert_eq!(m.n_boundary(), 120_000);
+    assert!(m.quads.len() >= 60_000, "{} quads", m.quads.len());
+}
+
 #[test]
 fn r18_control_bytes_are_escaped() {
     let file = "R18_control_char_echo.poly";

@@ -15,7 +15,7 @@ use super::report::{
 use super::size::SizeField;
 use crate::boundary::Boundary;
 use crate::front::{Front, SlotId};
-use crate::geom::Point;
+use crate::geom::{AreaSum, Point};
 use crate::mesh::QuadMesh;
 use crate::model::{ElementType, Model, RulesModel};
 use std::collections::BinaryHeap;
@@ -237,19 +237,31 @@ impl Mesher {
                 }
             }
         }
-        // Quads and the region the front still bounds tile the domain.
-        let meshed: f64 = self
-            .mesh
-            .quads
-            .iter()
-            .map(|q| crate::geom::polygon_area(self.mesh.corners(q)))
-            .sum();
-        let open = self.front.open_area(&self.mesh.nodes);
-        let domain = self.boundary.area();
-        if (meshed + open - domain).abs() > 1e-9 * domain.abs() {
+        // Quads and the region the front still bounds tile the domain, up
+        // to the sums' rounding bounds (`AreaSum`, as in the final check).
+        let nodes = &self.mesh.nodes;
+        let mut covered = AreaSum::default();
+        for q in &self.mesh.quads {
+            covered.add_polygon(&self.mesh.corners(q));
+        }
+        for l in self.front.live_loops() {
+            let p: Vec<Point> = self
+                .front
+                .loop_nodes(l)
+                .iter()
+                .map(|&v| nodes[v as usize])
+                .collect();
+            covered.add_polygon(&p);
+        }
+        let mut domain = AreaSum::default();
+        for l in &self.boundary.loops {
+            let p: Vec<Point> = l.iter().map(|&i| self.boundary.points[i]).collect();
+            domain.add_polygon(&p);
+        }
+        if !covered.agrees_with(&domain) {
             return Err(crate::mesh::InvariantError::Area {
-                covered: meshed + open,
-                domain,
+                covered: covered.area(),
+                domain: domain.area(),
             });
         }
         self.mesh.check_invariants(self.is_done())

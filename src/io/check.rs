@@ -9,7 +9,7 @@
 //! then cover the domain exactly once.
 
 use crate::boundary::{Boundary, BoundaryError, MAX_COORDINATE};
-use crate::geom::{orient, turns_left, Point};
+use crate::geom::{orient, turns_left, AreaSum, Point};
 use crate::mesh::{InvariantError, QuadMesh};
 use thiserror::Error;
 
@@ -39,18 +39,6 @@ pub enum MeshCheckError {
     Area { covered: f64, domain: f64 },
     #[error("{0}")]
     Other(String),
-}
-
-/// Signed area of a polygon, summed relative to its first corner (no
-/// cancellation far from the origin).
-fn local_area(p: &[Point]) -> f64 {
-    let Some(&o) = p.first() else {
-        return 0.0;
-    };
-    let n = p.len();
-    0.5 * (1..n.saturating_sub(1))
-        .map(|i| (p[i] - o).perp_dot(p[i + 1] - o))
-        .sum::<f64>()
 }
 
 /// True when a simple loop runs counter-clockwise: the sign of its corner
@@ -144,8 +132,7 @@ pub fn check_mesh_labelled(
         .iter()
         .map(|l| l.iter().map(|&v| m.nodes[v as usize]).collect())
         .collect();
-    let mut domain = 0.0;
-    let mut scale = 0.0;
+    let mut domain = AreaSum::default();
     for (k, (l, p)) in m.loops.iter().zip(&polys).enumerate() {
         let is_outer = outer_node.is_some_and(|v| l.contains(&v));
         if is_ccw(p) != is_outer {
@@ -154,13 +141,19 @@ pub fn check_mesh_labelled(
                 node: node(l[0]),
             });
         }
-        let a = local_area(p);
-        domain += a;
-        scale += a.abs();
+        domain.add_polygon(p);
     }
-    let covered: f64 = m.quads.iter().map(|q| local_area(&m.corners(q))).sum();
-    if (covered - domain).abs() > 1e-9 * scale {
-        return Err(MeshCheckError::Area { covered, domain });
+    // Up to the sums' rounding bounds (`AreaSum`), not a relative
+    // tolerance, which the rounding of many thin quads can exceed.
+    let mut covered = AreaSum::default();
+    for q in &m.quads {
+        covered.add_polygon(&m.corners(q));
+    }
+    if !covered.agrees_with(&domain) {
+        return Err(MeshCheckError::Area {
+            covered: covered.area(),
+            domain: domain.area(),
+        });
     }
     Ok(())
 }
