@@ -221,6 +221,11 @@ impl QuadMesh {
     /// reader would see as degenerate.
     pub fn check_finished(&self) -> Result<(), InvariantError> {
         self.check_invariants(true)?;
+        self.check_no_flat_corner()
+    }
+
+    /// No corner of any quad flat to rounding ([`crate::geom::turns_left`]).
+    pub fn check_no_flat_corner(&self) -> Result<(), InvariantError> {
         for (k, q) in self.quads.iter().enumerate() {
             let p = self.corners(q);
             if let Some(i) = (0..4).find(|&i| !turns_left(p[(i + 3) % 4], p[i], p[(i + 1) % 4])) {
@@ -279,6 +284,26 @@ impl QuadMesh {
         self.check_area()
     }
 
+    /// The quads' areas added up, with the sum's rounding bound.
+    pub fn quads_area_sum(&self) -> AreaSum {
+        let mut sum = AreaSum::default();
+        for q in &self.quads {
+            sum.add_polygon(&self.corners(q));
+        }
+        sum
+    }
+
+    /// The area the boundary loops enclose (holes negative), with the
+    /// sum's rounding bound.
+    pub fn loops_area_sum(&self) -> AreaSum {
+        let mut sum = AreaSum::default();
+        for l in &self.loops {
+            let p: Vec<Point> = l.iter().map(|&i| self.nodes[i as usize]).collect();
+            sum.add_polygon(&p);
+        }
+        sum
+    }
+
     /// Checks that the quads' areas add up to the area the boundary loops
     /// enclose, up to the sums' own rounding bounds ([`AreaSum`]): a
     /// relative tolerance cannot tell rounding from a gap when many quads
@@ -290,16 +315,8 @@ impl QuadMesh {
     /// already imply it (interior edges cancel in the quads' shoelace sums,
     /// leaving the loops'); it stays as a check of that bookkeeping against
     /// the geometry.
-    fn check_area(&self) -> Result<(), InvariantError> {
-        let mut covered = AreaSum::default();
-        for q in &self.quads {
-            covered.add_polygon(&self.corners(q));
-        }
-        let mut domain = AreaSum::default();
-        for l in &self.loops {
-            let p: Vec<Point> = l.iter().map(|&i| self.nodes[i as usize]).collect();
-            domain.add_polygon(&p);
-        }
+    pub fn check_area(&self) -> Result<(), InvariantError> {
+        let (covered, domain) = (self.quads_area_sum(), self.loops_area_sum());
         if covered.agrees_with(&domain) {
             Ok(())
         } else {

@@ -15,7 +15,7 @@ use super::report::{
 use super::size::SizeField;
 use crate::boundary::Boundary;
 use crate::front::{Front, SlotId};
-use crate::geom::{AreaSum, Point};
+use crate::geom::Point;
 use crate::mesh::QuadMesh;
 use crate::model::{ElementType, Model, RulesModel};
 use std::collections::BinaryHeap;
@@ -240,10 +240,7 @@ impl Mesher {
         // Quads and the region the front still bounds tile the domain, up
         // to the sums' rounding bounds (`AreaSum`, as in the final check).
         let nodes = &self.mesh.nodes;
-        let mut covered = AreaSum::default();
-        for q in &self.mesh.quads {
-            covered.add_polygon(&self.mesh.corners(q));
-        }
+        let mut covered = self.mesh.quads_area_sum();
         for l in self.front.live_loops() {
             let p: Vec<Point> = self
                 .front
@@ -253,11 +250,9 @@ impl Mesher {
                 .collect();
             covered.add_polygon(&p);
         }
-        let mut domain = AreaSum::default();
-        for l in &self.boundary.loops {
-            let p: Vec<Point> = l.iter().map(|&i| self.boundary.points[i]).collect();
-            domain.add_polygon(&p);
-        }
+        // The mesh's loops are the boundary's, its first nodes the
+        // boundary's points.
+        let domain = self.mesh.loops_area_sum();
         if !covered.agrees_with(&domain) {
             return Err(crate::mesh::InvariantError::Area {
                 covered: covered.area(),

@@ -9,7 +9,7 @@
 //! then cover the domain exactly once.
 
 use crate::boundary::{Boundary, BoundaryError, MAX_COORDINATE};
-use crate::geom::{orient, turns_left, AreaSum, Point};
+use crate::geom::{orient, Point};
 use crate::mesh::{InvariantError, QuadMesh};
 use thiserror::Error;
 
@@ -76,6 +76,7 @@ pub(crate) fn from_invariant(
             b: node(b),
         },
         I::Pinched { node: v } => MeshCheckError::Pinched { node: node(v) },
+        I::Area { covered, domain } => MeshCheckError::Area { covered, domain },
         I::OpenBoundary { node: v } => MeshCheckError::OpenBoundary { node: node(v) },
         other => MeshCheckError::Other(other.to_string()),
     }
@@ -104,15 +105,8 @@ pub fn check_mesh_labelled(
     }
     m.check_invariants(false)
         .map_err(|e| from_invariant(e, node, quad))?;
-    for (k, q) in m.quads.iter().enumerate() {
-        let p = m.corners(q);
-        if let Some(i) = (0..4).find(|&i| !turns_left(p[(i + 3) % 4], p[i], p[(i + 1) % 4])) {
-            return Err(MeshCheckError::FlatCorner {
-                quad: quad(k),
-                node: node(q[i]),
-            });
-        }
-    }
+    m.check_no_flat_corner()
+        .map_err(|e| from_invariant(e, node, quad))?;
     // The boundary loops as a boundary of their own.
     let mut ids: Vec<u32> = m.loops.iter().flatten().copied().collect();
     ids.sort_unstable();
@@ -127,34 +121,19 @@ pub fn check_mesh_labelled(
     let labels: Vec<i64> = ids.iter().map(|&v| node(v) as i64).collect();
     let b = Boundary::new(points, loops, Some(labels)).map_err(MeshCheckError::Boundary)?;
     let outer_node = b.loops.first().and_then(|l| l.first()).map(|&i| ids[i]);
-    let polys: Vec<Vec<Point>> = m
-        .loops
-        .iter()
-        .map(|l| l.iter().map(|&v| m.nodes[v as usize]).collect())
-        .collect();
-    let mut domain = AreaSum::default();
-    for (k, (l, p)) in m.loops.iter().zip(&polys).enumerate() {
+    for (k, l) in m.loops.iter().enumerate() {
+        let p: Vec<Point> = l.iter().map(|&v| m.nodes[v as usize]).collect();
         let is_outer = outer_node.is_some_and(|v| l.contains(&v));
-        if is_ccw(p) != is_outer {
+        if is_ccw(&p) != is_outer {
             return Err(MeshCheckError::InnerLoop {
                 loop_index: k,
                 node: node(l[0]),
             });
         }
-        domain.add_polygon(p);
     }
     // Up to the sums' rounding bounds (`AreaSum`), not a relative
     // tolerance, which the rounding of many thin quads can exceed.
-    let mut covered = AreaSum::default();
-    for q in &m.quads {
-        covered.add_polygon(&m.corners(q));
-    }
-    if !covered.agrees_with(&domain) {
-        return Err(MeshCheckError::Area {
-            covered: covered.area(),
-            domain: domain.area(),
-        });
-    }
+    m.check_area().map_err(|e| from_invariant(e, node, quad))?;
     Ok(())
 }
 
