@@ -68,6 +68,18 @@ impl Params {
 /// [`QuadMesh::check_invariants`] for a partial mesh). Call after
 /// [`Mesher::run`]; an unfinished mesh is returned as it stands.
 pub fn finish(mesher: &Mesher, f: &FinishParams) -> Result<QuadMesh, MeshError> {
+    finish_at(mesher, f, crate::geom::Point::ZERO)
+}
+
+/// [`finish`] for a mesher run in a frame moved by `-origin`: the mesh is
+/// moved back by `origin` before it is checked, so the check is of the
+/// mesh as written (quads far smaller than the domain's distance from the
+/// origin may turn flat when moved).
+fn finish_at(
+    mesher: &Mesher,
+    f: &FinishParams,
+    origin: crate::geom::Point,
+) -> Result<QuadMesh, MeshError> {
     let mut mesh = mesher.mesh().clone();
     mesh.compact();
     if mesh.quads.len() > LOCAL_ABOVE {
@@ -79,6 +91,7 @@ pub fn finish(mesher: &Mesher, f: &FinishParams) -> Result<QuadMesh, MeshError> 
         remesh_bad(&mut mesh, mesher.model(), mesher.params(), f);
     }
     unflatten(&mut mesh);
+    to_world(&mut mesh, origin);
     let checked = if complete {
         mesh.check_finished()
     } else {
@@ -100,14 +113,7 @@ pub fn mesh_boundary(
     let (local, origin) = boundary.to_local();
     let mut m = Mesher::new(local, model, params.extract.clone());
     m.run(progress)?;
-    let mut mesh = finish(&m, &params.finish)?;
-    to_world(&mut mesh, origin);
-    // Quads far smaller than the domain's distance from the origin may
-    // turn flat when moved back: the mesh written is checked as written.
-    if origin != crate::geom::Point::ZERO && m.is_done() {
-        mesh.check_finished()
-            .map_err(|problem| MeshError::Final { problem })?;
-    }
+    let mesh = finish_at(&m, &params.finish, origin)?;
     Ok((mesh, m.stats().clone()))
 }
 

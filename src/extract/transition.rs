@@ -97,15 +97,13 @@ impl Mesher {
         let (lo, hi) = e.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &l| {
             (lo.min(l), hi.max(l))
         });
-        let width = (e[0] + e[1] + e[2]) / 3.0;
+        let total = e[0] + e[1] + e[2];
+        let width = total / 3.0;
         if !(lo > 0.0 && hi / lo <= EVEN) {
             return None;
         }
-        let (under, pt) = if row.right {
-            (p[0], self.world(top))
-        } else {
-            (p[3], self.world(top))
-        };
+        let under = if row.right { p[0] } else { p[3] };
+        let pt = self.world(top);
         let h0 = under.distance(pt);
         if h0 < MIN_HEIGHT * width {
             return None;
@@ -137,7 +135,6 @@ impl Mesher {
         } else {
             (p[0] + dir * h, pt)
         };
-        let total = e[0] + e[1] + e[2];
         let on_top = |u: f64| t0 + (t3 - t0) * u;
         let m1 = p[1] + (on_top(e[0] / total) - p[1]) * MID;
         let m2 = p[2] + (on_top((e[0] + e[1]) / total) - p[2]) * MID;
