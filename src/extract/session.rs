@@ -356,13 +356,23 @@ impl Mesher {
     /// run goes back to an earlier step (3/4, 1/2, 1/4 of the way, then the
     /// start) and fills the region left there. The history then holds the
     /// steps kept and the fill, so undo goes back to the step rewound to.
+    /// Each step is tried once and only before the current one: a replay is
+    /// deterministic, so a step tried again (a run of fewer than four steps)
+    /// or the current step (a run stuck at its first step, whose fill has
+    /// just failed on the same front) would fail the same way, at the cost
+    /// of a whole fill (seconds on a front of thousands of nodes).
     pub(super) fn rewind_and_fill(&mut self) -> Option<StepReport> {
         if self.rewound {
             return None;
         }
         self.rewound = true;
         let n = self.history.len();
+        let mut tried = n;
         for k in [3 * n / 4, n / 2, n / 4, 0] {
+            if k >= tried {
+                continue;
+            }
+            tried = k;
             let mut fresh = self.replayed(&self.history[..k]);
             let kept = fresh.mesh.quads.len();
             if let Some(mut r) = fresh.commit_fill() {
