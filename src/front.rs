@@ -38,6 +38,12 @@ pub struct FrontLoop {
 
 /// Uniform grid of segments, each filed under an id (the front files an
 /// edge under its start slot) in every cell its bounding box touches.
+///
+/// A query costs the cells it covers or, when that is more, one pass over
+/// the ids: a box many cells wide (a long reach where the grid is fine for
+/// the smallest edges) never costs more than a scan. Each id is reported
+/// once, from the first cell its box shares with the query, so no
+/// duplicates are gathered and sorted away.
 #[derive(Clone, Debug)]
 pub(crate) struct EdgeGrid {
     origin: Point,
@@ -45,9 +51,14 @@ pub(crate) struct EdgeGrid {
     nx: usize,
     ny: usize,
     cells: Vec<Vec<SlotId>>,
+    /// Each id's cell range `[x0, y0, x1, y1]`; [`EdgeGrid::UNFILED`] when
+    /// the id is not filed.
+    spans: Vec<[u32; 4]>,
 }
 
 impl EdgeGrid {
+    const UNFILED: [u32; 4] = [u32::MAX; 4];
+
     pub(crate) fn new(bb: Aabb, cell: f64, max_cells: usize) -> EdgeGrid {
         let size = bb.size().max(Point::splat(cell));
         let mut cell = cell.max(size.max_element() * 1e-6);
@@ -62,36 +73,53 @@ impl EdgeGrid {
             nx,
             ny,
             cells: vec![Vec::new(); nx * ny],
+            spans: Vec::new(),
         }
     }
 
     #[inline]
-    fn cell_range(&self, lo: Point, hi: Point) -> (usize, usize, usize, usize) {
-        let f = |v: f64, n: usize| (v.max(0.0) as usize).min(n - 1);
+    fn cell_range(&self, lo: Point, hi: Point) -> [u32; 4] {
+        let f = |v: f64, n: usize| (v.max(0.0) as usize).min(n - 1) as u32;
         let a = (lo - self.origin) * self.inv_cell;
         let b = (hi - self.origin) * self.inv_cell;
-        (
+        [
             f(a.x, self.nx),
             f(a.y, self.ny),
             f(b.x, self.nx),
             f(b.y, self.ny),
-        )
+        ]
     }
 
+    /// Files `s` under the cells of the box of `a` and `b` (an id already
+    /// filed is moved).
     pub(crate) fn insert(&mut self, s: SlotId, a: Point, b: Point) {
-        let (x0, y0, x1, y1) = self.cell_range(a.min(b), a.max(b));
+        self.remove(s);
+        let span = self.cell_range(a.min(b), a.max(b));
+        let [x0, y0, x1, y1] = span;
         for y in y0..=y1 {
             for x in x0..=x1 {
-                self.cells[y * self.nx + x].push(s);
+                self.cells[y as usize * self.nx + x as usize].push(s);
             }
         }
+        let k = s as usize;
+        if self.spans.len() <= k {
+            self.spans.resize(k + 1, Self::UNFILED);
+        }
+        self.spans[k] = span;
     }
 
-    fn remove(&mut self, s: SlotId, a: Point, b: Point) {
-        let (x0, y0, x1, y1) = self.cell_range(a.min(b), a.max(b));
+    /// Takes `s` out of the grid (nothing if it is not filed).
+    pub(crate) fn remove(&mut self, s: SlotId) {
+        let Some(span) = self.spans.get_mut(s as usize) else {
+            return;
+        };
+        if *span == Self::UNFILED {
+            return;
+        }
+        let [x0, y0, x1, y1] = std::mem::replace(span, Self::UNFILED);
         for y in y0..=y1 {
             for x in x0..=x1 {
-                let c = &mut self.cells[y * self.nx + x];
+                let c = &mut self.cells[y as usize * self.nx + x as usize];
                 if let Some(k) = c.iter().position(|&t| t == s) {
                     c.swap_remove(k);
                 }
@@ -102,14 +130,26 @@ impl EdgeGrid {
     /// The ids filed in cells that meet the box `lo..hi`, sorted, once each.
     pub(crate) fn query(&self, lo: Point, hi: Point, out: &mut Vec<SlotId>) {
         out.clear();
-        let (x0, y0, x1, y1) = self.cell_range(lo, hi);
+        let [x0, y0, x1, y1] = self.cell_range(lo, hi);
+        let covered = (x1 - x0 + 1) as usize * (y1 - y0 + 1) as usize;
+        if covered > self.spans.len() {
+            let meets = |sp: &[u32; 4]| {
+                *sp != Self::UNFILED && sp[0] <= x1 && sp[2] >= x0 && sp[1] <= y1 && sp[3] >= y0
+            };
+            out.extend((0..self.spans.len() as u32).filter(|&k| meets(&self.spans[k as usize])));
+            return;
+        }
         for y in y0..=y1 {
             for x in x0..=x1 {
-                out.extend_from_slice(&self.cells[y * self.nx + x]);
+                for &s in &self.cells[y as usize * self.nx + x as usize] {
+                    let sp = self.spans[s as usize];
+                    if sp[0].max(x0) == x && sp[1].max(y0) == y {
+                        out.push(s);
+                    }
+                }
             }
         }
         out.sort_unstable();
-        out.dedup();
     }
 }
 
@@ -274,16 +314,11 @@ impl Front {
         self.grid.insert(s, nodes[a as usize], nodes[b as usize]);
     }
 
-    fn grid_remove(&mut self, s: SlotId, nodes: &[Point]) {
-        let (a, b) = (self.node(s), self.node(self.next(s)));
-        self.grid.remove(s, nodes[a as usize], nodes[b as usize]);
-    }
-
     /// Type 0: the node at slot `s` is replaced by `node` (same loop).
     pub fn replace_node(&mut self, s: SlotId, node: u32, layer: u32, nodes: &[Point]) {
         let p = self.prev(s);
-        self.grid_remove(p, nodes);
-        self.grid_remove(s, nodes);
+        self.grid.remove(p);
+        self.grid.remove(s);
         self.slots[s as usize].node = node;
         self.slots[s as usize].layer = layer;
         self.grid_insert(p, nodes);
@@ -295,9 +330,9 @@ impl Front {
         let t = self.next(s);
         let p = self.prev(s);
         let n = self.next(t);
-        self.grid_remove(p, nodes);
-        self.grid_remove(s, nodes);
-        self.grid_remove(t, nodes);
+        self.grid.remove(p);
+        self.grid.remove(s);
+        self.grid.remove(t);
         self.slots[p as usize].next = n;
         self.slots[n as usize].prev = p;
         for k in [s, t] {
@@ -321,7 +356,7 @@ impl Front {
     ) -> Vec<SlotId> {
         let n = self.next(s);
         let lid = self.slot(s).loop_id;
-        self.grid_remove(s, nodes);
+        self.grid.remove(s);
         let mut prev = s;
         let mut ids = Vec::with_capacity(new_nodes.len());
         for &node in new_nodes {
@@ -351,10 +386,10 @@ impl Front {
 
     /// Takes the two front edges at slot `s` out of the grid (before their
     /// geometry changes).
-    pub fn unfile_edges_at(&mut self, s: SlotId, nodes: &[Point]) {
+    pub fn unfile_edges_at(&mut self, s: SlotId) {
         let p = self.prev(s);
-        self.grid_remove(p, nodes);
-        self.grid_remove(s, nodes);
+        self.grid.remove(p);
+        self.grid.remove(s);
     }
 
     /// Files the two front edges at slot `s` again and sets its node.
@@ -366,9 +401,9 @@ impl Front {
     }
 
     /// Removes a whole loop (it was closed by the final elements).
-    pub fn remove_loop(&mut self, lid: u32, nodes: &[Point]) {
+    pub fn remove_loop(&mut self, lid: u32) {
         for s in self.loop_slots(lid) {
-            self.grid_remove(s, nodes);
+            self.grid.remove(s);
             self.slots[s as usize].alive = false;
         }
         let l = &mut self.loops[lid as usize];
@@ -383,8 +418,8 @@ impl Front {
     /// Returns the loop ids of `a` and `b` afterwards.
     pub fn exchange_successors(&mut self, a: SlotId, b: SlotId, nodes: &[Point]) -> (u32, u32) {
         debug_assert_eq!(self.node(a), self.node(b));
-        self.grid_remove(a, nodes);
-        self.grid_remove(b, nodes);
+        self.grid.remove(a);
+        self.grid.remove(b);
         let an = self.next(a);
         let bn = self.next(b);
         self.slots[a as usize].next = bn;

@@ -189,7 +189,7 @@ impl Mesher {
                 let mut r = self.report(StepKind::Close4);
                 let quad = [nodes[0], nodes[1], nodes[2], nodes[3]];
                 self.push_quad(quad);
-                self.front.remove_loop(lid, &self.mesh.nodes);
+                self.front.remove_loop(lid);
                 r.quads.push(quad);
                 Some(r)
             }
@@ -215,7 +215,7 @@ impl Mesher {
                     self.push_quad(quad);
                     r.quads.push(quad);
                 }
-                self.front.remove_loop(lid, &self.mesh.nodes);
+                self.front.remove_loop(lid);
                 Some(r)
             }
             _ => None,
@@ -297,7 +297,7 @@ impl Mesher {
                 .collect();
             nbs.extend(nodes.iter().copied().filter(|&u| u != v));
             let old = self.mesh.nodes[v as usize];
-            self.front.unfile_edges_at(s, &self.mesh.nodes);
+            self.front.unfile_edges_at(s);
             let at = pattern_search(&mut self.mesh, v as usize, &nbs, start, quality);
             let (pp, pn) = (
                 self.world(self.front.prev(s)),

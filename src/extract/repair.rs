@@ -182,7 +182,7 @@ impl Mesher {
         let mut rep = self.report(StepKind::Seam);
         rep.reference = Some(self.front.node(s));
         self.front.remove_pair(s, &self.mesh.nodes);
-        self.front.unfile_edges_at(l, &self.mesh.nodes);
+        self.front.unfile_edges_at(l);
         self.mesh.nodes[keep as usize] = pos;
         self.front.refile_edges_at(l, keep, &self.mesh.nodes);
         let moved = std::mem::take(&mut self.incident[gone as usize]);
@@ -234,7 +234,7 @@ impl Mesher {
                     (s.scaled_jacobian, s.side_ratio())
                 })
                 .collect();
-            self.front.unfile_edges_at(s, &self.mesh.nodes);
+            self.front.unfile_edges_at(s);
             self.mesh.nodes[v as usize] = new;
             let mut ok = quads.iter().zip(&before).all(|(&k, &(sj, sides))| {
                 let p = self.mesh.corners(&self.mesh.quads[k as usize]);
@@ -364,7 +364,10 @@ impl Mesher {
     /// Splits a loop along an interior chord into two even loops (the
     /// splitting-line rule of the extension of TP, thesis §1.3.2): both
     /// ends' angles split as close to 90° as possible, the chord visible
-    /// and inside, with new nodes spaced like the front.
+    /// and inside, with new nodes spaced like the front. A chord is not
+    /// given more nodes than its loop has: where the front at its ends is
+    /// far finer than its length (a sliver of microscopic elements), a split
+    /// would multiply the front instead of dividing it.
     pub(super) fn chord_split(&mut self, lid: u32) -> Option<StepReport> {
         let slots = self.front.loop_slots(lid);
         let n = slots.len();
@@ -424,7 +427,7 @@ impl Mesher {
                     k = 2;
                 }
                 let spacing = (len / (k + 1) as f64) / h;
-                if !(0.4..=2.5).contains(&spacing) {
+                if !(0.4..=2.5).contains(&spacing) || k > n {
                     continue;
                 }
                 score += 0.5 * (spacing - 1.0).abs();

@@ -427,7 +427,7 @@ impl Mesher {
             r.quads.push(q);
         }
         for l in ids {
-            self.front.remove_loop(l, &self.mesh.nodes);
+            self.front.remove_loop(l);
         }
         Some(r)
     }
