@@ -87,6 +87,11 @@ enum Command {
         /// than the boundary's spacing asks for (`off`: none).
         #[arg(long, value_parser = parse_transitions)]
         transitions: Option<Transitions>,
+        /// Loops that are logical rectangles (four corners, opposite sides
+        /// of equal segment counts) at most N elements across are closed by
+        /// a mapped grid (`off`: never) [default: 4].
+        #[arg(long, value_parser = parse_mapped_rows)]
+        mapped_rows: Option<MappedRows>,
         /// Write the quality figures and step counts as JSON.
         #[arg(long)]
         report: Option<PathBuf>,
@@ -259,11 +264,42 @@ fn parse_transitions(s: &str) -> Result<Transitions, String> {
     }
 }
 
+/// `--mapped-rows`: a count of at least 1, or `off`.
+#[derive(Clone, Copy, Debug)]
+struct MappedRows(Option<usize>);
+
+fn parse_mapped_rows(s: &str) -> Result<MappedRows, String> {
+    if s == "off" {
+        return Ok(MappedRows(None));
+    }
+    match s.parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(MappedRows(Some(n))),
+        _ => Err(format!("`{s}` is not a count of at least 1 or `off`")),
+    }
+}
+
 fn parse_points(s: &str) -> Result<usize, String> {
     match s.parse::<usize>() {
         Ok(n @ (5 | 7 | 9 | 11)) => Ok(n),
         _ => Err("input points must be 5, 7, 9 or 11".into()),
     }
+}
+
+/// Writes to standard output. A reader that closes the pipe early
+/// (`quadex quality FILE | head`) ends the command quietly: see [`main`].
+macro_rules! outln {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($t)*)?;
+    }};
+}
+
+/// [`outln`] without the line end.
+macro_rules! out {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        write!(std::io::stdout().lock(), $($t)*)?;
+    }};
 }
 
 /// An error in the user's input (exit code 2) as opposed to a failure.
@@ -283,6 +319,13 @@ pub fn main() -> ExitCode {
     };
     match res {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e)
+            if e.downcast_ref::<std::io::Error>()
+                .is_some_and(|e| e.kind() == std::io::ErrorKind::BrokenPipe) =>
+        {
+            // The reader has all it wanted.
+            ExitCode::SUCCESS
+        }
         Err(e) => {
             let (code, msg) = match e.downcast_ref::<BadInput>() {
                 Some(b) => (2, b.0.clone()),
@@ -391,6 +434,7 @@ fn run(c: Command) -> Result<()> {
             no_fill,
             layers,
             transitions,
+            mapped_rows,
             report,
         } => {
             let fmt = MeshFormat::from_path(&output)
@@ -412,6 +456,7 @@ fn run(c: Command) -> Result<()> {
                 fill: !no_fill,
                 fill_after_layers: layers.map_or(MeshParams::DEFAULT.fill_after_layers, |l| l.0),
                 transition_ratio: transitions.map_or(MeshParams::DEFAULT.transition_ratio, |t| t.0),
+                mapped_rows: mapped_rows.map_or(MeshParams::DEFAULT.mapped_rows, |m| m.0),
                 ..MeshParams::DEFAULT
             };
             let finish = FinishParams {
@@ -476,7 +521,7 @@ fn run(c: Command) -> Result<()> {
                     stats.steps - stats.count(StepKind::Fill)
                 ),
             };
-            println!(
+            outln!(
                 "{}: {} quads, sj min {:.3} mean {:.3}, {:.1}% in [45,135], {} irregular, {made_by}, {:.3} s",
                 output.display(),
                 q.quads,
@@ -488,7 +533,7 @@ fn run(c: Command) -> Result<()> {
             );
             if pure_model {
                 let (ok, all) = stats.model_valid();
-                println!(
+                outln!(
                     "pure model: {ok} of {all} predictions valid ({:.1}%)",
                     100.0 * ok as f64 / all.max(1) as f64
                 );
@@ -504,7 +549,7 @@ fn run(c: Command) -> Result<()> {
                 check_against(&m, &bd)
                     .map_err(|e| InputError(anyhow!("{}: {e}", mesh.display())))?;
             }
-            println!("{}", serde_json::to_string_pretty(&MeshQuality::of(&m))?);
+            outln!("{}", serde_json::to_string_pretty(&MeshQuality::of(&m))?);
             Ok(())
         }
         Command::Samples {
@@ -530,14 +575,14 @@ fn run(c: Command) -> Result<()> {
                     .map(|f| f.to_string_lossy().into_owned())
                     .unwrap_or_default();
                 let s = samples::collect(&m, (points - 1) / 2, &params, &name);
-                println!("{}: {} samples", path.display(), s.len());
+                outln!("{}: {} samples", path.display(), s.len());
                 set.samples.extend(s);
             }
             let dropped = if keep_duplicates { 0 } else { set.dedup() };
             set.write(&output)
                 .map_err(|e| anyhow!("{}: {e}", output.display()))?;
             let t = set.type_counts();
-            println!(
+            outln!(
                 "{}: {} samples ({} types 0/1/2: {}/{}/{}), {} duplicates dropped",
                 output.display(),
                 set.len(),
@@ -625,7 +670,7 @@ fn run(c: Command) -> Result<()> {
             })?;
             let seconds = t0.elapsed().as_secs_f64();
             for r in &reports {
-                println!("{}", r.table());
+                outln!("{}", r.table());
             }
             let json = file.to_json();
             // Never write a model file that `--model` would refuse.
@@ -653,7 +698,7 @@ fn run(c: Command) -> Result<()> {
                 files.push((path, r.as_bytes()));
             }
             io::write_atomic_all(&files)?;
-            println!(
+            outln!(
                 "{}: form {}, {} samples{}, {} in {seconds:.2} s",
                 output.display(),
                 file.coefficients.form().name(),
@@ -695,7 +740,7 @@ fn run(c: Command) -> Result<()> {
                     compare::mesh_with(&name, &boundary, m, &pipeline::Params::DEFAULT)
                 })
                 .collect();
-            print!("{}", compare::table(&outcomes));
+            out!("{}", compare::table(&outcomes));
             let mut files: Vec<(PathBuf, String)> = Vec::new();
             if let Some(path) = output {
                 files.push((path, compare::svg(&outcomes, 400.0)));
@@ -727,7 +772,7 @@ fn run(c: Command) -> Result<()> {
             let (points, inputs) = predict::read_rows(&io::decode_text(&text)).map_err(bad)?;
             let answers = predict::predict_rows(m.as_ref(), points, &inputs).map_err(bad)?;
             io::write_atomic(&output, predict::to_csv(&answers).as_bytes())?;
-            println!(
+            outln!(
                 "{}: {} predicted by {}",
                 output.display(),
                 plural(answers.len(), "row"),
@@ -774,7 +819,7 @@ fn run(c: Command) -> Result<()> {
                         inputs.iter().map(|p| p.display().to_string()).collect();
                     InputError(anyhow!("{}: {pts} points: {e}", names.join(", ")))
                 })?;
-                println!("{}", f.table());
+                outln!("{}", f.table());
                 tables.push(f);
             }
             if let Some(path) = report {

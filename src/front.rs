@@ -34,6 +34,9 @@ pub struct FrontLoop {
     pub head: SlotId,
     pub len: usize,
     pub alive: bool,
+    /// Changes (never to 0) whenever an edge of the loop is filed anew: a
+    /// loop whose version is unchanged has the same nodes where they were.
+    pub version: u32,
 }
 
 /// Uniform grid of segments, each filed under an id (the front files an
@@ -197,6 +200,7 @@ impl Front {
                 head: first,
                 len: l.len(),
                 alive: true,
+                version: 1,
             });
             f.alive += l.len();
         }
@@ -312,6 +316,8 @@ impl Front {
     fn grid_insert(&mut self, s: SlotId, nodes: &[Point]) {
         let (a, b) = (self.node(s), self.node(self.next(s)));
         self.grid.insert(s, nodes[a as usize], nodes[b as usize]);
+        let l = &mut self.loops[self.slots[s as usize].loop_id as usize];
+        l.version = l.version.wrapping_add(1).max(1);
     }
 
     /// Type 0: the node at slot `s` is replaced by `node` (same loop).
@@ -453,6 +459,7 @@ impl Front {
                 head: short,
                 len: short_len,
                 alive: true,
+                version: 1,
             });
             let mut s = short;
             for _ in 0..short_len {
@@ -487,6 +494,7 @@ impl Front {
                 head: NONE,
                 len: 0,
                 alive: false,
+                version: 0,
             };
             (keep, keep)
         }

@@ -490,3 +490,58 @@ fn outputs_in_missing_folders_leave_nothing_and_say_so_once() {
     let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
     assert_eq!(left.len(), 1, "{left:?}");
 }
+
+/// R20b: a square with a hole 7e-4 from two of its sides. A chord split
+/// in a sliver of microscopic elements gave its chord tens of thousands of
+/// nodes, and remeshing ran for minutes; it meshes now (poorly: the gap
+/// forces quads of aspect 40 or more).
+#[test]
+fn r20b_a_near_touching_hole_meshes() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.msh");
+    let file = "R20b_near_touch_layers_all_timeout.poly";
+    let r = quadex(&[
+        "mesh".as_ref(),
+        repro(file).as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let m = io::read_mesh(&out).unwrap();
+    m.check_finished().unwrap();
+}
+
+/// R19 through the command line: the 13 × 4 grid of a 50 × 1 plate.
+#[test]
+fn r19_a_plate_meshes_as_its_grid() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.msh");
+    let r = quadex(&[
+        "mesh".as_ref(),
+        repro("R19_rect_50x1_13x4_segments_quality.poly").as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    assert_eq!(io::read_mesh(&out).unwrap().quads.len(), 52);
+}
+
+/// A reader that closes the pipe before `quality` writes (as `| head`
+/// does) ends the command quietly, not in a panic.
+#[test]
+fn output_into_a_closed_pipe_ends_quietly() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("square.msh");
+    io::write_mesh(&square(1.0), &mesh).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_quadex"))
+        .args(["quality".as_ref(), mesh.as_os_str()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(o.status.code(), Some(0), "{stderr}");
+}

@@ -319,6 +319,7 @@ pub fn kind_name(k: StepKind) -> &'static str {
         StepKind::Relax => "loop relaxed",
         StepKind::Seam => "seam",
         StepKind::Transition => "transition (3 to 1)",
+        StepKind::Mapped => "mapped grid",
         StepKind::Split => "loop split",
         StepKind::RipUp => "rip-up",
         StepKind::Fill => "fill of the region left",

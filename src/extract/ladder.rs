@@ -1,6 +1,6 @@
 //! The step ladder: what one automatic step tries, in order (method §2,
 //! thesis §5.1): a first row on a loop without reference points, closing
-//! small loops, the fill inside the first layers, the reference points in
+//! small loops, mapped grids on narrow logical rectangles, the fill inside the first layers, the reference points in
 //! queue order, seams, chord splits, a square cut, a relaxed rule-based
 //! element, relaxation, rip-up, and the fill as the last resort.
 
@@ -102,6 +102,15 @@ impl Mesher {
                     self.small_stuck.resize(lid as usize + 1, 0);
                 }
                 self.small_stuck[lid as usize] = key;
+            }
+        }
+        // 1b. Narrow logical rectangles close by a mapped grid.
+        if self.params.mapped_rows.is_some() {
+            let loops: Vec<u32> = self.front.live_loops().collect();
+            for lid in loops {
+                if let Some(r) = self.close_mapped(lid) {
+                    return Ok(r);
+                }
             }
         }
         // 2. The region inside the first layers is filled directly.

@@ -5,7 +5,8 @@
 //! accepts it; otherwise it tries the remedies in order: a snapped Pn, the
 //! other types, a corrected Pn, the next reference point, and finally a
 //! rule-based element. Loops of 4 and 6 nodes are closed with the final
-//! patterns; a loop that no element can reduce is split along a chord into
+//! patterns, and narrow loops that are logical rectangles by a mapped grid
+//! ([`mapped`]); a loop that no element can reduce is split along a chord into
 //! two even loops. Once the reference points left lie on layer
 //! [`MeshParams::fill_after_layers`] or deeper, when nothing reduces the
 //! front any more, or when the step budget is spent, the region left is
@@ -18,6 +19,7 @@ pub mod closure;
 pub mod fill;
 pub mod guard;
 mod ladder;
+pub mod mapped;
 mod memo;
 mod params;
 mod queue;

@@ -77,6 +77,11 @@ pub struct MeshParams {
     /// edges to one, [`super::transition`]), one per as many ordinary
     /// elements as that ratio asks; `None` turns them off (default 1.3).
     pub transition_ratio: Option<f64>,
+    /// A loop that is a logical rectangle (four corners, opposite sides of
+    /// equal edge counts) at most this many elements across is closed in
+    /// one step by a mapped grid ([`super::mapped`]); `None` turns that off
+    /// (default 4).
+    pub mapped_rows: Option<usize>,
 }
 
 impl MeshParams {
@@ -97,6 +102,7 @@ impl MeshParams {
         fill_after_layers: None,
         pure_model: false,
         transition_ratio: Some(1.3),
+        mapped_rows: Some(4),
     };
 }
 

@@ -73,6 +73,8 @@ pub enum StepKind {
     /// Three front edges of a row taken by the 3-to-1 transition template
     /// (four quads): the row goes on coarser.
     Transition,
+    /// A loop that is a logical rectangle closed by a mapped grid.
+    Mapped,
     /// A loop split along a chord.
     Split,
     /// Elements around a loop that could not be reduced were removed to

@@ -106,6 +106,9 @@ pub struct Mesher {
     /// that small loop last neither closed nor settled (0: none): the same
     /// state is not tried again.
     pub(super) small_stuck: Vec<u64>,
+    /// Per loop, the [`crate::front::FrontLoop::version`] last looked at
+    /// for a mapped grid (see [`super::mapped`]; 0: never).
+    pub(super) mapped_seen: Vec<u32>,
     /// The progress watch's checkpoints: (step, area still open), one per
     /// [`PROGRESS_EVERY`] steps.
     pub(super) progress: Vec<(usize, f64)>,
@@ -160,6 +163,7 @@ impl Mesher {
             incident: Vec::new(),
             row_run: Vec::new(),
             small_stuck: Vec::new(),
+            mapped_seen: Vec::new(),
             memo: Default::default(),
             progress: Vec::new(),
             evaluated: (Point::ZERO, Point::ZERO),

@@ -1,0 +1,331 @@
+//! Mapped closure: a front loop that is a logical rectangle is closed in
+//! one step by a structured grid (the mapping transformations of thesis
+//! §1.1, used as a final pattern in the sense of §2.1.4).
+//!
+//! A loop is a logical rectangle when it has exactly four corners (front
+//! angles under [`CORNER_MAX`]), every other node lies on a side that
+//! turns by at most [`SIDE_TURN`] at it, and opposite sides have the same
+//! number of edges `m × n`. Where the narrower way is at most
+//! [`MeshParams::mapped_rows`](super::MeshParams::mapped_rows) elements
+//! across, the loop is closed by transfinite interpolation (a discrete
+//! Coons patch over the sides' arc-length fractions): the strip left where
+//! two fronts meet becomes one clean row (paving's row closure), and a
+//! rectangle whose sides are divided unevenly (13 × 4 segments on a 50 × 1
+//! plate) gets its grid instead of rows from the long sides that cannot
+//! match. The grid is taken only if every quad is convex with a scaled
+//! Jacobian of at least [`MIN_SJ`] and no other loop lies inside.
+
+use super::report::{StepKind, StepReport};
+use super::session::Mesher;
+use crate::geom::{is_measurably_convex, Point};
+use crate::quality::Shape;
+
+/// A node whose front angle is under this (degrees) is a corner.
+pub const CORNER_MAX: f64 = 150.0;
+/// A node on a side may turn the side by at most this (degrees) either way.
+pub const SIDE_TURN: f64 = 35.0;
+/// The worst quad a mapped grid may have (scaled Jacobian).
+pub const MIN_SJ: f64 = 0.4;
+/// Loops longer than this (nodes) are not looked at. A loop is looked at
+/// again only when it has changed.
+pub const MAX_LOOP: usize = 2000;
+
+/// A structured grid over a logical rectangle: `m × n` quads, the nodes
+/// `(i, j)` for `0 ≤ i ≤ m`, `0 ≤ j ≤ n`, row by row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid {
+    pub m: usize,
+    pub n: usize,
+    /// Index into the loop of each boundary node, `None` inside.
+    pub at: Vec<Option<usize>>,
+    /// Position of every node.
+    pub points: Vec<Point>,
+}
+
+impl Grid {
+    fn index(&self, i: usize, j: usize) -> usize {
+        j * (self.m + 1) + i
+    }
+
+    /// The quads, as node indices of the grid, counter-clockwise.
+    pub fn quads(&self) -> impl Iterator<Item = [usize; 4]> + '_ {
+        (0..self.n).flat_map(move |j| {
+            (0..self.m).map(move |i| {
+                [
+                    self.index(i, j),
+                    self.index(i + 1, j),
+                    self.index(i + 1, j + 1),
+                    self.index(i, j + 1),
+                ]
+            })
+        })
+    }
+
+    /// The worst scaled Jacobian of its quads, or `None` if one is not
+    /// measurably convex.
+    pub fn min_sj(&self) -> Option<f64> {
+        let mut worst = f64::INFINITY;
+        for q in self.quads() {
+            let c = q.map(|k| self.points[k]);
+            if !is_measurably_convex(c) {
+                return None;
+            }
+            worst = worst.min(Shape::of(c).scaled_jacobian);
+        }
+        Some(worst)
+    }
+}
+
+/// The four corners of a counter-clockwise loop (indices, in loop order),
+/// if it is a logical rectangle whose opposite sides have equal edge
+/// counts, rotated so that the first side is the longer way (ties: the
+/// first corner in loop order).
+pub fn rectangle(pts: &[Point]) -> Option<[usize; 4]> {
+    let n = pts.len();
+    if n < 4 || n % 2 == 1 {
+        return None;
+    }
+    let corner_cos = (PI_DEG - CORNER_MAX).to_radians().cos();
+    let side_cos = SIDE_TURN.to_radians().cos();
+    let mut corners = [0usize; 4];
+    let mut found = 0;
+    for k in 0..n {
+        let a = pts[k] - pts[(k + n - 1) % n];
+        let b = pts[(k + 1) % n] - pts[k];
+        let (la, lb) = (a.length(), b.length());
+        if la <= 0.0 || lb <= 0.0 {
+            return None;
+        }
+        // The turn from a to b: left (positive cross) at a convex node.
+        let cos = a.dot(b) / (la * lb);
+        let left = a.perp_dot(b) > 0.0;
+        if left && cos < corner_cos {
+            if found == 4 {
+                return None;
+            }
+            corners[found] = k;
+            found += 1;
+        } else if cos < side_cos {
+            return None;
+        }
+    }
+    if found != 4 {
+        return None;
+    }
+    let side = |t: usize| (corners[(t + 1) % 4] + n - corners[t]) % n;
+    let (m1, m2, m3, m4) = (side(0), side(1), side(2), side(3));
+    if m1 != m3 || m2 != m4 {
+        return None;
+    }
+    let start = if m2 > m1 { 1 } else { 0 };
+    Some(std::array::from_fn(|t| corners[(t + start) % 4]))
+}
+
+const PI_DEG: f64 = 180.0;
+
+/// The transfinite-interpolation grid of a loop (counter-clockwise) over
+/// its four `corners` (from [`rectangle`]).
+pub fn grid(pts: &[Point], corners: [usize; 4]) -> Grid {
+    let len = pts.len();
+    let m = (corners[1] + len - corners[0]) % len;
+    let n = (corners[2] + len - corners[1]) % len;
+    let idx = |t: usize| (corners[0] + t) % len;
+    // Loop positions of the four sides, each from its grid origin.
+    let bottom: Vec<usize> = (0..=m).map(idx).collect();
+    let right: Vec<usize> = (0..=n).map(|j| idx(m + j)).collect();
+    let top: Vec<usize> = (0..=m).map(|i| idx(2 * m + n - i)).collect();
+    let left: Vec<usize> = (0..=n).map(|j| idx((2 * m + 2 * n - j) % len)).collect();
+    let fractions = |side: &[usize]| -> Vec<f64> {
+        let mut acc = vec![0.0];
+        for w in side.windows(2) {
+            let d = pts[w[0]].distance(pts[w[1]]);
+            acc.push(acc[acc.len() - 1] + d);
+        }
+        let total = acc[acc.len() - 1];
+        let steps = (side.len() - 1) as f64;
+        acc.iter()
+            .enumerate()
+            .map(|(k, &a)| {
+                if total > 0.0 {
+                    a / total
+                } else {
+                    k as f64 / steps
+                }
+            })
+            .collect()
+    };
+    let (ub, ut) = (fractions(&bottom), fractions(&top));
+    let (vl, vr) = (fractions(&left), fractions(&right));
+    let (c00, c10, c11, c01) = (pts[bottom[0]], pts[bottom[m]], pts[top[m]], pts[top[0]]);
+    let mut at = Vec::with_capacity((m + 1) * (n + 1));
+    let mut points = Vec::with_capacity((m + 1) * (n + 1));
+    for j in 0..=n {
+        for i in 0..=m {
+            let on = if j == 0 {
+                Some(bottom[i])
+            } else if j == n {
+                Some(top[i])
+            } else if i == 0 {
+                Some(left[j])
+            } else if i == m {
+                Some(right[j])
+            } else {
+                None
+            };
+            at.push(on);
+            if let Some(k) = on {
+                points.push(pts[k]);
+                continue;
+            }
+            // u and v where the lines of constant i and j cross: u runs
+            // from the bottom's fraction to the top's, v from the left's
+            // to the right's.
+            let (du, dv) = (ut[i] - ub[i], vr[j] - vl[j]);
+            let u = (ub[i] + vl[j] * du) / (1.0 - du * dv);
+            let v = vl[j] + u * dv;
+            let p = (1.0 - v) * pts[bottom[i]]
+                + v * pts[top[i]]
+                + (1.0 - u) * pts[left[j]]
+                + u * pts[right[j]]
+                - ((1.0 - u) * (1.0 - v) * c00
+                    + u * (1.0 - v) * c10
+                    + u * v * c11
+                    + (1.0 - u) * v * c01);
+            points.push(p);
+        }
+    }
+    Grid { m, n, at, points }
+}
+
+impl Mesher {
+    /// Closes loop `lid` by a mapped grid, if it is a logical rectangle at
+    /// most [`MeshParams::mapped_rows`](super::MeshParams::mapped_rows)
+    /// across whose grid is good enough.
+    pub(super) fn close_mapped(&mut self, lid: u32) -> Option<StepReport> {
+        let rows = self.params.mapped_rows?;
+        let l = self.front.loops[lid as usize];
+        if !(8..=MAX_LOOP).contains(&l.len)
+            || self.mapped_seen.get(lid as usize) == Some(&l.version)
+        {
+            return None;
+        }
+        if self.mapped_seen.len() <= lid as usize {
+            self.mapped_seen.resize(lid as usize + 1, 0);
+        }
+        self.mapped_seen[lid as usize] = l.version;
+        let slots = self.front.loop_slots(lid);
+        let nodes: Vec<u32> = slots.iter().map(|&s| self.front.node(s)).collect();
+        let pts: Vec<Point> = nodes.iter().map(|&v| self.mesh.nodes[v as usize]).collect();
+        let corners = rectangle(&pts)?;
+        let g = grid(&pts, corners);
+        if g.n > rows || !g.min_sj().is_some_and(|sj| sj >= MIN_SJ) {
+            return None;
+        }
+        let mut uniq = nodes.clone();
+        uniq.sort_unstable();
+        uniq.dedup();
+        if uniq.len() != nodes.len() || !self.loop_is_clear(&slots, &pts) {
+            return None;
+        }
+        let mut r = self.report(StepKind::Mapped);
+        let ids: Vec<u32> = (0..g.points.len())
+            .map(|k| match g.at[k] {
+                Some(t) => nodes[t],
+                None => {
+                    let v = self.add_node(g.points[k]);
+                    r.new_nodes.push(v);
+                    v
+                }
+            })
+            .collect();
+        for q in g.quads() {
+            let quad = q.map(|k| ids[k]);
+            self.push_quad(quad);
+            r.quads.push(quad);
+        }
+        r.reference = Some(nodes[corners[0]]);
+        self.front.remove_loop(lid);
+        Some(r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A rectangle `w × h` with `m × n` edges, counter-clockwise from the
+    /// origin.
+    fn rect(w: f64, h: f64, m: usize, n: usize) -> Vec<Point> {
+        let mut p = Vec::new();
+        for i in 0..m {
+            p.push(Point::new(w * i as f64 / m as f64, 0.0));
+        }
+        for j in 0..n {
+            p.push(Point::new(w, h * j as f64 / n as f64));
+        }
+        for i in 0..m {
+            p.push(Point::new(w * (m - i) as f64 / m as f64, h));
+        }
+        for j in 0..n {
+            p.push(Point::new(0.0, h * (n - j) as f64 / n as f64));
+        }
+        p
+    }
+
+    #[test]
+    fn a_plate_of_13_by_4_segments_is_its_grid() {
+        let p = rect(50.0, 1.0, 13, 4);
+        let c = rectangle(&p).unwrap();
+        assert_eq!(c, [0, 13, 17, 30]);
+        let g = grid(&p, c);
+        assert_eq!((g.m, g.n), (13, 4));
+        assert_eq!(g.quads().count(), 52);
+        assert!((g.min_sj().unwrap() - 1.0).abs() < 1e-12);
+        // Interior nodes on the straight lines between the sides' nodes.
+        let k = g.index(5, 2);
+        assert!(g.at[k].is_none());
+        let q = g.points[k];
+        assert!((q.x - 50.0 * 5.0 / 13.0).abs() < 1e-9 && (q.y - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_longer_way_comes_first() {
+        let p = rect(1.0, 8.0, 2, 9);
+        let c = rectangle(&p).unwrap();
+        let g = grid(&p, c);
+        assert_eq!((g.m, g.n), (9, 2));
+        assert_eq!(g.quads().count(), 18);
+    }
+
+    #[test]
+    fn unequal_sides_odd_loops_and_reflex_nodes_are_not_rectangles() {
+        // 3 edges below, 1 above.
+        let mut p = rect(3.0, 1.0, 3, 1);
+        p.remove(6);
+        p.remove(5);
+        assert_eq!(p.len(), 6);
+        assert!(rectangle(&p).is_none());
+        // An L-shape: a reflex corner.
+        let l = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)]
+            .map(|(x, y)| Point::new(x, y));
+        assert!(rectangle(&l).is_none());
+        assert!(rectangle(&rect(1.0, 1.0, 2, 1)[..5]).is_none());
+    }
+
+    #[test]
+    fn graded_sides_keep_their_spacing_inside() {
+        // Bottom and top graded alike: the columns follow them.
+        let xs = [0.0, 0.1, 0.3, 0.6, 1.0];
+        let mut p: Vec<Point> = xs[..4].iter().map(|&x| Point::new(x, 0.0)).collect();
+        p.extend([Point::new(1.0, 0.0), Point::new(1.0, 0.5)]);
+        p.extend(xs[1..].iter().rev().map(|&x| Point::new(x, 1.0)));
+        p.extend([Point::new(0.0, 1.0), Point::new(0.0, 0.5)]);
+        assert_eq!(p.len(), 12);
+        let c = rectangle(&p).unwrap();
+        let g = grid(&p, c);
+        assert_eq!((g.m, g.n), (4, 2));
+        for (i, &x) in xs.iter().enumerate() {
+            assert!((g.points[g.index(i, 1)].x - x).abs() < 1e-12);
+        }
+    }
+}
