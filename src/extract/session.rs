@@ -357,8 +357,10 @@ impl Mesher {
     }
 
     /// When extraction has led the front into a state no fill can take, the
-    /// run goes back to an earlier step (3/4, 1/2, 1/4 of the way, then the
-    /// start) and fills the region left there. The history then holds the
+    /// run goes back to an earlier step (3/4, 1/2, 1/4, 1/8, 1/16 and 1/32
+    /// of the way, then the start) and fills the region left there: a fill
+    /// that fails on a front extraction has tangled may still take the
+    /// front of the first rows. The history then holds the
     /// steps kept and the fill, so undo goes back to the step rewound to.
     /// Each step is tried once and only before the current one: a replay is
     /// deterministic, so a step tried again (a run of fewer than four steps)
@@ -372,7 +374,7 @@ impl Mesher {
         self.rewound = true;
         let n = self.history.len();
         let mut tried = n;
-        for k in [3 * n / 4, n / 2, n / 4, 0] {
+        for k in [3 * n / 4, n / 2, n / 4, n / 8, n / 16, n / 32, 0] {
             if k >= tried {
                 continue;
             }
