@@ -545,3 +545,40 @@ fn output_into_a_closed_pipe_ends_quietly() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(o.status.code(), Some(0), "{stderr}");
 }
+
+/// Meshes a reproducer through the command line; the mesh read back.
+fn meshed(file: &str) -> QuadMesh {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.msh");
+    let r = quadex(&[
+        "mesh".as_ref(),
+        repro(file).as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_eq!(r.code, Some(0), "{file}: {}", r.stderr);
+    let m = io::read_mesh(&out).unwrap();
+    m.check_finished().unwrap();
+    m
+}
+
+/// R06a: 201 segments below, 3 above, on a 1 × 0.1 strip. Extraction
+/// tangles; the run rewinds to the first rows and fills from there.
+#[test]
+fn r06a_a_201_against_3_node_strip_meshes() {
+    assert!(meshed("R06a_rect_1x0.1_bottom201_top3_side1.poly").quads.len() > 300);
+}
+
+/// R06b: a fill that succeeds from a tangled front is not taken when an
+/// earlier one gives a better worst quad (scaled Jacobian 0.000 against
+/// 0.013 from the start).
+#[test]
+fn r06b_rewinding_keeps_the_better_fill() {
+    let m = meshed("R06b_many_holes_reduced.poly");
+    let worst = m
+        .quads
+        .iter()
+        .map(|q| quadex::quality::Shape::of(m.corners(q)).scaled_jacobian)
+        .fold(f64::INFINITY, f64::min);
+    assert!(worst > 0.005, "{worst}");
+}

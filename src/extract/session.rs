@@ -18,6 +18,7 @@ use crate::front::{Front, SlotId};
 use crate::geom::Point;
 use crate::mesh::QuadMesh;
 use crate::model::{ElementType, Model, RulesModel};
+use crate::quality::Shape;
 use std::collections::BinaryHeap;
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
@@ -25,8 +26,16 @@ use std::sync::Arc;
 
 /// Steps allowed before the region left is filled, per element a mesh
 /// following the size field would have (plus one per boundary node and
-/// 200).
-const FILL_BUDGET: f64 = 2.0;
+/// 200). The size field's estimate runs low where rows cannot coarsen as
+/// fast as it asks (a fine side facing a coarse one), so the budget is
+/// three times it: at twice, a 201-against-3-node strip (`R06a`) reached
+/// it in a tangle no rewind could fill.
+const FILL_BUDGET: f64 = 3.0;
+
+/// A mesh made by rewinding and filling whose worst quad is at least this
+/// good (scaled Jacobian, before finishing) is taken without trying earlier
+/// steps ([`Mesher::rewind_and_fill`]).
+const REWIND_GOOD: f64 = 0.2;
 
 /// The progress watch: every [`PROGRESS_EVERY`] steps the area the front
 /// still encloses is noted. A run whose last [`PROGRESS_WINDOW`] steps took
@@ -360,8 +369,10 @@ impl Mesher {
     /// run goes back to an earlier step (3/4, 1/2, 1/4, 1/8, 1/16 and 1/32
     /// of the way, then the start) and fills the region left there: a fill
     /// that fails on a front extraction has tangled may still take the
-    /// front of the first rows. The history then holds the
-    /// steps kept and the fill, so undo goes back to the step rewound to.
+    /// front of the first rows. The first mesh whose worst quad has a scaled
+    /// Jacobian of at least [`REWIND_GOOD`] is taken; if none has, the best
+    /// of those made. The history then holds the steps kept and the fill,
+    /// so undo goes back to the step rewound to.
     /// Each step is tried once and only before the current one: a replay is
     /// deterministic, so a step tried again (a run of fewer than four steps)
     /// or the current step (a run stuck at its first step, whose fill has
@@ -374,6 +385,7 @@ impl Mesher {
         self.rewound = true;
         let n = self.history.len();
         let mut tried = n;
+        let mut best: Option<(f64, Mesher, StepReport)> = None;
         for k in [3 * n / 4, n / 2, n / 4, n / 8, n / 16, n / 32, 0] {
             if k >= tried {
                 continue;
@@ -383,12 +395,24 @@ impl Mesher {
             let kept = fresh.mesh.quads.len();
             if let Some(mut r) = fresh.commit_fill() {
                 r.removed = self.mesh.quads.len().saturating_sub(kept);
-                fresh.rewound = true;
-                *self = fresh;
-                return Some(r);
+                let worst = fresh
+                    .mesh
+                    .quads
+                    .iter()
+                    .map(|q| Shape::of(fresh.mesh.corners(q)).scaled_jacobian)
+                    .fold(f64::INFINITY, f64::min);
+                if best.as_ref().is_none_or(|b| worst > b.0) {
+                    best = Some((worst, fresh, r));
+                }
+                if worst >= REWIND_GOOD {
+                    break;
+                }
             }
         }
-        None
+        let (_, mut fresh, r) = best?;
+        fresh.rewound = true;
+        *self = fresh;
+        Some(r)
     }
 
     /// Replays one recorded action.
