@@ -566,7 +566,12 @@ fn meshed(file: &str) -> QuadMesh {
 /// tangles; the run rewinds to the first rows and fills from there.
 #[test]
 fn r06a_a_201_against_3_node_strip_meshes() {
-    assert!(meshed("R06a_rect_1x0.1_bottom201_top3_side1.poly").quads.len() > 300);
+    assert!(
+        meshed("R06a_rect_1x0.1_bottom201_top3_side1.poly")
+            .quads
+            .len()
+            > 300
+    );
 }
 
 /// R06b: a fill that succeeds from a tangled front is not taken when an
