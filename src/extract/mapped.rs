@@ -26,9 +26,10 @@ pub const CORNER_MAX: f64 = 150.0;
 pub const SIDE_TURN: f64 = 35.0;
 /// The worst quad a mapped grid may have (scaled Jacobian).
 pub const MIN_SJ: f64 = 0.4;
-/// Loops longer than this (nodes) are not looked at. A loop is looked at
-/// again only when it has changed.
-pub const MAX_LOOP: usize = 2000;
+/// Loops longer than this (nodes) are not looked at: a loop is looked at
+/// again whenever it has changed, and the front of a large domain changes
+/// every step (a 4 × 196 strip is the longest mapped).
+pub const MAX_LOOP: usize = 400;
 
 /// A structured grid over a logical rectangle: `m × n` quads, the nodes
 /// `(i, j)` for `0 ≤ i ≤ m`, `0 ≤ j ≤ n`, row by row.
