@@ -303,14 +303,17 @@ mod tests {
         Boundary::new(pts, vec![(0..16).collect()], None).unwrap()
     }
 
-    /// The square meshed by the rules.
+    /// The square meshed by the rules, element by element (a 4 × 4 square
+    /// would otherwise close at once by a mapped grid).
     fn rules_on_square() -> Outcome {
-        mesh_with(
-            "rules",
-            &square(),
-            Arc::new(RulesModel::default()),
-            &Params::DEFAULT,
-        )
+        let params = Params {
+            extract: crate::extract::MeshParams {
+                mapped_rows: None,
+                ..crate::extract::MeshParams::DEFAULT
+            },
+            ..Params::DEFAULT
+        };
+        mesh_with("rules", &square(), Arc::new(RulesModel::default()), &params)
     }
 
     #[test]

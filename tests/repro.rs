@@ -497,33 +497,18 @@ fn outputs_in_missing_folders_leave_nothing_and_say_so_once() {
 /// forces quads of aspect 40 or more).
 #[test]
 fn r20b_a_near_touching_hole_meshes() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("x.msh");
-    let file = "R20b_near_touch_layers_all_timeout.poly";
-    let r = quadex(&[
-        "mesh".as_ref(),
-        repro(file).as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ]);
-    assert_eq!(r.code, Some(0), "{}", r.stderr);
-    let m = io::read_mesh(&out).unwrap();
-    m.check_finished().unwrap();
+    meshed("R20b_near_touch_layers_all_timeout.poly");
 }
 
 /// R19 through the command line: the 13 × 4 grid of a 50 × 1 plate.
 #[test]
 fn r19_a_plate_meshes_as_its_grid() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("x.msh");
-    let r = quadex(&[
-        "mesh".as_ref(),
-        repro("R19_rect_50x1_13x4_segments_quality.poly").as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ]);
-    assert_eq!(r.code, Some(0), "{}", r.stderr);
-    assert_eq!(io::read_mesh(&out).unwrap().quads.len(), 52);
+    assert_eq!(
+        meshed("R19_rect_50x1_13x4_segments_quality.poly")
+            .quads
+            .len(),
+        52
+    );
 }
 
 /// A reader that closes the pipe before `quality` writes (as `| head`
