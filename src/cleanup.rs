@@ -792,12 +792,7 @@ mod tests {
         p[5] = Point::new(1.48, 1.48);
         p[10] = Point::new(1.52, 1.52);
         let mut m = mesh(p, q);
-        let worst = |m: &QuadMesh| {
-            m.quads
-                .iter()
-                .map(|q| Shape::of(m.corners(q)).scaled_jacobian)
-                .fold(f64::INFINITY, f64::min)
-        };
+        let worst = QuadMesh::worst_scaled_jacobian;
         assert!(worst(&m) < 0.1);
         let r = cleanup(&mut m, &CleanupParams::DEFAULT);
         assert_eq!(r.slivers, 1, "{r:?}");

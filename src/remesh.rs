@@ -414,13 +414,6 @@ mod tests {
         QuadMesh::from_quads(pts, quads).unwrap()
     }
 
-    fn worst(m: &QuadMesh) -> f64 {
-        m.quads
-            .iter()
-            .map(|q| sj(m, q))
-            .fold(f64::INFINITY, f64::min)
-    }
-
     fn model() -> Arc<dyn Model> {
         Arc::new(RulesModel::DEFAULT)
     }
@@ -455,7 +448,7 @@ mod tests {
         m.nodes[a] = Point::new(3.45, 3.45);
         m.nodes[b] = Point::new(3.55, 3.55);
         m.check_invariants(true).unwrap();
-        assert!(worst(&m) < 0.2);
+        assert!(m.worst_scaled_jacobian() < 0.2);
         let boundary: Vec<Point> = m.nodes[..m.n_boundary()].to_vec();
         let n = remesh_bad(
             &mut m,
@@ -466,7 +459,11 @@ mod tests {
         assert!(n >= 1);
         m.check_finished().unwrap();
         assert_eq!(&m.nodes[..m.n_boundary()], &boundary[..]);
-        assert!(worst(&m) >= 0.7, "{}", worst(&m));
+        assert!(
+            m.worst_scaled_jacobian() >= 0.7,
+            "{}",
+            m.worst_scaled_jacobian()
+        );
         let area: f64 = m
             .quads
             .iter()

@@ -129,11 +129,7 @@ fn strips_between_fronts_close_by_grids() {
     let mesh = m.mesh();
     // Area 144 − 40 = 104 unit squares.
     assert_eq!(mesh.quads.len(), 104, "{kinds:?}");
-    let worst = mesh
-        .quads
-        .iter()
-        .map(|q| Shape::of(mesh.corners(q)).scaled_jacobian)
-        .fold(f64::INFINITY, f64::min);
+    let worst = mesh.worst_scaled_jacobian();
     assert!(worst > 0.9, "{worst} {kinds:?}");
     assert_eq!(kinds.last(), Some(&StepKind::Mapped), "{kinds:?}");
 }

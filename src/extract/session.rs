@@ -18,7 +18,6 @@ use crate::front::{Front, SlotId};
 use crate::geom::Point;
 use crate::mesh::QuadMesh;
 use crate::model::{ElementType, Model, RulesModel};
-use crate::quality::Shape;
 use std::collections::BinaryHeap;
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
@@ -395,12 +394,7 @@ impl Mesher {
             let kept = fresh.mesh.quads.len();
             if let Some(mut r) = fresh.commit_fill() {
                 r.removed = self.mesh.quads.len().saturating_sub(kept);
-                let worst = fresh
-                    .mesh
-                    .quads
-                    .iter()
-                    .map(|q| Shape::of(fresh.mesh.corners(q)).scaled_jacobian)
-                    .fold(f64::INFINITY, f64::min);
+                let worst = fresh.mesh.worst_scaled_jacobian();
                 if best.as_ref().is_none_or(|b| worst > b.0) {
                     best = Some((worst, fresh, r));
                 }
