@@ -18,19 +18,7 @@ fn model() -> Arc<dyn Model> {
 /// A `w × h` rectangle with `m` segments along the long sides and `n` up
 /// the short ones.
 fn plate(w: f64, h: f64, m: usize, n: usize) -> Boundary {
-    let mut p = Vec::new();
-    for i in 0..m {
-        p.push(Point::new(w * i as f64 / m as f64, 0.0));
-    }
-    for j in 0..n {
-        p.push(Point::new(w, h * j as f64 / n as f64));
-    }
-    for i in 0..m {
-        p.push(Point::new(w * (m - i) as f64 / m as f64, h));
-    }
-    for j in 0..n {
-        p.push(Point::new(0.0, h * (n - j) as f64 / n as f64));
-    }
+    let p = common::rectangle(Point::ZERO, w, h, m, n, m);
     let k = p.len();
     Boundary::new(p, vec![(0..k).collect()], None).expect("a valid boundary")
 }
@@ -95,34 +83,13 @@ fn mapping_keeps_to_narrow_loops() {
 fn strips_between_fronts_close_by_grids() {
     // A 24 × 6 plate with a 20 × 2 slot in the middle: one strip of two
     // rows all round.
-    let mut p = Vec::new();
-    for i in 0..24 {
-        p.push(Point::new(i as f64, 0.0));
-    }
-    for j in 0..6 {
-        p.push(Point::new(24.0, j as f64));
-    }
-    for i in 0..24 {
-        p.push(Point::new(24.0 - i as f64, 6.0));
-    }
-    for j in 0..6 {
-        p.push(Point::new(0.0, 6.0 - j as f64));
-    }
+    let mut p = common::rectangle(Point::ZERO, 24.0, 6.0, 24, 6, 24);
     let outer: Vec<usize> = (0..p.len()).collect();
     let first = p.len();
-    // The hole, clockwise.
-    for j in 0..2 {
-        p.push(Point::new(2.0, 2.0 + j as f64));
-    }
-    for i in 0..20 {
-        p.push(Point::new(2.0 + i as f64, 4.0));
-    }
-    for j in 0..2 {
-        p.push(Point::new(22.0, 4.0 - j as f64));
-    }
-    for i in 0..20 {
-        p.push(Point::new(22.0 - i as f64, 2.0));
-    }
+    // The hole, clockwise from its lower left corner.
+    let mut slot = common::rectangle(Point::new(2.0, 2.0), 20.0, 2.0, 20, 2, 20);
+    slot[1..].reverse();
+    p.extend(slot);
     let hole: Vec<usize> = (first..p.len()).collect();
     let b = Boundary::new(p, vec![outer, hole], None).expect("a valid boundary");
     let (m, kinds) = stepped("slotted plate", &b, MeshParams::DEFAULT);

@@ -39,6 +39,16 @@ fn quadex<S: AsRef<OsStr>>(args: &[S]) -> Run {
     }
 }
 
+/// `quadex mesh INPUT -o OUT`.
+fn mesh_to(input: &Path, out: &Path) -> Run {
+    quadex(&[
+        "mesh".as_ref(),
+        input.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ])
+}
+
 /// Exit code 2 and one line naming `file` and containing `expect`, with no
 /// control character from the file.
 fn assert_refused(r: &Run, file: &str, expect: &str) {
@@ -54,12 +64,7 @@ fn assert_refused(r: &Run, file: &str, expect: &str) {
 fn mesh_refused(file: &str, expect: &str) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.msh");
-    let r = quadex(&[
-        "mesh".as_ref(),
-        repro(file).as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ]);
+    let r = mesh_to(&repro(file), &out);
     assert_refused(&r, file, expect);
     assert!(!out.exists());
 }
@@ -200,12 +205,7 @@ fn r10_extreme_coordinates_are_written_so_that_readers_read_them_exactly() {
     }
     // The reproducer itself: the 1e120 square meshed and read by meshio.
     let out = dir.path().join("r10.msh");
-    let r = quadex(&[
-        "mesh".as_ref(),
-        repro("R10_square_4nodes_1e120.poly").as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ]);
+    let r = mesh_to(&repro("R10_square_4nodes_1e120.poly"), &out);
     assert_eq!(r.code, Some(0), "{}", r.stderr);
     let got = meshio_points(&out, "None").unwrap();
     assert!(got.iter().all(|v| *v == 0.0 || *v == 1e120), "{got:?}");
@@ -393,12 +393,7 @@ fn r09_a_thin_annulus_of_120k_nodes_is_meshed() {
     let input = dir.path().join("R09.poly");
     std::fs::write(&input, r09_thin_annulus()).unwrap();
     let out = dir.path().join("x.msh");
-    let r = quadex(&[
-        "mesh".as_ref(),
-        input.as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ]);
+    let r = mesh_to(&input, &out);
     assert_eq!(r.code, Some(0), "{}", r.stderr);
     // Read back, the mesh passes the file checks too.
     let m = io::read_mesh(&out).unwrap();
@@ -463,12 +458,7 @@ fn outputs_in_missing_folders_leave_nothing_and_say_so_once() {
     assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
     assert!(r.stderr.contains("missing"), "{}", r.stderr);
     assert!(!out.exists());
-    let r = quadex(&[
-        "mesh".as_ref(),
-        square.as_os_str(),
-        "-o".as_ref(),
-        dir.path().join("missing/x.msh").as_os_str(),
-    ]);
+    let r = mesh_to(&square, &dir.path().join("missing/x.msh"));
     assert_ne!(r.code, Some(0));
     assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
     // An OS error at writing (the target is a folder) is printed once.
@@ -535,12 +525,7 @@ fn output_into_a_closed_pipe_ends_quietly() {
 fn meshed(file: &str) -> QuadMesh {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.msh");
-    let r = quadex(&[
-        "mesh".as_ref(),
-        repro(file).as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ]);
+    let r = mesh_to(&repro(file), &out);
     assert_eq!(r.code, Some(0), "{file}: {}", r.stderr);
     let m = io::read_mesh(&out).unwrap();
     m.check_finished().unwrap();

@@ -17,19 +17,7 @@ fn model() -> Arc<dyn Model> {
 /// A 12 × 4 rectangle with `bottom` segments along the bottom, 12 along the
 /// top and 4 up each side: fine below, coarse above.
 fn graded_rectangle(bottom: usize) -> Boundary {
-    let mut points = Vec::new();
-    for i in 0..bottom {
-        points.push(Point::new(12.0 * i as f64 / bottom as f64, 0.0));
-    }
-    for i in 0..4 {
-        points.push(Point::new(12.0, i as f64));
-    }
-    for i in 0..12 {
-        points.push(Point::new(12.0 - i as f64, 4.0));
-    }
-    for i in 0..4 {
-        points.push(Point::new(0.0, 4.0 - i as f64));
-    }
+    let points = common::rectangle(Point::ZERO, 12.0, 4.0, bottom, 4, 12);
     let n = points.len();
     Boundary::new(points, vec![(0..n).collect()], None).expect("a valid boundary")
 }
