@@ -164,17 +164,23 @@ pub fn fill_six(pts: &[Point; 6]) -> Option<Fill> {
     best(patterns(pts)).or_else(|| best(strip_patterns(pts)))
 }
 
+/// True when a loop's nodes repeat one (the loop touches itself there):
+/// such a loop is not closed as a whole.
+pub(super) fn is_pinched(nodes: &[u32]) -> bool {
+    let mut uniq = nodes.to_vec();
+    uniq.sort_unstable();
+    uniq.dedup();
+    uniq.len() != nodes.len()
+}
+
 impl Mesher {
     /// Closes a loop of 4 or 6 slots, if a valid closure exists.
     pub(super) fn close_small(&mut self, lid: u32) -> Option<StepReport> {
         let slots = self.front.loop_slots(lid);
         let nodes: Vec<u32> = slots.iter().map(|&s| self.front.node(s)).collect();
         let pts: Vec<Point> = nodes.iter().map(|&v| self.mesh.nodes[v as usize]).collect();
-        let mut uniq = nodes.clone();
-        uniq.sort_unstable();
-        uniq.dedup();
-        if uniq.len() != nodes.len() {
-            return None; // a pinched loop: leave it to extraction
+        if is_pinched(&nodes) {
+            return None; // leave it to extraction
         }
         match slots.len() {
             4 => {

@@ -1,8 +1,9 @@
 //! The step ladder: what one automatic step tries, in order (method §2,
 //! thesis §5.1): a first row on a loop without reference points, closing
-//! small loops, mapped grids on narrow logical rectangles, the fill inside the first layers, the reference points in
-//! queue order, seams, chord splits, a square cut, a relaxed rule-based
-//! element, relaxation, rip-up, and the fill as the last resort.
+//! small loops, mapped grids on narrow logical rectangles, the fill inside
+//! the first layers, the reference points in queue order, seams, chord
+//! splits, a square cut, a relaxed rule-based element, relaxation, rip-up,
+//! and the fill as the last resort.
 
 use super::candidate::Chosen;
 use super::guard::Limits;

@@ -15,6 +15,7 @@
 //! match. The grid is taken only if every quad is convex with a scaled
 //! Jacobian of at least [`MIN_SJ`] and no other loop lies inside.
 
+use super::closure::is_pinched;
 use super::report::{StepKind, StepReport};
 use super::session::Mesher;
 use crate::geom::{is_measurably_convex, Point};
@@ -86,7 +87,7 @@ pub fn rectangle(pts: &[Point]) -> Option<[usize; 4]> {
     if n < 4 || n % 2 == 1 {
         return None;
     }
-    let corner_cos = (PI_DEG - CORNER_MAX).to_radians().cos();
+    let corner_cos = (180.0 - CORNER_MAX).to_radians().cos();
     let side_cos = SIDE_TURN.to_radians().cos();
     let mut corners = [0usize; 4];
     let mut found = 0;
@@ -121,8 +122,6 @@ pub fn rectangle(pts: &[Point]) -> Option<[usize; 4]> {
     let start = if m2 > m1 { 1 } else { 0 };
     Some(std::array::from_fn(|t| corners[(t + start) % 4]))
 }
-
-const PI_DEG: f64 = 180.0;
 
 /// The transfinite-interpolation grid of a loop (counter-clockwise) over
 /// its four `corners` (from [`rectangle`]).
@@ -222,10 +221,7 @@ impl Mesher {
         if g.n > rows || !g.min_sj().is_some_and(|sj| sj >= MIN_SJ) {
             return None;
         }
-        let mut uniq = nodes.clone();
-        uniq.sort_unstable();
-        uniq.dedup();
-        if uniq.len() != nodes.len() || !self.loop_is_clear(&slots, &pts) {
+        if is_pinched(&nodes) || !self.loop_is_clear(&slots, &pts) {
             return None;
         }
         let mut r = self.report(StepKind::Mapped);
