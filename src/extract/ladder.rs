@@ -107,10 +107,11 @@ impl Mesher {
         }
         // 1b. Narrow logical rectangles close by a mapped grid.
         if self.params.mapped_rows.is_some() {
-            let loops: Vec<u32> = self.front.live_loops().collect();
-            for lid in loops {
-                if let Some(r) = self.close_mapped(lid) {
-                    return Ok(r);
+            for lid in 0..self.front.loops.len() as u32 {
+                if self.front.loops[lid as usize].alive {
+                    if let Some(r) = self.close_mapped(lid) {
+                        return Ok(r);
+                    }
                 }
             }
         }
