@@ -1,8 +1,9 @@
 //! Prints time per element for growing meshes: generated unit squares
 //! (n × n boundary segments a side) and the benchmark disks, meshed with
-//! the default model and parameters. Median of 3 runs, release build.
+//! the default model and parameters. Median of `RUNS` runs (3 unless
+//! given), release build.
 //!
-//! `cargo run --release --example scaling [MAX_SIDE]`
+//! `cargo run --release --example scaling [MAX_SIDE] [RUNS]`
 
 use quadex::extract::{MeshParams, Mesher};
 use quadex::model::{default_model, Model};
@@ -10,11 +11,11 @@ use quadex::Boundary;
 use std::sync::Arc;
 use std::time::Instant;
 
-fn time(b: &Boundary, model: &Arc<dyn Model>) -> Result<(usize, f64, f64), String> {
+fn time(b: &Boundary, model: &Arc<dyn Model>, n: usize) -> Result<(usize, f64, f64), String> {
     let mut runs = Vec::new();
     let mut quads = 0;
     let mut smooth_share = 0.0;
-    for _ in 0..3 {
+    for _ in 0..n {
         let t0 = Instant::now();
         let mut m = Mesher::new(b.clone(), model.clone(), MeshParams::DEFAULT);
         m.run(|_| {}).map_err(|e| e.to_string())?;
@@ -26,7 +27,7 @@ fn time(b: &Boundary, model: &Arc<dyn Model>) -> Result<(usize, f64, f64), Strin
         smooth_share = (t2 - t1).as_secs_f64() / (t2 - t0).as_secs_f64();
     }
     runs.sort_by(f64::total_cmp);
-    Ok((quads, runs[1], smooth_share))
+    Ok((quads, runs[runs.len() / 2], smooth_share))
 }
 
 fn main() {
@@ -34,12 +35,17 @@ fn main() {
         .nth(1)
         .and_then(|s| s.parse().ok())
         .unwrap_or(1024);
+    let runs: usize = std::env::args()
+        .nth(2)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(3)
+        .max(1);
     let model: Arc<dyn Model> = Arc::new(default_model().expect("the shipped model"));
     println!("| case | quads | median s | µs / quad | improvement share |");
     println!("|---|---:|---:|---:|---:|");
     let mut n = 32;
     while n <= max {
-        match time(&Boundary::unit_square(n), &model) {
+        match time(&Boundary::unit_square(n), &model, runs) {
             Ok((q, t, s)) => println!(
                 "| square {n}×{n} | {q} | {t:.3} | {:.2} | {:.0}% |",
                 1e6 * t / q as f64,
@@ -54,7 +60,7 @@ fn main() {
         let Ok(b) = quadex::io::read_boundary(&dir.join(format!("{name}.poly"))) else {
             continue;
         };
-        match time(&b, &model) {
+        match time(&b, &model, runs) {
             Ok((q, t, s)) => println!(
                 "| {name} | {q} | {t:.3} | {:.2} | {:.0}% |",
                 1e6 * t / q as f64,

@@ -9,13 +9,21 @@ use super::candidate::Chosen;
 use super::guard::Limits;
 use super::params::Strategy;
 
-/// Rip-ups a run may take.
-const RIP_UPS: usize = 64;
 use super::repair::Squares;
 use super::report::{MeshError, Remedy, StepReport};
 use super::session::{Mesher, PROGRESS_WINDOW};
 use crate::front::SlotId;
 use std::f64::consts::PI;
+
+/// Rip-ups a run may take, plus one per [`RIP_UP_QUADS`] quads made: a
+/// large domain has fronts meet in many places, each of which may need one.
+const RIP_UPS: usize = 64;
+/// See [`RIP_UPS`].
+const RIP_UP_QUADS: usize = 4096;
+/// Relaxations a run may take, plus one per [`RELAX_QUADS`] quads made.
+const RELAXES: usize = 400;
+/// See [`RELAXES`].
+const RELAX_QUADS: usize = 512;
 
 /// Loops up to this many nodes are split along a chord before a square is
 /// cut on them.
@@ -299,7 +307,8 @@ impl Mesher {
         }
         // 9. Straighten the smallest stuck loop, moving its interior nodes.
         if let Some(&lid) = loops.first() {
-            if self.relaxes < 400 && self.relax_streak < 3 {
+            if self.relaxes < RELAXES + self.mesh.quads.len() / RELAX_QUADS && self.relax_streak < 3
+            {
                 if let Some(r) = self.relax_loop(lid) {
                     self.relaxes += 1;
                     self.relax_streak += 1;
@@ -309,7 +318,7 @@ impl Mesher {
         }
         // 10. Give the smallest stuck loop room: remove the elements around it.
         if let Some(&lid) = loops.first() {
-            if self.rip_ups < RIP_UPS {
+            if self.rip_ups < RIP_UPS + self.mesh.quads.len() / RIP_UP_QUADS {
                 let r = self.rip_up(lid, 1 + self.rip_ups % 4);
                 self.rip_ups += 1;
                 if r.removed > 0 || !r.quads.is_empty() {
@@ -317,7 +326,7 @@ impl Mesher {
                 }
                 // Nothing around the loop to remove and no split: rip-ups
                 // cannot help any more.
-                self.rip_ups = RIP_UPS;
+                self.rip_ups = usize::MAX / 2;
             }
         }
         // 11. Fill the region left.
