@@ -255,12 +255,22 @@ fn parse_layers(s: &str) -> Result<Layers, String> {
 struct Transitions(Option<f64>);
 
 fn parse_transitions(s: &str) -> Result<Transitions, String> {
+    off_or(s, |r: &f64| *r > 1.0 && r.is_finite(), "a ratio above 1").map(Transitions)
+}
+
+/// A value `keep` accepts, or `off` (`None`); `what` names the value in
+/// the error.
+fn off_or<T: std::str::FromStr>(
+    s: &str,
+    keep: impl Fn(&T) -> bool,
+    what: &str,
+) -> Result<Option<T>, String> {
     if s == "off" {
-        return Ok(Transitions(None));
+        return Ok(None);
     }
-    match s.parse::<f64>() {
-        Ok(r) if r > 1.0 && r.is_finite() => Ok(Transitions(Some(r))),
-        _ => Err(format!("`{s}` is not a ratio above 1 or `off`")),
+    match s.parse::<T>() {
+        Ok(v) if keep(&v) => Ok(Some(v)),
+        _ => Err(format!("`{s}` is not {what} or `off`")),
     }
 }
 
@@ -269,13 +279,7 @@ fn parse_transitions(s: &str) -> Result<Transitions, String> {
 struct MappedRows(Option<usize>);
 
 fn parse_mapped_rows(s: &str) -> Result<MappedRows, String> {
-    if s == "off" {
-        return Ok(MappedRows(None));
-    }
-    match s.parse::<usize>() {
-        Ok(n) if n >= 1 => Ok(MappedRows(Some(n))),
-        _ => Err(format!("`{s}` is not a count of at least 1 or `off`")),
-    }
+    off_or(s, |n: &usize| *n >= 1, "a count of at least 1").map(MappedRows)
 }
 
 fn parse_points(s: &str) -> Result<usize, String> {
