@@ -167,9 +167,13 @@ pub struct Front {
 
 impl Front {
     /// The initial front: one loop per boundary loop. `nodes` are the
-    /// positions; the grid's cells are about `cell` wide.
+    /// positions; the grid's cells are about `cell` wide and cover the
+    /// loops' nodes (a front only moves into the region its loops bound;
+    /// a front rebuilt around a small hole in a large mesh gets a grid of
+    /// that hole's extent, not of the mesh's).
     pub fn new(loops: &[Vec<u32>], nodes: &[Point], cell: f64) -> Front {
-        let bb = Aabb::of(nodes.iter().copied()).unwrap_or(Aabb {
+        let on_loops = loops.iter().flatten().map(|&v| nodes[v as usize]);
+        let bb = Aabb::of(on_loops).unwrap_or(Aabb {
             min: Point::ZERO,
             max: Point::ONE,
         });
@@ -641,5 +645,45 @@ impl Front {
             ));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A front rebuilt around a small hole in a large mesh (as a rip-up
+    /// does) gets cells of the size asked for over the hole, not cells
+    /// stretched over the whole mesh, so a query near one edge reads only
+    /// the edges around it.
+    #[test]
+    fn grid_covers_the_loops_not_the_mesh() {
+        let mut nodes = vec![
+            Point::new(-500.0, -500.0),
+            Point::new(500.0, -500.0),
+            Point::new(500.0, 500.0),
+            Point::new(-500.0, 500.0),
+        ];
+        // A ring of 16 nodes of radius 4 at the centre.
+        let ring: Vec<u32> = (0..16)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 16.0;
+                nodes.push(Point::new(4.0 * a.cos(), 4.0 * a.sin()));
+                nodes.len() as u32 - 1
+            })
+            .collect();
+        let f = Front::new(&[ring], &nodes, 1.0);
+        assert!(
+            f.grid.nx <= 9 && f.grid.ny <= 9,
+            "{} × {}",
+            f.grid.nx,
+            f.grid.ny
+        );
+        let p = nodes[f.node(0) as usize];
+        let mut near = Vec::new();
+        f.edges_near(p - Point::splat(0.1), p + Point::splat(0.1), &mut near);
+        assert!(near.contains(&0) && near.contains(&15), "{near:?}");
+        assert!(near.len() <= 4, "{near:?}");
+        f.check_invariants(&nodes).expect("a valid front");
     }
 }
