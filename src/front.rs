@@ -327,8 +327,6 @@ impl Front {
     /// Type 0: the node at slot `s` is replaced by `node` (same loop).
     pub fn replace_node(&mut self, s: SlotId, node: u32, layer: u32, nodes: &[Point]) {
         let p = self.prev(s);
-        self.grid.remove(p);
-        self.grid.remove(s);
         self.slots[s as usize].node = node;
         self.slots[s as usize].layer = layer;
         self.grid_insert(p, nodes);
@@ -428,8 +426,6 @@ impl Front {
     /// Returns the loop ids of `a` and `b` afterwards.
     pub fn exchange_successors(&mut self, a: SlotId, b: SlotId, nodes: &[Point]) -> (u32, u32) {
         debug_assert_eq!(self.node(a), self.node(b));
-        self.grid.remove(a);
-        self.grid.remove(b);
         let an = self.next(a);
         let bn = self.next(b);
         self.slots[a as usize].next = bn;

@@ -174,11 +174,18 @@ pub(super) fn is_pinched(nodes: &[u32]) -> bool {
 }
 
 impl Mesher {
-    /// Closes a loop of 4 or 6 slots, if a valid closure exists.
-    pub(super) fn close_small(&mut self, lid: u32) -> Option<StepReport> {
+    /// Loop `lid`'s slots, their nodes and the nodes' positions, in loop
+    /// order from its head.
+    pub(super) fn loop_geometry(&self, lid: u32) -> (Vec<SlotId>, Vec<u32>, Vec<Point>) {
         let slots = self.front.loop_slots(lid);
         let nodes: Vec<u32> = slots.iter().map(|&s| self.front.node(s)).collect();
         let pts: Vec<Point> = nodes.iter().map(|&v| self.mesh.nodes[v as usize]).collect();
+        (slots, nodes, pts)
+    }
+
+    /// Closes a loop of 4 or 6 slots, if a valid closure exists.
+    pub(super) fn close_small(&mut self, lid: u32) -> Option<StepReport> {
+        let (slots, nodes, pts) = self.loop_geometry(lid);
         if is_pinched(&nodes) {
             return None; // leave it to extraction
         }

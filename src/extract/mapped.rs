@@ -213,15 +213,16 @@ impl Mesher {
             self.mapped_seen.resize(lid as usize + 1, 0);
         }
         self.mapped_seen[lid as usize] = l.version;
-        let slots = self.front.loop_slots(lid);
-        let nodes: Vec<u32> = slots.iter().map(|&s| self.front.node(s)).collect();
-        let pts: Vec<Point> = nodes.iter().map(|&v| self.mesh.nodes[v as usize]).collect();
+        let (slots, nodes, pts) = self.loop_geometry(lid);
+        if is_pinched(&nodes) {
+            return None;
+        }
         let corners = rectangle(&pts)?;
         let g = grid(&pts, corners);
         if g.n > rows || !g.min_sj().is_some_and(|sj| sj >= MIN_SJ) {
             return None;
         }
-        if is_pinched(&nodes) || !self.loop_is_clear(&slots, &pts) {
+        if !self.loop_is_clear(&slots, &pts) {
             return None;
         }
         let mut r = self.report(StepKind::Mapped);
