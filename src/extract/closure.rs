@@ -352,7 +352,9 @@ impl Mesher {
     }
 
     /// No other front edge or node lies inside the loop `slots` (e.g. a hole
-    /// not yet joined).
+    /// not yet joined). A node the loop itself has is on its boundary, not
+    /// inside: a neighbouring loop cut off along a chord shares the chord's
+    /// nodes, and they do not stop either loop from closing.
     pub(super) fn loop_is_clear(&mut self, slots: &[SlotId], pts: &[Point]) -> bool {
         let Some(bb) = crate::geom::Aabb::of(pts.iter().copied()) else {
             return true;
@@ -360,9 +362,12 @@ impl Mesher {
         self.front
             .edges_near(bb.min, bb.max, &mut self.scratch.near);
         let lid = self.front.slot(slots[0]).loop_id;
+        let own: Vec<u32> = slots.iter().map(|&s| self.front.node(s)).collect();
         self.scratch.near.iter().all(|&e| {
+            let v = self.front.node(e);
             self.front.slot(e).loop_id == lid
-                || !crate::geom::point_in_polygon(self.mesh.nodes[self.front.node(e) as usize], pts)
+                || own.contains(&v)
+                || !crate::geom::point_in_polygon(self.mesh.nodes[v as usize], pts)
         })
     }
 }
@@ -385,6 +390,38 @@ mod tests {
         let f = fill_six(&pts).unwrap();
         assert_eq!(f.pattern, 'c');
         assert!((f.min_sj - 1.0).abs() < 1e-12);
+    }
+
+    /// Two 6-node loops parted by a chord of two nodes across a 2 × 1
+    /// rectangle: each closes, though the other's nodes lie on its side
+    /// (a point-in-polygon test of a node on the boundary may say inside).
+    #[test]
+    fn loops_sharing_a_chord_both_close() {
+        use crate::extract::{MeshParams, Mesher};
+        use crate::front::Front;
+        let p = |x, y| Point::new(x, y);
+        let pts = vec![
+            p(0., 0.),
+            p(1., 0.),
+            p(2., 0.),
+            p(2., 1.),
+            p(1., 1.),
+            p(0., 1.),
+        ];
+        let b = crate::boundary::Boundary::new(pts, vec![vec![0, 1, 2, 3, 4, 5]], None).unwrap();
+        let model = std::sync::Arc::new(crate::model::default_model().unwrap());
+        let mut m = Mesher::new(b, model, MeshParams::DEFAULT);
+        let low = m.add_node(p(1., 1. / 3.));
+        let high = m.add_node(p(1., 2. / 3.));
+        let left = vec![0, 1, low, high, 4, 5];
+        let right = vec![1, 2, 3, 4, high, low];
+        m.front = Front::new(&[left, right], &m.mesh.nodes, 0.5);
+        for lid in [1, 0] {
+            let r = m.close_small(lid).expect("the loop closes");
+            assert_eq!(r.kind, StepKind::Close6);
+        }
+        assert!(m.front.is_empty());
+        m.mesh.check_invariants(true).unwrap();
     }
 
     #[test]

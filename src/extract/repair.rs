@@ -10,6 +10,10 @@ use crate::front::{Front, SlotId};
 use crate::geom::{ccw_angle, Point};
 use std::f64::consts::PI;
 
+/// A chord passes every front node other than its ends at least this far,
+/// as a share of the front's spacing at its ends.
+const CHORD_CLEARANCE: f64 = 0.1;
+
 /// Where [`Mesher::square_cut`] looks for the shortest front edge.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Squares {
@@ -434,7 +438,7 @@ impl Mesher {
                 if best.is_some_and(|(bs, ..)| score >= bs) {
                     continue;
                 }
-                if !self.chord_clear(a, b) {
+                if !self.chord_clear(a, b, CHORD_CLEARANCE * h) {
                     continue;
                 }
                 best = Some((score, a, b, k));
@@ -498,11 +502,24 @@ impl Mesher {
             % 2
     }
 
-    /// The open segment between slots `a` and `b` meets no front edge.
-    pub(super) fn chord_clear(&mut self, a: SlotId, b: SlotId) -> bool {
+    /// The open segment between slots `a` and `b` meets no front edge and
+    /// passes no front node closer than `clearance`: a chord that grazes a
+    /// node would cut off a sliver, or put a chord node on top of it.
+    pub(super) fn chord_clear(&mut self, a: SlotId, b: SlotId, clearance: f64) -> bool {
         let (pa, pb) = (self.world(a), self.world(b));
         let skip = [self.front.node(a), self.front.node(b)];
-        !self.crosses_front(pa, pb, &skip)
+        if self.crosses_front(pa, pb, &skip) {
+            return false;
+        }
+        let pad = Point::splat(clearance);
+        self.front
+            .edges_near(pa.min(pb) - pad, pa.max(pb) + pad, &mut self.scratch.near);
+        self.scratch.near.iter().all(|&e| {
+            let v = self.front.node(e);
+            skip.contains(&v)
+                || crate::geom::point_segment_distance(self.mesh.nodes[v as usize], pa, pb)
+                    >= clearance
+        })
     }
 
     /// True when segment `pa–pb` meets a front edge that has none of the
@@ -521,5 +538,46 @@ impl Mesher {
                     self.mesh.nodes[d as usize],
                 )
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::extract::{MeshParams, Mesher};
+    use crate::geom::Point;
+
+    /// A notch reaching down to a hair above the line from (0, 1) to
+    /// (2, 1): the chord along that line crosses no edge, but passes the
+    /// notch's tip too closely to be taken.
+    #[test]
+    fn a_chord_keeps_clear_of_front_nodes() {
+        let p = |x, y| Point::new(x, y);
+        let pts = vec![
+            p(0., 0.),
+            p(2., 0.),
+            p(2., 1.),
+            p(2., 2.),
+            p(1.01, 2.),
+            p(1., 1. + 1e-9),
+            p(0.99, 2.),
+            p(0., 2.),
+            p(0., 1.),
+            p(0., 0.5),
+        ];
+        let b = crate::boundary::Boundary::new(pts, vec![(0..10).collect()], None).unwrap();
+        let model = std::sync::Arc::new(crate::model::default_model().unwrap());
+        let mut m = Mesher::new(b, model, MeshParams::DEFAULT);
+        let slots = m.front.loop_slots(0);
+        let at = |m: &Mesher, q: Point| {
+            *slots
+                .iter()
+                .find(|&&s| m.world(s) == q)
+                .expect("a slot there")
+        };
+        let (a, c) = (at(&m, p(2., 1.)), at(&m, p(0., 1.)));
+        assert!(m.chord_clear(a, c, 0.0));
+        assert!(!m.chord_clear(a, c, 0.1));
+        let d = at(&m, p(0., 0.5));
+        assert!(m.chord_clear(a, d, 0.1));
     }
 }
