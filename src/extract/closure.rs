@@ -196,7 +196,7 @@ impl Mesher {
                 if !crate::geom::is_strictly_convex(q) || !self.pinned_corners_turn(q, ids) {
                     return None;
                 }
-                if !self.loop_is_clear(&slots, &pts) {
+                if !self.loop_is_clear(&slots, &nodes, &pts) {
                     return None;
                 }
                 let mut r = self.report(StepKind::Close4);
@@ -209,7 +209,7 @@ impl Mesher {
             6 => {
                 let p6: [Point; 6] = std::array::from_fn(|k| pts[k]);
                 let fill = fill_six(&p6)?;
-                if !self.loop_is_clear(&slots, &pts) {
+                if !self.loop_is_clear(&slots, &nodes, &pts) {
                     return None;
                 }
                 if fill
@@ -351,22 +351,22 @@ impl Mesher {
         count <= 1
     }
 
-    /// No other front edge or node lies inside the loop `slots` (e.g. a hole
-    /// not yet joined). A node the loop itself has is on its boundary, not
-    /// inside: a neighbouring loop cut off along a chord shares the chord's
-    /// nodes, and they do not stop either loop from closing.
-    pub(super) fn loop_is_clear(&mut self, slots: &[SlotId], pts: &[Point]) -> bool {
+    /// No other front edge or node lies inside the loop `slots` (its
+    /// `nodes` at `pts`, as [`Mesher::loop_geometry`] gives them; e.g. a
+    /// hole not yet joined). A node the loop itself has is on its boundary,
+    /// not inside: a neighbouring loop cut off along a chord shares the
+    /// chord's nodes, and they do not stop either loop from closing.
+    pub(super) fn loop_is_clear(&mut self, slots: &[SlotId], nodes: &[u32], pts: &[Point]) -> bool {
         let Some(bb) = crate::geom::Aabb::of(pts.iter().copied()) else {
             return true;
         };
         self.front
             .edges_near(bb.min, bb.max, &mut self.scratch.near);
         let lid = self.front.slot(slots[0]).loop_id;
-        let own: Vec<u32> = slots.iter().map(|&s| self.front.node(s)).collect();
         self.scratch.near.iter().all(|&e| {
             let v = self.front.node(e);
             self.front.slot(e).loop_id == lid
-                || own.contains(&v)
+                || nodes.contains(&v)
                 || !crate::geom::point_in_polygon(self.mesh.nodes[v as usize], pts)
         })
     }
@@ -376,18 +376,23 @@ impl Mesher {
 mod tests {
     use super::*;
 
-    #[test]
-    fn rectangle_of_six_uses_the_diagonal() {
+    /// A 2 × 1 rectangle with a node half-way along each long side,
+    /// counter-clockwise from the origin.
+    fn two_by_one() -> [Point; 6] {
         let p = |x, y| Point::new(x, y);
-        let pts = [
+        [
             p(0., 0.),
             p(1., 0.),
             p(2., 0.),
             p(2., 1.),
             p(1., 1.),
             p(0., 1.),
-        ];
-        let f = fill_six(&pts).unwrap();
+        ]
+    }
+
+    #[test]
+    fn rectangle_of_six_uses_the_diagonal() {
+        let f = fill_six(&two_by_one()).unwrap();
         assert_eq!(f.pattern, 'c');
         assert!((f.min_sj - 1.0).abs() < 1e-12);
     }
@@ -397,20 +402,9 @@ mod tests {
     /// (a point-in-polygon test of a node on the boundary may say inside).
     #[test]
     fn loops_sharing_a_chord_both_close() {
-        use crate::extract::{MeshParams, Mesher};
         use crate::front::Front;
         let p = |x, y| Point::new(x, y);
-        let pts = vec![
-            p(0., 0.),
-            p(1., 0.),
-            p(2., 0.),
-            p(2., 1.),
-            p(1., 1.),
-            p(0., 1.),
-        ];
-        let b = crate::boundary::Boundary::new(pts, vec![vec![0, 1, 2, 3, 4, 5]], None).unwrap();
-        let model = std::sync::Arc::new(crate::model::default_model().unwrap());
-        let mut m = Mesher::new(b, model, MeshParams::DEFAULT);
+        let mut m = Mesher::of_loop(two_by_one().to_vec());
         let low = m.add_node(p(1., 1. / 3.));
         let high = m.add_node(p(1., 2. / 3.));
         let left = vec![0, 1, low, high, 4, 5];

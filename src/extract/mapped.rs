@@ -222,7 +222,7 @@ impl Mesher {
         if g.n > rows || !g.min_sj().is_some_and(|sj| sj >= MIN_SJ) {
             return None;
         }
-        if !self.loop_is_clear(&slots, &pts) {
+        if !self.loop_is_clear(&slots, &nodes, &pts) {
             return None;
         }
         let mut r = self.report(StepKind::Mapped);

@@ -543,7 +543,7 @@ impl Mesher {
 
 #[cfg(test)]
 mod tests {
-    use crate::extract::{MeshParams, Mesher};
+    use crate::extract::Mesher;
     use crate::geom::Point;
 
     /// A notch reaching down to a hair above the line from (0, 1) to
@@ -564,9 +564,7 @@ mod tests {
             p(0., 1.),
             p(0., 0.5),
         ];
-        let b = crate::boundary::Boundary::new(pts, vec![(0..10).collect()], None).unwrap();
-        let model = std::sync::Arc::new(crate::model::default_model().unwrap());
-        let mut m = Mesher::new(b, model, MeshParams::DEFAULT);
+        let mut m = Mesher::of_loop(pts);
         let slots = m.front.loop_slots(0);
         let at = |m: &Mesher, q: Point| {
             *slots

@@ -707,3 +707,15 @@ impl Mesher {
         before - self.mesh.quads.len()
     }
 }
+
+#[cfg(test)]
+impl Mesher {
+    /// A mesher with the shipped model and the default parameters over one
+    /// boundary loop through `pts`, for tests that set up a front by hand.
+    pub(super) fn of_loop(pts: Vec<Point>) -> Mesher {
+        let loop_ids: Vec<usize> = (0..pts.len()).collect();
+        let b = Boundary::new(pts, vec![loop_ids], None).expect("a valid loop");
+        let model = Arc::new(crate::model::default_model().expect("the shipped model"));
+        Mesher::new(b, model, MeshParams::DEFAULT)
+    }
+}
