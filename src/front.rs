@@ -40,27 +40,34 @@ pub struct FrontLoop {
 }
 
 /// Uniform grid of segments, each filed under an id (the front files an
-/// edge under its start slot) in every cell its bounding box touches.
+/// edge under its start slot) in every cell the segment passes through: a
+/// long edge (a needle's side across a fine grid) costs the cells along
+/// it, not the cells of its bounding box.
 ///
 /// A query costs the cells it covers or, when that is more, one pass over
-/// the ids: a box many cells wide (a long reach where the grid is fine for
-/// the smallest edges) never costs more than a scan. Each id is reported
-/// once, from the first cell its box shares with the query, so no
-/// duplicates are gathered and sorted away.
+/// the ids' bounding boxes: a box many cells wide (a long reach where the
+/// grid is fine for the smallest edges) never costs more than a scan.
 #[derive(Clone, Debug)]
 pub(crate) struct EdgeGrid {
     origin: Point,
+    cell: f64,
     inv_cell: f64,
     nx: usize,
     ny: usize,
     cells: Vec<Vec<SlotId>>,
-    /// Each id's cell range `[x0, y0, x1, y1]`; [`EdgeGrid::UNFILED`] when
-    /// the id is not filed.
+    /// Each id's bounding cell range `[x0, y0, x1, y1]`;
+    /// [`EdgeGrid::UNFILED`] when the id is not filed.
     spans: Vec<[u32; 4]>,
+    /// Each id's segment, as filed (its cells are found from it again
+    /// when it is taken out).
+    ends: Vec<[Point; 2]>,
 }
 
 impl EdgeGrid {
     const UNFILED: [u32; 4] = [u32::MAX; 4];
+    /// A segment is filed under the cells within this fraction of a cell
+    /// of it, so one along a cell border is found from either side.
+    const PAD: f64 = 1e-6;
 
     pub(crate) fn new(bb: Aabb, cell: f64, max_cells: usize) -> EdgeGrid {
         let size = bb.size().max(Point::splat(cell));
@@ -72,15 +79,16 @@ impl EdgeGrid {
         let ny = ((size.y / cell).ceil() as usize).max(1);
         EdgeGrid {
             origin: bb.min,
+            cell,
             inv_cell: 1.0 / cell,
             nx,
             ny,
             cells: vec![Vec::new(); nx * ny],
             spans: Vec::new(),
+            ends: Vec::new(),
         }
     }
 
-    #[inline]
     fn cell_range(&self, lo: Point, hi: Point) -> [u32; 4] {
         let f = |v: f64, n: usize| (v.max(0.0) as usize).min(n - 1) as u32;
         let a = (lo - self.origin) * self.inv_cell;
@@ -93,22 +101,54 @@ impl EdgeGrid {
         ]
     }
 
-    /// Files `s` under the cells of the box of `a` and `b` (an id already
-    /// filed is moved).
+    /// Calls `f` with the index of every cell segment `a`–`b` passes
+    /// through, `span` being its bounding cell range: column by column,
+    /// the rows the segment crosses within the column (cells beyond the
+    /// grid's edge count as its border cells).
+    fn for_cells(&self, a: Point, b: Point, span: [u32; 4], mut f: impl FnMut(usize)) {
+        let [x0, y0, x1, y1] = span;
+        if x0 == x1 || y0 == y1 {
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    f(y as usize * self.nx + x as usize);
+                }
+            }
+            return;
+        }
+        let (a, b) = if a.x <= b.x { (a, b) } else { (b, a) };
+        let slope = (b.y - a.y) / (b.x - a.x);
+        let row = |y: f64, pad: f64| {
+            let v = (y - self.origin.y) * self.inv_cell + pad;
+            (v.max(0.0) as u32).clamp(y0, y1)
+        };
+        for x in x0..=x1 {
+            let left = self.origin.x + x as f64 * self.cell;
+            let xa = if x == x0 { a.x } else { left };
+            let xb = if x == x1 { b.x } else { left + self.cell };
+            let ya = a.y + slope * (xa - a.x);
+            let yb = a.y + slope * (xb - a.x);
+            let (lo, hi) = (row(ya.min(yb), -Self::PAD), row(ya.max(yb), Self::PAD));
+            for y in lo..=hi {
+                f(y as usize * self.nx + x as usize);
+            }
+        }
+    }
+
+    /// Files `s` under the cells of segment `a`–`b` (an id already filed
+    /// is moved).
     pub(crate) fn insert(&mut self, s: SlotId, a: Point, b: Point) {
         self.remove(s);
         let span = self.cell_range(a.min(b), a.max(b));
-        let [x0, y0, x1, y1] = span;
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                self.cells[y as usize * self.nx + x as usize].push(s);
-            }
-        }
+        let mut cells = std::mem::take(&mut self.cells);
+        self.for_cells(a, b, span, |c| cells[c].push(s));
+        self.cells = cells;
         let k = s as usize;
         if self.spans.len() <= k {
             self.spans.resize(k + 1, Self::UNFILED);
+            self.ends.resize(k + 1, [Point::ZERO; 2]);
         }
         self.spans[k] = span;
+        self.ends[k] = [a, b];
     }
 
     /// Takes `s` out of the grid (nothing if it is not filed).
@@ -119,15 +159,16 @@ impl EdgeGrid {
         if *span == Self::UNFILED {
             return;
         }
-        let [x0, y0, x1, y1] = std::mem::replace(span, Self::UNFILED);
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                let c = &mut self.cells[y as usize * self.nx + x as usize];
-                if let Some(k) = c.iter().position(|&t| t == s) {
-                    c.swap_remove(k);
-                }
+        let span = std::mem::replace(span, Self::UNFILED);
+        let [a, b] = self.ends[s as usize];
+        let mut cells = std::mem::take(&mut self.cells);
+        self.for_cells(a, b, span, |c| {
+            let c = &mut cells[c];
+            if let Some(k) = c.iter().position(|&t| t == s) {
+                c.swap_remove(k);
             }
-        }
+        });
+        self.cells = cells;
     }
 
     /// The ids filed in cells that meet the box `lo..hi`, sorted, once each.
@@ -144,15 +185,11 @@ impl EdgeGrid {
         }
         for y in y0..=y1 {
             for x in x0..=x1 {
-                for &s in &self.cells[y as usize * self.nx + x as usize] {
-                    let sp = self.spans[s as usize];
-                    if sp[0].max(x0) == x && sp[1].max(y0) == y {
-                        out.push(s);
-                    }
-                }
+                out.extend_from_slice(&self.cells[y as usize * self.nx + x as usize]);
             }
         }
         out.sort_unstable();
+        out.dedup();
     }
 }
 
@@ -647,6 +684,38 @@ impl Front {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A long diagonal segment is filed under the cells along it, not the
+    /// cells of its box: a query off the diagonal in a corner of its box
+    /// does not find it, one on it does, and taking it out empties every
+    /// cell.
+    #[test]
+    fn a_long_segment_is_filed_along_its_cells() {
+        let bb = Aabb {
+            min: Point::ZERO,
+            max: Point::splat(100.0),
+        };
+        let mut g = EdgeGrid::new(bb, 1.0, 1 << 20);
+        g.insert(7, Point::new(0.5, 0.5), Point::new(99.5, 99.5));
+        let filed: usize = g.cells.iter().map(Vec::len).sum();
+        assert!((100..=400).contains(&filed), "{filed} cells");
+        let mut out = Vec::new();
+        // (Single cells: a query over more cells than there are ids scans
+        // the ids' boxes instead.)
+        g.query(Point::new(91.0, 6.0), Point::new(91.0, 6.0), &mut out);
+        assert!(out.is_empty(), "{out:?}");
+        g.query(Point::new(50.2, 49.8), Point::new(50.2, 49.8), &mut out);
+        assert_eq!(out, vec![7]);
+        // Along a cell border.
+        g.insert(8, Point::new(10.0, 2.5), Point::new(10.0, 60.5));
+        for x in [10.0, 10.1] {
+            g.query(Point::new(x, 30.0), Point::new(x, 30.0), &mut out);
+            assert_eq!(out, vec![8], "at x = {x}");
+        }
+        g.remove(7);
+        g.remove(8);
+        assert!(g.cells.iter().all(Vec::is_empty));
+    }
 
     /// A front rebuilt around a small hole in a large mesh (as a rip-up
     /// does) gets cells of the size asked for over the hole, not cells

@@ -84,6 +84,12 @@ const TIP_SLACK: f64 = 5.0 * PI / 180.0;
 /// The kite at a sharp corner reaches this fraction of the way to right
 /// angles beside the tip.
 const TIP_REACH: f64 = 0.95;
+/// The kite that closes a needle (a corner whose sides are more than
+/// [`NEEDLE_RATIO`](super::guard::NEEDLE_RATIO) times the distance
+/// between their far ends) puts its new node this many such distances past
+/// the middle of that span: shallow, so the front it leaves stays smooth
+/// (about 157° at the span's ends and 203° at the new node).
+const NEEDLE_DEPTH: f64 = 0.1;
 
 /// A front node whose angle is above this is a row's side (below, it is a
 /// corner the row ends at).
@@ -136,6 +142,30 @@ impl Mesher {
     }
 
     /// Leading slots `l_N..l1, P0, r1..r_N` of reference slot `s`.
+    /// True when the front corner at `s` is a needle
+    /// ([`guard::is_needle`]): its kite is taken however it scores, as no
+    /// better element can take that corner.
+    pub(super) fn at_needle(&self, s: SlotId) -> bool {
+        let (l, r) = (self.front.prev(s), self.front.next(s));
+        guard::is_needle(self.world(s), self.world(l), self.world(r))
+    }
+
+    /// At a needle ([`Mesher::at_needle`]), the new node of the kite that
+    /// closes it across its narrow end: no kite meets the side ratio there.
+    pub(super) fn needle_kite(&self, s: SlotId) -> Option<Point> {
+        if !self.at_needle(s) {
+            return None;
+        }
+        let (p0, pl, pr) = (
+            self.world(s),
+            self.world(self.front.prev(s)),
+            self.world(self.front.next(s)),
+        );
+        let mid = 0.5 * (pl + pr);
+        let dir = (mid - p0).normalize_or_zero();
+        Some(mid + dir * (NEEDLE_DEPTH * pl.distance(pr)))
+    }
+
     pub(super) fn leading_slots(&self, s: SlotId, n: usize) -> Vec<SlotId> {
         let mut v = vec![s; 2 * n + 1];
         let (mut l, mut r) = (s, s);
@@ -176,7 +206,13 @@ impl Mesher {
             Cand::New { s, pn } => 0.5 * (self.world(s) + pn),
             Cand::Snap { s, .. } | Cand::Right { s } | Cand::Left { s } => self.world(s),
         };
-        let size = self.size.at(at);
+        // A needle's element is as wide as its narrow end, however long.
+        let size = if self.at_needle(p0) {
+            self.world(self.front.prev(p0))
+                .distance(self.world(self.front.next(p0)))
+        } else {
+            self.size.at(at)
+        };
         let f = &self.front;
         let n = self.front.loop_len(p0);
         let (corners, consumed): ([Corner; 4], Vec<SlotId>) = match c {
@@ -560,6 +596,9 @@ impl Mesher {
                 Remedy::CorrectedPn,
             ));
         }
+        if let Some(pn) = self.needle_kite(s) {
+            out.push((Cand::New { s, pn }, Remedy::CorrectedPn));
+        }
         out.push((Cand::New { s, pn: rule_pn }, Remedy::CorrectedPn));
         out.push((
             Cand::New {
@@ -598,6 +637,21 @@ impl Mesher {
                     leading,
                 }));
             }
+        }
+        // A needle takes the kite it forces, or nothing.
+        if let Some(pn) = self
+            .needle_kite(s)
+            .filter(|_| !self.params.pure_model || rules)
+        {
+            let cand = Cand::New { s, pn };
+            return Ok(self.check(cand, limits).map(|score| Chosen {
+                cand,
+                remedy: Remedy::CorrectedPn,
+                score,
+                prediction: pred,
+                frame,
+                leading,
+            }));
         }
         let mut best: Option<Chosen> = None;
         let mut model: Option<Chosen> = None;
@@ -764,7 +818,11 @@ impl Mesher {
         match c {
             Cand::New { s, pn } => {
                 let (l, rr) = (f.prev(s), f.next(s));
-                let layer = f.slot(s).layer + 1;
+                // A needle's kite closes it rather than moving the front on:
+                // its new node stays in the needle's layer.
+                let needle = self.at_needle(s);
+                let layer = f.slot(s).layer + u32::from(!needle);
+                let f = &self.front;
                 let (p0, r1, l1) = (f.node(s), f.node(rr), f.node(l));
                 let run = self.row_at(s).map(|row| {
                     let top = if row.right { l1 } else { r1 };
@@ -775,6 +833,11 @@ impl Mesher {
                     self.row_run[v as usize] = run;
                 }
                 self.push_quad([p0, r1, v, l1]);
+                if needle {
+                    let corners = [p0, r1, v, l1].map(|k| self.mesh.nodes[k as usize]);
+                    self.needle_quads.0 += 1;
+                    self.needle_quads.1 += crate::geom::polygon_area(corners);
+                }
                 self.front.replace_node(s, v, layer, &self.mesh.nodes);
                 r.new_nodes.push(v);
                 r.element_type = Some(ElementType::New);

@@ -59,6 +59,21 @@ pub const CLEAR_NONE: f64 = 0.25;
 /// and taper limit is 10; smoothing afterwards moves nodes a little).
 pub const MAX_SIDE_RATIO: f64 = 8.0;
 
+/// A corner whose sides are both longer than this many times the span
+/// between their far ends is a needle (under about 1.8° between equal
+/// sides): a kite that takes it with sides within [`MAX_SIDE_RATIO`] would
+/// need corners beside the tip of over 170°, so no quad there meets the
+/// side ratio.
+pub const NEEDLE_RATIO: f64 = 4.0 * MAX_SIDE_RATIO;
+
+/// True when the corner at `p0` between front sides to `pl` and `pr` is a
+/// needle ([`NEEDLE_RATIO`]): the element that takes it is the kite the
+/// boundary forces, however stretched.
+pub fn is_needle(p0: Point, pl: Point, pr: Point) -> bool {
+    let span = pl.distance(pr);
+    p0.distance(pl).min(p0.distance(pr)) > NEEDLE_RATIO * span
+}
+
 /// Checks a candidate quad. `consumed` are the front edges (by start slot)
 /// that become sides of the quad; `size` is the local element size.
 /// Returns the corners and score when it passes.
@@ -94,7 +109,8 @@ pub fn check(
         _ => false,
     };
     // Side lengths within the thesis's ratio (aspect and taper ≤ 10), unless
-    // the front edges the quad takes already differ that much.
+    // the front edges the quad takes already differ that much, or the quad
+    // takes a needle, which no quad can take within it.
     let q = crate::quality::Shape::of(p);
     let sides = q.side_ratio();
     if sides > MAX_SIDE_RATIO {
@@ -102,7 +118,13 @@ pub fn check(
         let (lo, hi) = taken.fold((f64::INFINITY, 0.0f64), |(lo, hi), l| {
             (lo.min(l), hi.max(l))
         });
-        if sides > hi / lo {
+        let needle = (0..4).any(|k| {
+            matches!(corners[k], Corner::Full(_))
+                && is_consumed(k)
+                && is_consumed((k + 3) % 4)
+                && is_needle(p[k], p[(k + 3) % 4], p[(k + 1) % 4])
+        });
+        if sides > hi / lo && !needle {
             return None;
         }
     }
@@ -216,4 +238,68 @@ pub fn check(
 /// to one on the front.
 fn touches(ids: &[Option<u32>; 4], c: u32, d: u32) -> bool {
     ids.contains(&Some(c)) || ids.contains(&Some(d))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::extract::{Mesher, StepKind, StepOutcome};
+
+    /// A sunburst of `n` needles from radius 0.05 to 1, counter-clockwise.
+    fn sunburst(n: usize) -> Vec<Point> {
+        (0..n)
+            .flat_map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / n as f64;
+                let b = a + std::f64::consts::PI / n as f64;
+                [
+                    Point::new(a.cos(), a.sin()),
+                    Point::new(0.05 * b.cos(), 0.05 * b.sin()),
+                ]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_needle_is_a_corner_no_quad_meets_the_side_ratio_at() {
+        let p0 = Point::new(0.0, 0.0);
+        let at = |deg: f64| Point::new(deg.to_radians().cos(), deg.to_radians().sin());
+        assert!(is_needle(p0, at(0.0), at(1.0)));
+        assert!(!is_needle(p0, at(0.0), at(5.0)));
+        // Unequal sides: the shorter decides.
+        assert!(!is_needle(p0, at(0.0), at(1.0) * 0.01));
+    }
+
+    /// Each of the 64 needles (0.1° at the tip) is closed by one kite, the
+    /// kites' new nodes stay in the boundary's layer, and the disk inside
+    /// is meshed by extraction with no fill; the invariants hold after
+    /// every step.
+    #[test]
+    fn needles_close_by_their_kites_and_the_rest_by_extraction() {
+        let n = 64;
+        let pts = sunburst(n);
+        let (p0, pl, pr) = (pts[0], pts[2 * n - 1], pts[1]);
+        assert!(is_needle(p0, pl, pr));
+        let mut m = Mesher::of_loop(pts);
+        let mut kinds = Vec::new();
+        loop {
+            match m.step() {
+                Ok(StepOutcome::Done) => break,
+                Ok(StepOutcome::Stepped(r)) => {
+                    m.check_invariants()
+                        .unwrap_or_else(|e| panic!("step {}: {e}", r.index));
+                    kinds.push(r.kind);
+                }
+                Err(e) => panic!("{e}"),
+            }
+        }
+        assert!(!kinds.contains(&StepKind::Fill), "{kinds:?}");
+        // The first n steps are the kites, one per needle tip.
+        assert!(kinds[..n].iter().all(|&k| k == StepKind::Element));
+        let tips: Vec<u32> = (0..n as u32).map(|k| 2 * k).collect();
+        for &t in &tips {
+            let at_tip = m.mesh().quads.iter().filter(|q| q.contains(&t)).count();
+            assert_eq!(at_tip, 1, "tip {t}");
+        }
+        assert!(m.mesh().check_finished().is_ok());
+    }
 }

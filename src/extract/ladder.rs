@@ -197,7 +197,7 @@ impl Mesher {
                 }
             };
             match result {
-                Some(c) if c.score >= self.params.defer_score => {
+                Some(c) if c.score >= self.params.defer_score || self.at_needle(e.slot) => {
                     chosen = Some(c);
                     break;
                 }

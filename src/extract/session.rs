@@ -123,6 +123,10 @@ pub struct Mesher {
     /// The progress watch's checkpoints: (step, area still open), one per
     /// [`PROGRESS_EVERY`] steps.
     pub(super) progress: Vec<(usize, f64)>,
+    /// Quads that closed a needle ([`Mesher::needle_kite`]) and their area:
+    /// the progress watch leaves them out of its mean (a fan of long
+    /// needles would make every later quad look like no progress).
+    pub(super) needle_quads: (usize, f64),
     /// Evaluations of reference points put back in the queue.
     pub(super) memo: super::memo::EvalMemo,
     /// The box of the front the last [`Mesher::evaluate`] read.
@@ -177,6 +181,7 @@ impl Mesher {
             mapped_seen: Vec::new(),
             memo: Default::default(),
             progress: Vec::new(),
+            needle_quads: (0, 0.0),
             evaluated: (Point::ZERO, Point::ZERO),
             relaxes: 0,
             relax_streak: 0,
@@ -359,11 +364,12 @@ impl Mesher {
         let Some(&(_, before)) = self.progress.iter().rev().find(|p| p.0 <= k) else {
             return false;
         };
-        let quads = self.mesh.quads.len();
+        let (needles, needle_area) = self.needle_quads;
+        let quads = self.mesh.quads.len().saturating_sub(needles);
         if quads == 0 {
             return false;
         }
-        let mean = (self.boundary.area() - open) / quads as f64;
+        let mean = (self.boundary.area() - open - needle_area) / quads as f64;
         before - open < PROGRESS_RATE * PROGRESS_WINDOW as f64 * mean
     }
 

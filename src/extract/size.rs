@@ -8,6 +8,7 @@
 //! fine hole in a coarse domain grades out smoothly. Extraction uses it to give rows their height and to tell
 //! when two fronts are about to meet.
 
+use super::guard::is_needle;
 use crate::boundary::Boundary;
 use crate::geom::Point;
 use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
@@ -39,6 +40,164 @@ pub struct SizeField {
     /// Quads a mesh following the field would have: the sum of
     /// `cell² / h²` over the cells inside the domain.
     quads: f64,
+    /// Point sizes finer than the grid resolves (the ends of needles).
+    sources: Sources,
+}
+
+/// Point sources of size, looked up exactly near them: within a few grid
+/// cells of a source the size is the least of the sources' sizes grown by
+/// [`GRADING`] with their distance (the grid, too coarse to hold a source
+/// much finer than its cells, holds it only blurred). Sources are filed
+/// twice: in cells about as wide as they are apart, searched a few rings
+/// around a point, and in cells a quarter of the grid's, searched when the
+/// first finds none.
+#[derive(Clone, Debug, Default)]
+struct Sources {
+    origin: Point,
+    /// The smallest source size.
+    lo: f64,
+    near: SourceCells,
+    far: SourceCells,
+    /// Keys of the grid cells holding a source, sorted, once each.
+    coarse: Vec<u64>,
+    /// Side of the grid's cells.
+    grid_cell: f64,
+}
+
+/// Sources filed under square cells.
+#[derive(Clone, Debug, Default)]
+struct SourceCells {
+    cell: f64,
+    /// Rings of cells searched around a point, at most.
+    reach: i64,
+    /// `(cell key, position, size)`, sorted by key.
+    filed: Vec<(u64, Point, f64)>,
+}
+
+/// Grid cells around a point (each way) within which sources are looked
+/// up exactly.
+const SOURCE_CELLS: i64 = 2;
+/// Rings of the finer source cells searched around a point.
+const NEAR_RINGS: i64 = 8;
+/// Source cells of the coarser filing a grid cell's side holds.
+const FAR_PER_CELL: f64 = 4.0;
+
+impl SourceCells {
+    fn new(raw: &[(Point, f64)], origin: Point, cell: f64, reach: i64) -> SourceCells {
+        let mut filed: Vec<(u64, Point, f64)> = raw
+            .iter()
+            .map(|&(p, h)| {
+                let (i, j) = index(p, origin, cell);
+                (key(i, j), p, h)
+            })
+            .collect();
+        filed.sort_by_key(|e| e.0);
+        SourceCells {
+            cell,
+            reach: reach.max(1),
+            filed,
+        }
+    }
+
+    /// The least size the sources give at `p`, searching rings of cells
+    /// outwards until no source further out can give less (`lo` being the
+    /// smallest source size), or up to the reach; infinite when none is
+    /// found.
+    fn at(&self, p: Point, origin: Point, lo: f64) -> f64 {
+        let (i, j) = index(p, origin, self.cell);
+        let in_cell = |x: i64, y: i64| {
+            let k = key(x, y);
+            let from = self.filed.partition_point(|e| e.0 < k);
+            self.filed[from..]
+                .iter()
+                .take_while(|e| e.0 == k)
+                .map(|&(_, q, h)| h + GRADING * q.distance(p))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut best = in_cell(i, j);
+        for r in 1..=self.reach {
+            if lo + GRADING * (r - 1) as f64 * self.cell >= best {
+                break;
+            }
+            for d in -r..=r {
+                best = best.min(in_cell(i + d, j - r)).min(in_cell(i + d, j + r));
+            }
+            for d in (1 - r)..r {
+                best = best.min(in_cell(i - r, j + d)).min(in_cell(i + r, j + d));
+            }
+        }
+        best
+    }
+}
+
+impl Sources {
+    /// Files sources `raw` (position, size) for a grid with cells of side
+    /// `grid_cell` from `origin`.
+    fn new(raw: Vec<(Point, f64)>, origin: Point, grid_cell: f64) -> Sources {
+        if raw.is_empty() {
+            return Sources::default();
+        }
+        let mut sizes: Vec<f64> = raw.iter().map(|s| s.1).collect();
+        sizes.sort_by(f64::total_cmp);
+        let far_cell = grid_cell / FAR_PER_CELL;
+        let near_cell = (2.0 * sizes[sizes.len() / 2]).min(far_cell);
+        let far_reach = (SOURCE_CELLS as f64 * FAR_PER_CELL).ceil() as i64;
+        let mut coarse: Vec<u64> = raw
+            .iter()
+            .map(|&(p, _)| {
+                let (i, j) = index(p, origin, grid_cell);
+                key(i, j)
+            })
+            .collect();
+        coarse.sort_unstable();
+        coarse.dedup();
+        Sources {
+            origin,
+            lo: sizes[0],
+            near: SourceCells::new(&raw, origin, near_cell, NEAR_RINGS),
+            far: SourceCells::new(&raw, origin, far_cell, far_reach),
+            coarse,
+            grid_cell,
+        }
+    }
+
+    /// The least size the sources give at `p` (infinite when none is
+    /// within [`SOURCE_CELLS`] grid cells).
+    fn at(&self, p: Point) -> f64 {
+        if self.coarse.is_empty() {
+            return f64::INFINITY;
+        }
+        let (ci, cj) = index(p, self.origin, self.grid_cell);
+        let near = (-SOURCE_CELLS..=SOURCE_CELLS).any(|dj| {
+            (-SOURCE_CELLS..=SOURCE_CELLS)
+                .any(|di| self.coarse.binary_search(&key(ci + di, cj + dj)).is_ok())
+        });
+        if !near {
+            return f64::INFINITY;
+        }
+        let h = self.near.at(p, self.origin, self.lo);
+        if h.is_finite() {
+            h
+        } else {
+            self.far.at(p, self.origin, self.lo)
+        }
+    }
+}
+
+/// The cell of side `cell` from `origin` that `p` lies in (clamped to
+/// non-negative indices).
+fn index(p: Point, origin: Point, cell: f64) -> (i64, i64) {
+    let g = (p - origin) / cell;
+    let f = |v: f64| v.floor().clamp(0.0, f64::from(u32::MAX - 1)) as i64;
+    (f(g.x), f(g.y))
+}
+
+/// A cell's key (cells with a negative index get one no source has).
+fn key(i: i64, j: i64) -> u64 {
+    if i < 0 || j < 0 {
+        return u64::MAX;
+    }
+    ((j as u64) << 32) | i as u64
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -66,6 +225,7 @@ impl SizeField {
                 node_h[v] = 0.5 * (pts[a].distance(pts[v]) + pts[v].distance(pts[b]));
             }
         }
+
         let bb = boundary.bbox();
         let size = bb.size();
         let lo = node_h.iter().copied().fold(f64::INFINITY, f64::min);
@@ -83,6 +243,7 @@ impl SizeField {
             h: vec![f32::NAN; nx * ny],
             range: [lo, hi],
             quads: 0.0,
+            sources: Sources::default(),
         };
         let median = boundary.median_segment();
         if !f.rasterise(boundary, &node_h) {
@@ -91,6 +252,7 @@ impl SizeField {
         }
         let inside: Vec<bool> = f.h.iter().map(|v| !v.is_nan()).collect();
         f.fill_gaps(median);
+        f.needle_sources(boundary);
         f.limit_grading(GRADING);
         let cell2 = cell * cell;
         f.quads =
@@ -109,6 +271,48 @@ impl SizeField {
     /// domain's area over the squared size, summed cell by cell).
     pub fn quad_estimate(&self) -> f64 {
         self.quads
+    }
+
+    /// The nodes across a needle's narrow end (guard::is_needle) are as far
+    /// apart as its elements are wide there, whatever the length of its
+    /// sides: each is a source of that size, which the grading then
+    /// spreads (the region a fan of needles meets is meshed from their
+    /// ends' spacing, growing inwards, not at their sides' length).
+    fn needle_sources(&mut self, boundary: &Boundary) {
+        let pts = &boundary.points;
+        let mut raw = Vec::new();
+        for l in &boundary.loops {
+            let n = l.len();
+            for k in 0..n {
+                let (a, v, b) = (l[(k + n - 1) % n], l[k], l[(k + 1) % n]);
+                if !is_needle(pts[v], pts[a], pts[b]) {
+                    continue;
+                }
+                let span = pts[a].distance(pts[b]);
+                for p in [pts[a], pts[b]] {
+                    self.lower_around(p, span);
+                    raw.push((p, span));
+                }
+                self.range[0] = self.range[0].min(span);
+            }
+        }
+        self.sources = Sources::new(raw, self.origin, 1.0 / self.inv_cell);
+    }
+
+    /// Lowers the samples around `p` to size `h` grown by [`GRADING`] with
+    /// their distance from `p` (the grading then spreads it over the grid).
+    fn lower_around(&mut self, p: Point, h: f64) {
+        let cell = 1.0 / self.inv_cell;
+        let g = (p - self.origin) * self.inv_cell;
+        let i0 = (g.x.max(0.0) as usize).min(self.nx - 1);
+        let j0 = (g.y.max(0.0) as usize).min(self.ny - 1);
+        for j in j0..=(j0 + 1).min(self.ny - 1) {
+            for i in i0..=(i0 + 1).min(self.nx - 1) {
+                let at = self.origin + Point::new(i as f64, j as f64) * cell;
+                let k = j * self.nx + i;
+                self.h[k] = self.h[k].min((h + GRADING * at.distance(p)) as f32);
+            }
+        }
     }
 
     /// Caps the growth of the size with distance at `rate` (size per unit
@@ -294,7 +498,9 @@ impl SizeField {
             |i: usize, j: usize| self.h[(j.min(self.ny - 1)) * self.nx + i.min(self.nx - 1)] as f64;
         let a = at(i, j) * (1.0 - fx) + at(i + 1, j) * fx;
         let b = at(i, j + 1) * (1.0 - fx) + at(i + 1, j + 1) * fx;
-        (a * (1.0 - fy) + b * fy).clamp(self.range[0], self.range[1])
+        let h = a * (1.0 - fy) + b * fy;
+        let h = h.min(self.sources.at(p));
+        h.clamp(self.range[0], self.range[1])
     }
 
     /// Smallest and largest size of the field.
@@ -327,6 +533,38 @@ fn row_span(t: [Point; 3], y: f64) -> Option<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The ends of needles are sources of their narrow end's width: the
+    /// size there is that width, not their sides' length, and it grows
+    /// inwards at the grading rate.
+    #[test]
+    fn needle_ends_set_the_size_around_them() {
+        let n = 400;
+        let pts: Vec<Point> = (0..n)
+            .flat_map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / n as f64;
+                let b = a + std::f64::consts::PI / n as f64;
+                [
+                    Point::new(a.cos(), a.sin()),
+                    Point::new(0.05 * b.cos(), 0.05 * b.sin()),
+                ]
+            })
+            .collect();
+        let span = pts[1].distance(pts[3]);
+        let b = Boundary::new(pts.clone(), vec![(0..2 * n).collect()], None).unwrap();
+        let f = SizeField::of_boundary(&b);
+        assert!(
+            (f.at(pts[1]) - span).abs() < 1e-9 * span,
+            "{}",
+            f.at(pts[1])
+        );
+        let inside = pts[1] * 0.9;
+        let d = pts[1].distance(inside);
+        assert!(f.at(inside) <= span + GRADING * d + 1e-12);
+        assert!(f.at(inside) > 0.5 * (span + GRADING * d));
+        assert!(f.at(Point::ZERO) <= span + GRADING * 0.05 + 1e-12);
+        assert!((f.range()[0] - span).abs() < 1e-12);
+    }
 
     #[test]
     fn uniform_spacing_gives_a_uniform_field() {
