@@ -42,7 +42,8 @@ pub struct FrontLoop {
 /// Uniform grid of segments, each filed under an id (the front files an
 /// edge under its start slot) in every cell the segment passes through: a
 /// long edge (a needle's side across a fine grid) costs the cells along
-/// it, not the cells of its bounding box.
+/// it, not the cells of its bounding box. Boxes may be filed too (in
+/// every cell they cover).
 ///
 /// A query costs the cells it covers or, when that is more, one pass over
 /// the ids' bounding boxes: a box many cells wide (a long reach where the
@@ -59,8 +60,8 @@ pub(crate) struct EdgeGrid {
     /// [`EdgeGrid::UNFILED`] when the id is not filed.
     spans: Vec<[u32; 4]>,
     /// Each id's segment, as filed (its cells are found from it again
-    /// when it is taken out).
-    ends: Vec<[Point; 2]>,
+    /// when it is taken out); `None` for a box, filed in all its cells.
+    ends: Vec<Option<[Point; 2]>>,
 }
 
 impl EdgeGrid {
@@ -101,20 +102,21 @@ impl EdgeGrid {
         ]
     }
 
-    /// Calls `f` with the index of every cell segment `a`–`b` passes
+    /// Calls `f` with the index of every cell the segment `ends` passes
     /// through, `span` being its bounding cell range: column by column,
     /// the rows the segment crosses within the column (cells beyond the
-    /// grid's edge count as its border cells).
-    fn for_cells(&self, a: Point, b: Point, span: [u32; 4], mut f: impl FnMut(usize)) {
+    /// grid's edge count as its border cells); every cell of `span` when
+    /// there are no ends (a box).
+    fn for_cells(&self, ends: Option<[Point; 2]>, span: [u32; 4], mut f: impl FnMut(usize)) {
         let [x0, y0, x1, y1] = span;
-        if x0 == x1 || y0 == y1 {
+        let Some([a, b]) = ends.filter(|_| x0 != x1 && y0 != y1) else {
             for y in y0..=y1 {
                 for x in x0..=x1 {
                     f(y as usize * self.nx + x as usize);
                 }
             }
             return;
-        }
+        };
         let (a, b) = if a.x <= b.x { (a, b) } else { (b, a) };
         let slope = (b.y - a.y) / (b.x - a.x);
         let row = |y: f64, pad: f64| {
@@ -137,18 +139,28 @@ impl EdgeGrid {
     /// Files `s` under the cells of segment `a`–`b` (an id already filed
     /// is moved).
     pub(crate) fn insert(&mut self, s: SlotId, a: Point, b: Point) {
+        self.file(s, a.min(b), a.max(b), Some([a, b]));
+    }
+
+    /// Files `s` under every cell of the box `lo..hi` (an id already filed
+    /// is moved).
+    pub(crate) fn insert_box(&mut self, s: SlotId, lo: Point, hi: Point) {
+        self.file(s, lo, hi, None);
+    }
+
+    fn file(&mut self, s: SlotId, lo: Point, hi: Point, ends: Option<[Point; 2]>) {
         self.remove(s);
-        let span = self.cell_range(a.min(b), a.max(b));
+        let span = self.cell_range(lo, hi);
         let mut cells = std::mem::take(&mut self.cells);
-        self.for_cells(a, b, span, |c| cells[c].push(s));
+        self.for_cells(ends, span, |c| cells[c].push(s));
         self.cells = cells;
         let k = s as usize;
         if self.spans.len() <= k {
             self.spans.resize(k + 1, Self::UNFILED);
-            self.ends.resize(k + 1, [Point::ZERO; 2]);
+            self.ends.resize(k + 1, None);
         }
         self.spans[k] = span;
-        self.ends[k] = [a, b];
+        self.ends[k] = ends;
     }
 
     /// Takes `s` out of the grid (nothing if it is not filed).
@@ -160,9 +172,9 @@ impl EdgeGrid {
             return;
         }
         let span = std::mem::replace(span, Self::UNFILED);
-        let [a, b] = self.ends[s as usize];
+        let ends = self.ends[s as usize];
         let mut cells = std::mem::take(&mut self.cells);
-        self.for_cells(a, b, span, |c| {
+        self.for_cells(ends, span, |c| {
             let c = &mut cells[c];
             if let Some(k) = c.iter().position(|&t| t == s) {
                 c.swap_remove(k);

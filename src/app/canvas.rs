@@ -605,7 +605,7 @@ impl QuadIndex {
         let mut grid = EdgeGrid::new(bb, cell, 4 * n + 16);
         for (k, q) in mesh.quads.iter().enumerate() {
             if let Some(b) = Aabb::of(mesh.corners(q)) {
-                grid.insert(k as u32, b.min, b.max);
+                grid.insert_box(k as u32, b.min, b.max);
             }
         }
         QuadIndex { grid: Some(grid) }

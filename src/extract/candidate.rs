@@ -141,7 +141,6 @@ impl Mesher {
         self.mesh.nodes[self.front.node(s) as usize]
     }
 
-    /// Leading slots `l_N..l1, P0, r1..r_N` of reference slot `s`.
     /// True when the front corner at `s` is a needle
     /// ([`guard::is_needle`]): its kite is taken however it scores, as no
     /// better element can take that corner.
@@ -153,19 +152,20 @@ impl Mesher {
     /// At a needle ([`Mesher::at_needle`]), the new node of the kite that
     /// closes it across its narrow end: no kite meets the side ratio there.
     pub(super) fn needle_kite(&self, s: SlotId) -> Option<Point> {
-        if !self.at_needle(s) {
-            return None;
-        }
         let (p0, pl, pr) = (
             self.world(s),
             self.world(self.front.prev(s)),
             self.world(self.front.next(s)),
         );
+        if !guard::is_needle(p0, pl, pr) {
+            return None;
+        }
         let mid = 0.5 * (pl + pr);
         let dir = (mid - p0).normalize_or_zero();
         Some(mid + dir * (NEEDLE_DEPTH * pl.distance(pr)))
     }
 
+    /// Leading slots `l_N..l1, P0, r1..r_N` of reference slot `s`.
     pub(super) fn leading_slots(&self, s: SlotId, n: usize) -> Vec<SlotId> {
         let mut v = vec![s; 2 * n + 1];
         let (mut l, mut r) = (s, s);
@@ -822,7 +822,6 @@ impl Mesher {
                 // its new node stays in the needle's layer.
                 let needle = self.at_needle(s);
                 let layer = f.slot(s).layer + u32::from(!needle);
-                let f = &self.front;
                 let (p0, r1, l1) = (f.node(s), f.node(rr), f.node(l));
                 let run = self.row_at(s).map(|row| {
                     let top = if row.right { l1 } else { r1 };

@@ -5,7 +5,10 @@
 //! boundary nodes (as Gmsh interpolates a boundary's mesh sizes when it is
 //! given no other), then sampled on a uniform grid so a look-up costs the
 //! same anywhere, and its growth with distance capped at [`GRADING`] so a
-//! fine hole in a coarse domain grades out smoothly. Extraction uses it to give rows their height and to tell
+//! fine hole in a coarse domain grades out smoothly. The two ends of a
+//! needle (a corner far sharper than any quad can take within the side
+//! ratio) are point sources of the needle's width there, looked up exactly
+//! near them. Extraction uses it to give rows their height and to tell
 //! when two fronts are about to meet.
 
 use super::guard::is_needle;
