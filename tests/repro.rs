@@ -49,6 +49,18 @@ fn mesh_to(input: &Path, out: &Path) -> Run {
     ])
 }
 
+/// `quadex mesh INPUT -o OUT --report REPORT`.
+fn mesh_reporting(input: &Path, out: &Path, report: &Path) -> Run {
+    quadex(&[
+        "mesh".as_ref(),
+        input.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--report".as_ref(),
+        report.as_os_str(),
+    ])
+}
+
 /// Exit code 2 and one line naming `file` and containing `expect`, with no
 /// control character from the file.
 fn assert_refused(r: &Run, file: &str, expect: &str) {
@@ -351,14 +363,7 @@ fn r17b_the_large_sunburst_is_meshed_by_extraction() {
     std::fs::write(&input, sunburst_poly(10_000)).unwrap();
     let out = dir.path().join("x.msh");
     let report = dir.path().join("x.json");
-    let r = quadex(&[
-        "mesh".as_ref(),
-        input.as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-        "--report".as_ref(),
-        report.as_os_str(),
-    ]);
+    let r = mesh_reporting(&input, &out, &report);
     assert_eq!(r.code, Some(0), "{}", r.stderr);
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
@@ -490,14 +495,7 @@ fn outputs_in_missing_folders_leave_nothing_and_say_so_once() {
     let dir = tempfile::tempdir().unwrap();
     let square = common::bench().join("boundaries/square.poly");
     let out = dir.path().join("x.msh");
-    let r = quadex(&[
-        "mesh".as_ref(),
-        square.as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-        "--report".as_ref(),
-        dir.path().join("missing/r.json").as_os_str(),
-    ]);
+    let r = mesh_reporting(&square, &out, &dir.path().join("missing/r.json"));
     assert_ne!(r.code, Some(0));
     assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
     assert!(r.stderr.contains("missing"), "{}", r.stderr);
@@ -509,14 +507,7 @@ fn outputs_in_missing_folders_leave_nothing_and_say_so_once() {
     let folder = dir.path().join("folder.msh");
     std::fs::create_dir(&folder).unwrap();
     let report = dir.path().join("r.json");
-    let r = quadex(&[
-        "mesh".as_ref(),
-        square.as_os_str(),
-        "-o".as_ref(),
-        folder.as_os_str(),
-        "--report".as_ref(),
-        report.as_os_str(),
-    ]);
+    let r = mesh_reporting(&square, &folder, &report);
     assert_ne!(r.code, Some(0));
     assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
     assert_eq!(r.stderr.matches("(os error").count(), 1, "{}", r.stderr);

@@ -145,8 +145,17 @@ impl Mesher {
     /// ([`guard::is_needle`]): its kite is taken however it scores, as no
     /// better element can take that corner.
     pub(super) fn at_needle(&self, s: SlotId) -> bool {
-        let (l, r) = (self.front.prev(s), self.front.next(s));
-        guard::is_needle(self.world(s), self.world(l), self.world(r))
+        self.needle_span(s).is_some()
+    }
+
+    /// At a needle, the span between its sides' far ends: the width of
+    /// the element that takes it.
+    fn needle_span(&self, s: SlotId) -> Option<f64> {
+        let (pl, pr) = (
+            self.world(self.front.prev(s)),
+            self.world(self.front.next(s)),
+        );
+        guard::is_needle(self.world(s), pl, pr).then(|| pl.distance(pr))
     }
 
     /// At a needle ([`Mesher::at_needle`]), the new node of the kite that
@@ -207,12 +216,7 @@ impl Mesher {
             Cand::Snap { s, .. } | Cand::Right { s } | Cand::Left { s } => self.world(s),
         };
         // A needle's element is as wide as its narrow end, however long.
-        let size = if self.at_needle(p0) {
-            self.world(self.front.prev(p0))
-                .distance(self.world(self.front.next(p0)))
-        } else {
-            self.size.at(at)
-        };
+        let size = self.needle_span(p0).unwrap_or_else(|| self.size.at(at));
         let f = &self.front;
         let n = self.front.loop_len(p0);
         let (corners, consumed): ([Corner; 4], Vec<SlotId>) = match c {

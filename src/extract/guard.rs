@@ -240,24 +240,26 @@ fn touches(ids: &[Option<u32>; 4], c: u32, d: u32) -> bool {
     ids.contains(&Some(c)) || ids.contains(&Some(d))
 }
 
+/// A sunburst of `n` needles from radius 0.05 to 1, counter-clockwise:
+/// tips at even indices, the ends between them at odd ones.
+#[cfg(test)]
+pub(crate) fn sunburst(n: usize) -> Vec<Point> {
+    (0..n)
+        .flat_map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            let b = a + std::f64::consts::PI / n as f64;
+            [
+                Point::new(a.cos(), a.sin()),
+                Point::new(0.05 * b.cos(), 0.05 * b.sin()),
+            ]
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::extract::{Mesher, StepKind, StepOutcome};
-
-    /// A sunburst of `n` needles from radius 0.05 to 1, counter-clockwise.
-    fn sunburst(n: usize) -> Vec<Point> {
-        (0..n)
-            .flat_map(|k| {
-                let a = std::f64::consts::TAU * k as f64 / n as f64;
-                let b = a + std::f64::consts::PI / n as f64;
-                [
-                    Point::new(a.cos(), a.sin()),
-                    Point::new(0.05 * b.cos(), 0.05 * b.sin()),
-                ]
-            })
-            .collect()
-    }
 
     #[test]
     fn a_needle_is_a_corner_no_quad_meets_the_side_ratio_at() {

@@ -228,7 +228,6 @@ impl SizeField {
                 node_h[v] = 0.5 * (pts[a].distance(pts[v]) + pts[v].distance(pts[b]));
             }
         }
-
         let bb = boundary.bbox();
         let size = bb.size();
         let lo = node_h.iter().copied().fold(f64::INFINITY, f64::min);
@@ -543,16 +542,7 @@ mod tests {
     #[test]
     fn needle_ends_set_the_size_around_them() {
         let n = 400;
-        let pts: Vec<Point> = (0..n)
-            .flat_map(|k| {
-                let a = std::f64::consts::TAU * k as f64 / n as f64;
-                let b = a + std::f64::consts::PI / n as f64;
-                [
-                    Point::new(a.cos(), a.sin()),
-                    Point::new(0.05 * b.cos(), 0.05 * b.sin()),
-                ]
-            })
-            .collect();
+        let pts = crate::extract::guard::sunburst(n);
         let span = pts[1].distance(pts[3]);
         let b = Boundary::new(pts.clone(), vec![(0..2 * n).collect()], None).unwrap();
         let f = SizeField::of_boundary(&b);
