@@ -12,7 +12,7 @@ use crate::extract::{MeshError, MeshParams, Mesher, StepStats};
 use crate::mesh::QuadMesh;
 use crate::model::Model;
 use crate::remesh::{remesh_bad, RemeshParams};
-use crate::smooth::{unflatten, SmoothParams, LOCAL_ABOVE};
+use crate::smooth::{polish, unflatten, SmoothParams, LOCAL_ABOVE};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -63,7 +63,7 @@ impl Params {
 /// locality, [`QuadMesh::sort_spatially`]): cleaned up and smoothed
 /// ([`improve`]; a mesh with front left is only smoothed), the regions of
 /// quads still bad remeshed with the mesher's model and extraction
-/// parameters ([`remesh_bad`]), corners flat to rounding moved off the line
+/// parameters ([`remesh_bad`]) and polished ([`polish`]), corners flat to rounding moved off the line
 /// ([`unflatten`]), and checked ([`QuadMesh::check_finished`], or
 /// [`QuadMesh::check_invariants`] for a partial mesh). Call after
 /// [`Mesher::run`]; an unfinished mesh is returned as it stands.
@@ -89,6 +89,7 @@ fn finish_at(
     improve(&mut mesh, complete, &f.cleanup, &f.smooth);
     if complete {
         remesh_bad(&mut mesh, mesher.model(), mesher.params(), f);
+        polish(&mut mesh, &f.smooth);
     }
     unflatten(&mut mesh);
     to_world(&mut mesh, origin);

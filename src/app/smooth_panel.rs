@@ -65,6 +65,18 @@ impl super::View for SmoothPanel {
                         .speed(0.01),
                 );
                 ui.end_row();
+                ui.label("polishing sweeps").on_hover_text(
+                    "raise the mean scaled Jacobian of the final mesh, keeping its worst quads",
+                );
+                ui.add(egui::DragValue::new(&mut sm.polish_sweeps).range(0..=50));
+                ui.end_row();
+                ui.label("polish quads below");
+                ui.add(
+                    egui::DragValue::new(&mut sm.polish_below)
+                        .range(0.0..=1.0)
+                        .speed(0.01),
+                );
+                ui.end_row();
             });
         ui.label(egui::RichText::new("Cleanup").strong());
         let c = &mut s.cleanup;
