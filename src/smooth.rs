@@ -582,18 +582,17 @@ pub fn optimize_only(mesh: &mut QuadMesh, params: &SmoothParams, only: Option<&[
 }
 
 /// Polishing, once a mesh is final: every interior node of a quad whose
-/// scaled Jacobian is under `params.polish_below` moves to where the sum of
-/// its quads' scaled Jacobians is largest while the worst of them stays at
-/// or above `params.optimize_below` (or, when under it already, is raised
-/// first, as [`optimize`] does). The mean scaled Jacobian rises where rows
-/// fan out (round holes, an airfoil's nose) and where fronts met, at no cost
-/// to the worst quads. The nodes polished are those of the quads under the
-/// bar when it starts. Moves are bounded as [`optimize`]'s are, and a quad
-/// keeps at least [`POLISH_AREA_RATIO`] of its area, so sizes keep
-/// following the boundary. A node whose worst quad is over the bar already
-/// climbs the sum's slope ([`ascend`]); one under it is searched as by
-/// [`optimize`], but coarser ([`POLISH_STOP`]): polishing visits many more
-/// nodes, for small gains. Returns the number of nodes moved.
+/// scaled Jacobian is under `params.polish_below`, and of none under
+/// `params.optimize_below`, climbs the slope of the sum of its quads'
+/// scaled Jacobians ([`ascend`]) while none of them falls under
+/// `params.optimize_below`. The mean scaled Jacobian rises where rows fan
+/// out (round holes, an airfoil's nose) and where fronts met, and no quad
+/// gets worse than the bar (nodes of the worst quads are left to
+/// [`optimize`] and remeshing, which trade the sum for the worst). The nodes
+/// polished are those of the quads under `polish_below` when it starts.
+/// Moves are bounded as [`optimize`]'s are, and a quad keeps at least
+/// [`POLISH_AREA_RATIO`] of its area, so sizes keep following the boundary.
+/// Returns the number of nodes moved.
 pub fn polish(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
     if params.polish_sweeps == 0 || mesh.quads.is_empty() {
         return 0;
@@ -615,17 +614,14 @@ pub fn polish(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
     let adj = Adjacency::new(mesh);
     let pass = Search {
         below: params.polish_below,
-        clip: params.optimize_below,
+        seek: Seek::Sum {
+            keep: params.optimize_below,
+        },
         sweeps: params.polish_sweeps,
-        stop: POLISH_STOP,
         area_ratio: POLISH_AREA_RATIO,
     };
     search_with(mesh, &pass, &adj, &nodes)
 }
-
-/// Where [`polish`]'s pattern search stops, as a fraction of the shortest
-/// edge at a node.
-pub const POLISH_STOP: f64 = 1e-2;
 
 /// A quad may shrink to this fraction of its area when polished.
 pub const POLISH_AREA_RATIO: f64 = 0.7;
@@ -638,23 +634,29 @@ fn optimize_with(
 ) -> usize {
     let pass = Search {
         below: params.optimize_below,
-        clip: f64::INFINITY,
+        seek: Seek::Worst { stop: FINE_STOP },
         sweeps: params.optimize_sweeps,
-        stop: FINE_STOP,
         area_ratio: MIN_AREA_RATIO,
     };
     search_with(mesh, &pass, adj, nodes)
+}
+
+/// What a [`Search`] seeks at a node.
+enum Seek {
+    /// The best worst quad, then the best sum ([`pattern_search`], stopping
+    /// at `stop`).
+    Worst { stop: f64 },
+    /// The best sum, at nodes whose quads are all at or above `keep`, which
+    /// they stay ([`ascend`]).
+    Sum { keep: f64 },
 }
 
 /// A pass of node-by-node search ([`optimize`], [`polish`]).
 struct Search {
     /// Nodes of a quad under this scaled Jacobian are visited.
     below: f64,
-    /// The worst quad at a node counts up to this; above it, the sum does.
-    clip: f64,
+    seek: Seek,
     sweeps: usize,
-    /// [`pattern_search`]'s stop.
-    stop: f64,
     /// A quad may shrink to this fraction of its area.
     area_ratio: f64,
 }
@@ -688,19 +690,22 @@ fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usi
             if !quads.iter().any(|&k| poor[k as usize]) {
                 continue;
             }
-            let quality = |m: &QuadMesh| node_quality(m, quads, &floor, pass.clip);
+            // Counting the worst quad only up to `keep` leaves the sum alone
+            // to rise, and keeps the worst from falling under `keep`.
+            let clip = match pass.seek {
+                Seek::Worst { .. } => f64::INFINITY,
+                Seek::Sum { keep } => keep,
+            };
+            let quality = |m: &QuadMesh| node_quality(m, quads, &floor, clip);
             let Some(best) = quality(mesh) else {
                 continue;
             };
             let start = mesh.nodes[v];
             let nbs = &adj.nbs[adj.nb_start[v] as usize..adj.nb_start[v + 1] as usize];
-            // Past the clip the quality is the sum alone, a smooth function
-            // of the node's position: a few steps up its slope cost far
-            // fewer evaluations than the pattern search.
-            let at = if best.0 >= pass.clip {
-                ascend(mesh, v, nbs, best, quality)
-            } else {
-                pattern_search(mesh, v, nbs, best, pass.stop, quality)
+            let at = match pass.seek {
+                Seek::Worst { stop } => pattern_search(mesh, v, nbs, best, stop, quality),
+                Seek::Sum { keep } if best.0 >= keep => ascend(mesh, v, nbs, best, quality),
+                Seek::Sum { .. } => continue,
             };
             if at != start {
                 moved_now += 1;
@@ -820,6 +825,15 @@ mod tests {
         let (min1, mean1) = sj_min_mean(&m);
         assert!(mean1 > mean0 + 0.01, "mean {mean0} -> {mean1}");
         assert!(min1 >= min0.min(p.optimize_below), "min {min0} -> {min1}");
+        // No quad falls under the bar, or under where it was when it was
+        // under the bar already.
+        for (k, q) in m.quads.iter().enumerate() {
+            let (before, after) = (quad_sj(&start, q), quad_sj(&m, q));
+            assert!(
+                after >= before.min(p.optimize_below),
+                "quad {k}: {before} -> {after}"
+            );
+        }
         for v in 0..m.n_boundary() {
             assert_eq!(m.nodes[v], start.nodes[v], "boundary node {v} moved");
         }
