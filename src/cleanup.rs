@@ -37,9 +37,7 @@ use serde::{Deserialize, Serialize};
 use crate::geom::{ccw_angle, is_measurably_convex, Point};
 use crate::mesh::QuadMesh;
 use crate::quality::{QuadQuality, Shape};
-use crate::smooth::{
-    after_change, pattern_search, smooth_and_optimize, SmoothParams, FINE_STOP, LOCAL_ABOVE,
-};
+use crate::smooth::{after_change, pattern_search, smooth_and_optimize, SmoothParams, LOCAL_ABOVE};
 
 /// Cleanup parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -313,7 +311,7 @@ impl Work<'_> {
                         }))
                     };
                     let start = quality(self.mesh).unwrap_or_default();
-                    pattern_search(self.mesh, v as usize, &nbs, start, FINE_STOP, quality);
+                    pattern_search(self.mesh, v as usize, &nbs, start, quality);
                 }
                 let (new_min, new_count) = self.slivers(after(), bound);
                 after().all(|r| is_measurably_convex(self.mesh.corners(r)))

@@ -27,7 +27,7 @@ pub struct SmoothParams {
     /// Nodes of quads whose scaled Jacobian is below this are optimised
     /// (default 0.8).
     pub optimize_below: f64,
-    /// Sweeps of polishing once the mesh is final (default 2; 0 turns it
+    /// Sweeps of polishing once the mesh is final (default 4; 0 turns it
     /// off): see [`polish`].
     pub polish_sweeps: usize,
     /// Nodes of quads whose scaled Jacobian is below this are polished
@@ -445,22 +445,17 @@ const DIRECTIONS: [(f64, f64); 8] = [
     ),
 ];
 
-/// Where [`pattern_search`] stops for a fine result, as a fraction of the
-/// shortest edge at the node.
-pub(crate) const FINE_STOP: f64 = 1e-3;
-
 /// Moves node `v` to where `quality` (lexicographic; `None`: the position
 /// is refused) is best, starting from `best` = its quality where it is, by
 /// a pattern search in eight directions whose step starts at a quarter of
 /// the shortest edge to `nbs`, doubles after a success (up to a quarter of
-/// the longest) and halves after a failure, until it is under `stop` times
-/// the shortest edge. Returns the final position (the node is left there).
+/// the longest) and halves after a failure. Returns the final position
+/// (the node is left there).
 pub(crate) fn pattern_search(
     mesh: &mut QuadMesh,
     v: usize,
     nbs: &[u32],
     mut best: (f64, f64),
-    stop: f64,
     quality: impl Fn(&QuadMesh) -> Option<(f64, f64)>,
 ) -> Point {
     let start = mesh.nodes[v];
@@ -469,7 +464,7 @@ pub(crate) fn pattern_search(
         (s.min(d), l.max(d))
     });
     let mut h = 0.25 * shortest;
-    let stop = stop * shortest;
+    let stop = 1e-3 * shortest;
     let cap = 0.25 * longest;
     let mut at = start;
     let mut iterations = 0;
@@ -634,7 +629,7 @@ fn optimize_with(
 ) -> usize {
     let pass = Search {
         below: params.optimize_below,
-        seek: Seek::Worst { stop: FINE_STOP },
+        seek: Seek::Worst,
         sweeps: params.optimize_sweeps,
         area_ratio: MIN_AREA_RATIO,
     };
@@ -643,9 +638,8 @@ fn optimize_with(
 
 /// What a [`Search`] seeks at a node.
 enum Seek {
-    /// The best worst quad, then the best sum ([`pattern_search`], stopping
-    /// at `stop`).
-    Worst { stop: f64 },
+    /// The best worst quad, then the best sum ([`pattern_search`]).
+    Worst,
     /// The best sum, at nodes whose quads are all at or above `keep`, which
     /// they stay ([`ascend`]).
     Sum { keep: f64 },
@@ -693,7 +687,7 @@ fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usi
             // Counting the worst quad only up to `keep` leaves the sum alone
             // to rise, and keeps the worst from falling under `keep`.
             let clip = match pass.seek {
-                Seek::Worst { .. } => f64::INFINITY,
+                Seek::Worst => f64::INFINITY,
                 Seek::Sum { keep } => keep,
             };
             let quality = |m: &QuadMesh| node_quality(m, quads, &floor, clip);
@@ -703,7 +697,7 @@ fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usi
             let start = mesh.nodes[v];
             let nbs = &adj.nbs[adj.nb_start[v] as usize..adj.nb_start[v + 1] as usize];
             let at = match pass.seek {
-                Seek::Worst { stop } => pattern_search(mesh, v, nbs, best, stop, quality),
+                Seek::Worst => pattern_search(mesh, v, nbs, best, quality),
                 Seek::Sum { keep } if best.0 >= keep => ascend(mesh, v, nbs, best, quality),
                 Seek::Sum { .. } => continue,
             };

@@ -20,7 +20,7 @@ use crate::front::SlotId;
 use crate::geom::{is_measurably_convex, Point};
 use crate::mesh::QuadMesh;
 use crate::quality::Shape;
-use crate::smooth::{pattern_search, FINE_STOP};
+use crate::smooth::pattern_search;
 
 /// A small loop whose closure and whose nodes' quads are all at least this
 /// good (scaled Jacobian) is not settled.
@@ -311,7 +311,7 @@ impl Mesher {
             nbs.extend(nodes.iter().copied().filter(|&u| u != v));
             let old = self.mesh.nodes[v as usize];
             self.front.unfile_edges_at(s);
-            let at = pattern_search(&mut self.mesh, v as usize, &nbs, start, FINE_STOP, quality);
+            let at = pattern_search(&mut self.mesh, v as usize, &nbs, start, quality);
             let (pp, pn) = (
                 self.world(self.front.prev(s)),
                 self.world(self.front.next(s)),
