@@ -459,10 +459,7 @@ pub(crate) fn pattern_search(
     quality: impl Fn(&QuadMesh) -> Option<(f64, f64)>,
 ) -> Point {
     let start = mesh.nodes[v];
-    let (shortest, longest) = nbs.iter().fold((f64::INFINITY, 0.0_f64), |(s, l), &u| {
-        let d = mesh.nodes[u as usize].distance(start);
-        (s.min(d), l.max(d))
-    });
+    let (shortest, longest) = edge_range(mesh, v, nbs);
     let mut h = 0.25 * shortest;
     let stop = 1e-3 * shortest;
     let cap = 0.25 * longest;
@@ -473,11 +470,9 @@ pub(crate) fn pattern_search(
         let mut step = None;
         for (dx, dy) in DIRECTIONS {
             mesh.nodes[v] = at + Point::new(dx, dy) * h;
-            if let Some(q) = quality(mesh) {
-                if q.0 > best.0 + 1e-12 || (q.0 >= best.0 && q.1 > best.1 + 1e-12) {
-                    best = q;
-                    step = Some(mesh.nodes[v]);
-                }
+            if let Some(q) = quality(mesh).filter(|&q| improves(q, best)) {
+                best = q;
+                step = Some(mesh.nodes[v]);
             }
         }
         match step {
@@ -490,6 +485,22 @@ pub(crate) fn pattern_search(
     }
     mesh.nodes[v] = at;
     at
+}
+
+/// The shortest and the longest edge from node `v` to its neighbours `nbs`:
+/// the scale of a node's search.
+fn edge_range(mesh: &QuadMesh, v: usize, nbs: &[u32]) -> (f64, f64) {
+    let at = mesh.nodes[v];
+    nbs.iter().fold((f64::INFINITY, 0.0_f64), |(s, l), &u| {
+        let d = mesh.nodes[u as usize].distance(at);
+        (s.min(d), l.max(d))
+    })
+}
+
+/// Whether node quality `q` is better than `best` (lexicographic, by more
+/// than rounding).
+fn improves(q: (f64, f64), best: (f64, f64)) -> bool {
+    q.0 > best.0 + 1e-12 || (q.0 >= best.0 && q.1 > best.1 + 1e-12)
 }
 
 /// Steps [`ascend`] takes up the slope at most.
@@ -510,12 +521,8 @@ fn ascend(
     quality: impl Fn(&QuadMesh) -> Option<(f64, f64)>,
 ) -> Point {
     let mut at = mesh.nodes[v];
-    let shortest = nbs
-        .iter()
-        .map(|&u| mesh.nodes[u as usize].distance(at))
-        .fold(f64::INFINITY, f64::min);
+    let (shortest, _) = edge_range(mesh, v, nbs);
     let d = 1e-3 * shortest;
-    let better = |q: (f64, f64), best: (f64, f64)| q.0 >= best.0 && q.1 > best.1 + 1e-12;
     'steps: for _ in 0..ASCENT_STEPS {
         let mut slope = Point::ZERO;
         for (k, e) in [Point::new(d, 0.0), Point::new(0.0, d)]
@@ -536,7 +543,7 @@ fn ascend(
         let mut stepped = false;
         for _ in 0..6 {
             mesh.nodes[v] = at + slope * (h / norm);
-            if let Some(q) = quality(mesh).filter(|&q| better(q, best)) {
+            if let Some(q) = quality(mesh).filter(|&q| improves(q, best)) {
                 best = q;
                 at = mesh.nodes[v];
                 stepped = true;
@@ -672,6 +679,12 @@ fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usi
             stretch: s.stretch().max(MAX_STRETCH),
         };
     }
+    // Counting the worst quad only up to `keep` leaves the sum alone to
+    // rise, and keeps the worst from falling under `keep`.
+    let clip = match pass.seek {
+        Seek::Worst => f64::INFINITY,
+        Seek::Sum { keep } => keep,
+    };
     let mut moved = 0;
     let mut poor = vec![false; mesh.quads.len()];
     for _ in 0..pass.sweeps {
@@ -684,12 +697,6 @@ fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usi
             if !quads.iter().any(|&k| poor[k as usize]) {
                 continue;
             }
-            // Counting the worst quad only up to `keep` leaves the sum alone
-            // to rise, and keeps the worst from falling under `keep`.
-            let clip = match pass.seek {
-                Seek::Worst => f64::INFINITY,
-                Seek::Sum { keep } => keep,
-            };
             let quality = |m: &QuadMesh| node_quality(m, quads, &floor, clip);
             let Some(best) = quality(mesh) else {
                 continue;
