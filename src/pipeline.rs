@@ -64,8 +64,7 @@ impl Params {
 /// ([`improve`]; a mesh with front left is only smoothed), the regions of
 /// quads still bad remeshed with the mesher's model and extraction
 /// parameters ([`remesh_bad`]) and polished ([`polish`]), corners flat to
-/// rounding moved off the line
-/// ([`unflatten`]), and checked ([`QuadMesh::check_finished`], or
+/// rounding moved off the line ([`unflatten`]), and checked ([`QuadMesh::check_finished`], or
 /// [`QuadMesh::check_invariants`] for a partial mesh). Call after
 /// [`Mesher::run`]; an unfinished mesh is returned as it stands.
 pub fn finish(mesher: &Mesher, f: &FinishParams) -> Result<QuadMesh, MeshError> {
