@@ -7,6 +7,7 @@
 
 use super::candidate::Chosen;
 use super::guard::Limits;
+use super::memo::Eval;
 use super::params::Strategy;
 
 use super::repair::Squares;
@@ -186,12 +187,13 @@ impl Mesher {
                 }
             }
             let node = self.front.node(e.slot);
-            let result = match self.memo.get(e.slot, node) {
+            let result = match self.memo.get(Eval::Queue, e.slot, node) {
                 Some(r) => r.clone(),
                 None => {
                     let r = self.evaluate(e.slot, limits, false)?;
                     if r.as_ref().is_none_or(|c| c.score < self.params.defer_score) {
-                        self.memo.put(e.slot, node, self.evaluated, r.clone());
+                        self.memo
+                            .put(Eval::Queue, e.slot, node, self.evaluated, r.clone());
                     }
                     r
                 }
@@ -209,16 +211,7 @@ impl Mesher {
         }
         // A remembered element is checked again before it is taken (its
         // box was read with room to spare, but a guard is a guard).
-        let best = match best {
-            Some(c) if self.check(c.cand, limits).is_none() => {
-                self.memo.clear();
-                match c.cand.slot() {
-                    s if self.front.slot(s).alive => self.evaluate(s, limits, false)?,
-                    _ => None,
-                }
-            }
-            b => b,
-        };
+        let best = self.confirmed(best, limits, false)?;
         if let Some(c) = chosen.or(best) {
             let mut r = self.commit_chosen(c);
             r.skipped = skipped;
@@ -280,7 +273,7 @@ impl Mesher {
             &all[all.len().min(SHARPEST)..],
         ] {
             for &(_, s) in part {
-                if let Some(c) = self.evaluate(s, relaxed, true)? {
+                if let Some(c) = self.evaluate_relaxed(s, relaxed)? {
                     c.keep_if_best(&mut best);
                 }
             }
@@ -288,6 +281,7 @@ impl Mesher {
                 break;
             }
         }
+        let best = self.confirmed(best, relaxed, true)?;
         if let Some(c) = best {
             let mut r = self.commit_chosen(c);
             r.remedy = Remedy::RuleBased;
@@ -341,6 +335,40 @@ impl Mesher {
             loop_index: lid,
             node: self.front.node(head),
         })
+    }
+
+    /// A remembered element checked again before it is taken (its box was
+    /// read with room to spare, but a guard is a guard): if the guard now
+    /// refuses it, the memory is dropped and its slot evaluated afresh.
+    fn confirmed(
+        &mut self,
+        best: Option<Chosen>,
+        limits: Limits,
+        rules: bool,
+    ) -> Result<Option<Chosen>, MeshError> {
+        Ok(match best {
+            Some(c) if self.check(c.cand, limits).is_none() => {
+                self.memo.clear();
+                match c.cand.slot() {
+                    s if self.front.slot(s).alive => self.evaluate(s, limits, rules)?,
+                    _ => None,
+                }
+            }
+            b => b,
+        })
+    }
+
+    /// The relaxed rung's evaluation of slot `s` (the rule model under
+    /// `limits`), remembered.
+    fn evaluate_relaxed(&mut self, s: SlotId, limits: Limits) -> Result<Option<Chosen>, MeshError> {
+        let node = self.front.node(s);
+        if let Some(r) = self.memo.get(Eval::Relaxed, s, node) {
+            return Ok(r.clone());
+        }
+        let r = self.evaluate(s, limits, true)?;
+        self.memo
+            .put(Eval::Relaxed, s, node, self.evaluated, r.clone());
+        Ok(r)
     }
 
     /// Strategy B: when the queue moves on to a coarser band or deeper

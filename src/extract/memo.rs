@@ -5,15 +5,19 @@
 //! evaluation read; an element committed elsewhere leaves it standing, one
 //! that overlaps the box forgets it, and any other change to the mesh or
 //! the front forgets everything. Results are the same as without it.
+//!
+//! The ladder's relaxed rung (a rule-based element anywhere) evaluates
+//! every convex front node when nothing else moves the front; its results
+//! are remembered apart from the queue's (other limits, the rule model).
 
 use super::candidate::Chosen;
 use crate::front::SlotId;
 use crate::geom::Point;
+use std::collections::BTreeMap;
 
 /// One remembered evaluation.
 #[derive(Clone, Debug)]
 struct Entry {
-    slot: SlotId,
     /// The front node at the slot when it was evaluated.
     node: u32,
     lo: Point,
@@ -21,44 +25,56 @@ struct Entry {
     result: Option<Chosen>,
 }
 
-/// Remembered evaluations of reference points put back in the queue.
+/// Which evaluation a result belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) enum Eval {
+    /// A reference point from the queue, under the guard's limits.
+    Queue,
+    /// The relaxed rung: the rule model under relaxed limits.
+    Relaxed,
+}
+
+/// Remembered evaluations of front slots, by kind and slot.
 #[derive(Clone, Debug, Default)]
 pub(super) struct EvalMemo {
-    entries: Vec<Entry>,
+    entries: BTreeMap<(Eval, SlotId), Entry>,
 }
 
 impl EvalMemo {
-    /// The remembered result at `slot` while it holds `node`, if any.
-    pub(super) fn get(&self, slot: SlotId, node: u32) -> Option<&Option<Chosen>> {
+    /// The remembered result of kind `eval` at `slot` while it holds
+    /// `node`, if any.
+    pub(super) fn get(&self, eval: Eval, slot: SlotId, node: u32) -> Option<&Option<Chosen>> {
         self.entries
-            .iter()
-            .find(|e| e.slot == slot && e.node == node)
+            .get(&(eval, slot))
+            .filter(|e| e.node == node)
             .map(|e| &e.result)
     }
 
-    /// Remembers `result` at `slot` (holding `node`), read from the front
-    /// inside the box `lo..hi`.
+    /// Remembers `result` of kind `eval` at `slot` (holding `node`), read
+    /// from the front inside the box `lo..hi`.
     pub(super) fn put(
         &mut self,
+        eval: Eval,
         slot: SlotId,
         node: u32,
         (lo, hi): (Point, Point),
         result: Option<Chosen>,
     ) {
-        self.entries.retain(|e| e.slot != slot);
-        self.entries.push(Entry {
-            slot,
-            node,
-            lo,
-            hi,
-            result,
-        });
+        self.entries.insert(
+            (eval, slot),
+            Entry {
+                node,
+                lo,
+                hi,
+                result,
+            },
+        );
     }
 
     /// Forgets the entries whose box meets the box `lo..hi`.
     pub(super) fn changed(&mut self, lo: Point, hi: Point) {
         self.entries
-            .retain(|e| e.hi.x < lo.x || e.lo.x > hi.x || e.hi.y < lo.y || e.lo.y > hi.y);
+            .retain(|_, e| e.hi.x < lo.x || e.lo.x > hi.x || e.hi.y < lo.y || e.lo.y > hi.y);
     }
 
     /// Forgets everything.
