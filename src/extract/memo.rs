@@ -82,3 +82,37 @@ impl EvalMemo {
         self.entries.clear();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The queue's and the relaxed rung's results at one slot are kept
+    /// apart; a result is for the node the slot held; a change forgets
+    /// exactly the entries whose box it meets.
+    #[test]
+    fn entries_are_kept_by_kind_node_and_box() {
+        let mut m = EvalMemo::default();
+        let near = (Point::new(0.0, 0.0), Point::new(1.0, 1.0));
+        let far = (Point::new(5.0, 5.0), Point::new(6.0, 6.0));
+        m.put(Eval::Queue, 3, 7, near, None);
+        m.put(Eval::Relaxed, 3, 7, far, None);
+        m.put(Eval::Relaxed, 4, 8, near, None);
+        assert!(m.get(Eval::Queue, 3, 7).is_some());
+        assert!(m.get(Eval::Relaxed, 3, 7).is_some());
+        assert!(
+            m.get(Eval::Queue, 3, 9).is_none(),
+            "another node at the slot"
+        );
+        assert!(
+            m.get(Eval::Queue, 4, 8).is_none(),
+            "only the relaxed rung's"
+        );
+        m.changed(Point::new(0.5, 0.5), Point::new(0.6, 0.6));
+        assert!(m.get(Eval::Queue, 3, 7).is_none());
+        assert!(m.get(Eval::Relaxed, 4, 8).is_none());
+        assert!(m.get(Eval::Relaxed, 3, 7).is_some(), "its box is far away");
+        m.clear();
+        assert!(m.get(Eval::Relaxed, 3, 7).is_none());
+    }
+}
