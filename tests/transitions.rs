@@ -79,3 +79,16 @@ fn disk_rows_keep_the_boundary_spacing() {
     assert!(transitions > 0);
     assert!(quads < 1200, "{quads} quads");
 }
+
+/// A generated domain whose boundary spacing is graded 1:100: the rows of
+/// its fine part make quads far smaller than the mean of those made so
+/// far, and the progress watch, which holds them to the size field, lets
+/// extraction run to the end instead of filling the rest (it filled after
+/// 3,201 steps when the mean was its only measure).
+#[test]
+fn a_boundary_graded_one_to_a_hundred_is_meshed_by_extraction_alone() {
+    let d = quadex::domains::generate(quadex::domains::Family::Graded, 0xfacec95d4663db9c);
+    let (quads, transitions) = stepped(&d.name, &d.boundary, MeshParams::DEFAULT);
+    assert!(transitions > 0, "{}: no transition", d.description);
+    assert!(quads > 1000, "{}: {quads} quads", d.description);
+}

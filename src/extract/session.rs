@@ -45,6 +45,15 @@ const REWIND_GOOD: f64 = 0.2;
 /// large disk meet: its rip-ups and relaxations take some 700 steps before
 /// the front closes there by itself (disk1600 finishes by extraction alone;
 /// with a window of 1,024 steps it was filled).
+///
+/// The mean of the quads so far is not what a graded domain's fine part
+/// asks for: its quads can be a hundredth of the mean's size while the
+/// rows there move on as they should. So a run is also held to the size
+/// field: the window is no progress only if the area it took off is also
+/// under [`PROGRESS_RATE`] of the area the size field asks of the quads it
+/// made (h² at each one's centre, quads later ripped up included). Knots of
+/// quads far finer than the field and rows cut and ripped up again fail
+/// both.
 pub(super) const PROGRESS_EVERY: usize = 128;
 /// See [`PROGRESS_EVERY`].
 pub(super) const PROGRESS_WINDOW: usize = 2048;
@@ -120,9 +129,13 @@ pub struct Mesher {
     /// Per loop, the [`crate::front::FrontLoop::version`] last looked at
     /// for a mapped grid (see [`super::mapped`]; 0: never).
     pub(super) mapped_seen: Vec<u32>,
-    /// The progress watch's checkpoints: (step, area still open), one per
-    /// [`PROGRESS_EVERY`] steps.
-    pub(super) progress: Vec<(usize, f64)>,
+    /// The progress watch's checkpoints: (step, area still open, [`Mesher::asked`]
+    /// then), one per [`PROGRESS_EVERY`] steps.
+    pub(super) progress: Vec<(usize, f64, f64)>,
+    /// The area the size field asks of the quads made so far: the sum of
+    /// h² at the centre of every quad extraction has made (the progress
+    /// watch's second measure, [`PROGRESS_EVERY`]).
+    pub(super) asked: f64,
     /// Quads that closed a needle ([`Mesher::needle_kite`]) and their area:
     /// the progress watch leaves them out of its mean (a fan of long
     /// needles would make every later quad look like no progress).
@@ -181,6 +194,7 @@ impl Mesher {
             mapped_seen: Vec::new(),
             memo: Default::default(),
             progress: Vec::new(),
+            asked: 0.0,
             needle_quads: (0, 0.0),
             evaluated: (Point::ZERO, Point::ZERO),
             relaxes: 0,
@@ -357,13 +371,16 @@ impl Mesher {
             return false;
         }
         let open = self.front.open_area(&self.mesh.nodes);
-        self.progress.push((n, open));
+        self.progress.push((n, open, self.asked));
         let Some(k) = n.checked_sub(PROGRESS_WINDOW) else {
             return false;
         };
-        let Some(&(_, before)) = self.progress.iter().rev().find(|p| p.0 <= k) else {
+        let Some(&(_, before, asked_before)) = self.progress.iter().rev().find(|p| p.0 <= k) else {
             return false;
         };
+        if before - open >= PROGRESS_RATE * (self.asked - asked_before) {
+            return false;
+        }
         let (needles, needle_area) = self.needle_quads;
         let quads = self.mesh.quads.len().saturating_sub(needles);
         if quads == 0 {
@@ -680,9 +697,12 @@ impl Mesher {
 
     pub(super) fn push_quad(&mut self, q: [u32; 4]) {
         let k = self.mesh.quads.len() as u32;
+        let mut centre = Point::ZERO;
         for &v in &q {
             self.incident[v as usize].push(k);
+            centre += self.mesh.nodes[v as usize];
         }
+        self.asked += self.size.at(centre * 0.25).powi(2);
         self.mesh.quads.push(q);
     }
 
