@@ -310,6 +310,12 @@ impl Mesher {
                 }
             }
         }
+        // 9b. A strip no step could take, closed by its best mapped grid.
+        for &lid in &loops {
+            if let Some(r) = self.close_strip(lid) {
+                return Ok(r);
+            }
+        }
         // 10. Give the smallest stuck loop room: remove the elements around it.
         if let Some(&lid) = loops.first() {
             if self.rip_ups < RIP_UPS + self.mesh.quads.len() / RIP_UP_QUADS {

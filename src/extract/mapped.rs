@@ -27,6 +27,9 @@ pub const CORNER_MAX: f64 = 150.0;
 pub const SIDE_TURN: f64 = 35.0;
 /// The worst quad a mapped grid may have (scaled Jacobian).
 pub const MIN_SJ: f64 = 0.4;
+/// The worst quad [`Mesher::close_strip`] takes on a loop with nodes
+/// extraction made (scaled Jacobian).
+pub const STRIP_SJ: f64 = 0.2;
 /// Loops longer than this (nodes) are not looked at: a loop is looked at
 /// again whenever it has changed, and the front of a large domain changes
 /// every step (a 4 × 196 strip is the longest mapped).
@@ -197,6 +200,53 @@ pub fn grid(pts: &[Point], corners: [usize; 4]) -> Grid {
     Grid { m, n, at, points }
 }
 
+/// The logical rectangle over a counter-clockwise loop, corners chosen
+/// anywhere, whose grid is best: at most `across` elements the narrow way,
+/// every quad measurably convex, the highest worst scaled Jacobian. Ties
+/// go to the first corners in loop order. `None` for an odd loop or when
+/// no choice gives a convex grid.
+///
+/// This is the grid of a strip whose ends are not at corners the side
+/// test of [`rectangle`] accepts: a hole a fiftieth of a segment from the
+/// outer side leaves a strip whose ends are a near-flat node on one side
+/// and a reflex corner of the hole on the other.
+pub fn best_strip(pts: &[Point], across: usize) -> Option<(Grid, f64)> {
+    let len = pts.len();
+    if len < 4 || len % 2 == 1 {
+        return None;
+    }
+    let half = len / 2;
+    let mut best: Option<(Grid, f64)> = None;
+    for b in 1..=across.min(half / 2) {
+        let a = half - b;
+        for start in 0..len {
+            let corners = [start, start + a, start + a + b, start + 2 * a + b].map(|k| k % len);
+            let g = grid(pts, corners);
+            let Some(sj) = g.min_sj() else {
+                continue;
+            };
+            if best.as_ref().is_none_or(|(_, worst)| sj > *worst) {
+                best = Some((g, sj));
+            }
+        }
+    }
+    best
+}
+
+/// True the first time loop `lid` is looked at in its `version` (`seen`:
+/// per loop, the version last looked at, 0 for none), which it records.
+fn first_look(seen: &mut Vec<u32>, lid: u32, version: u32) -> bool {
+    let k = lid as usize;
+    if seen.get(k) == Some(&version) {
+        return false;
+    }
+    if seen.len() <= k {
+        seen.resize(k + 1, 0);
+    }
+    seen[k] = version;
+    true
+}
+
 impl Mesher {
     /// Closes loop `lid` by a mapped grid, if it is a logical rectangle at
     /// most [`MeshParams::mapped_rows`](super::MeshParams::mapped_rows)
@@ -204,15 +254,9 @@ impl Mesher {
     pub(super) fn close_mapped(&mut self, lid: u32) -> Option<StepReport> {
         let rows = self.params.mapped_rows?;
         let l = self.front.loops[lid as usize];
-        if !(8..=MAX_LOOP).contains(&l.len)
-            || self.mapped_seen.get(lid as usize) == Some(&l.version)
-        {
+        if !(8..=MAX_LOOP).contains(&l.len) || !first_look(&mut self.mapped_seen, lid, l.version) {
             return None;
         }
-        if self.mapped_seen.len() <= lid as usize {
-            self.mapped_seen.resize(lid as usize + 1, 0);
-        }
-        self.mapped_seen[lid as usize] = l.version;
         let (slots, nodes, pts) = self.loop_geometry(lid);
         if is_pinched(&nodes) {
             return None;
@@ -225,6 +269,41 @@ impl Mesher {
         if !self.loop_is_clear(&slots, &nodes, &pts) {
             return None;
         }
+        Some(self.commit_grid(lid, &nodes, &g))
+    }
+
+    /// Closes loop `lid`, which no step could reduce, by its
+    /// [`best_strip`] at most
+    /// [`MeshParams::mapped_rows`](super::MeshParams::mapped_rows) across.
+    /// Its worst quad must reach [`STRIP_SJ`], unless every node of the loop
+    /// is a node of the given boundary: then nothing extraction could do
+    /// would move them, a fill would meet the same skew, and a convex grid
+    /// is taken.
+    pub(super) fn close_strip(&mut self, lid: u32) -> Option<StepReport> {
+        let rows = self.params.mapped_rows?;
+        let l = self.front.loops[lid as usize];
+        if !(8..=MAX_LOOP).contains(&l.len) || !first_look(&mut self.strip_seen, lid, l.version) {
+            return None;
+        }
+        let (slots, nodes, pts) = self.loop_geometry(lid);
+        if is_pinched(&nodes) {
+            return None;
+        }
+        let (g, sj) = best_strip(&pts, rows)?;
+        let fixed = nodes
+            .iter()
+            .all(|&v| (v as usize) < self.boundary.node_count());
+        if (sj < STRIP_SJ && !fixed) || !self.loop_is_clear(&slots, &nodes, &pts) {
+            return None;
+        }
+        let mut r = self.commit_grid(lid, &nodes, &g);
+        r.remedy = super::report::Remedy::RuleBased;
+        Some(r)
+    }
+
+    /// Meshes loop `lid` (its `nodes`) by the grid `g` over it and removes
+    /// the loop from the front.
+    fn commit_grid(&mut self, lid: u32, nodes: &[u32], g: &Grid) -> StepReport {
         let mut r = self.report(StepKind::Mapped);
         let ids: Vec<u32> = (0..g.points.len())
             .map(|k| match g.at[k] {
@@ -241,9 +320,9 @@ impl Mesher {
             self.push_quad(quad);
             r.quads.push(quad);
         }
-        r.reference = Some(nodes[corners[0]]);
+        r.reference = g.at.iter().flatten().next().map(|&t| nodes[t]);
         self.front.remove_loop(lid);
-        Some(r)
+        r
     }
 }
 
@@ -325,5 +404,33 @@ mod tests {
         for (i, &x) in xs.iter().enumerate() {
             assert!((g.points[g.index(i, 1)].x - x).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn a_strip_whose_end_is_no_corner_gets_its_best_grid() {
+        // One row 0.3 high: four edges below, four above, the top running
+        // on past the bottom's start so that (0, 0) turns by 17° only.
+        let p = [
+            (0., 0.),
+            (1., 0.),
+            (2., 0.),
+            (3., 0.),
+            (4., 0.),
+            (4., 0.3),
+            (3., 0.3),
+            (2., 0.3),
+            (1., 0.3),
+            (-1., 0.3),
+        ]
+        .map(|(x, y)| Point::new(x, y));
+        assert!(rectangle(&p).is_none());
+        let (g, sj) = best_strip(&p, 4).unwrap();
+        assert_eq!((g.m, g.n), (4, 1));
+        assert_eq!(g.at[0], Some(0));
+        assert!(g.at.iter().all(Option::is_some));
+        // Its worst quad is the one at (0, 0): sin(180° - 16.7°).
+        assert!((sj - 0.3 / 1.09f64.sqrt()).abs() < 1e-9, "{sj}");
+        // An odd loop has no grid.
+        assert!(best_strip(&p[..9], 4).is_none());
     }
 }

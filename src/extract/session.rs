@@ -129,6 +129,8 @@ pub struct Mesher {
     /// Per loop, the [`crate::front::FrontLoop::version`] last looked at
     /// for a mapped grid (see [`super::mapped`]; 0: never).
     pub(super) mapped_seen: Vec<u32>,
+    /// The same for [`Mesher::close_strip`].
+    pub(super) strip_seen: Vec<u32>,
     /// The progress watch's checkpoints: (step, area still open, [`Mesher::asked`]
     /// then), one per [`PROGRESS_EVERY`] steps.
     pub(super) progress: Vec<(usize, f64, f64)>,
@@ -192,6 +194,7 @@ impl Mesher {
             row_run: Vec::new(),
             small_stuck: Vec::new(),
             mapped_seen: Vec::new(),
+            strip_seen: Vec::new(),
             memo: Default::default(),
             progress: Vec::new(),
             asked: 0.0,
