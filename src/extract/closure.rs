@@ -164,6 +164,10 @@ pub fn fill_six(pts: &[Point; 6]) -> Option<Fill> {
     best(patterns(pts)).or_else(|| best(strip_patterns(pts)))
 }
 
+/// A loop's slots, nodes and points, in loop order
+/// ([`Mesher::loop_geometry`]).
+pub(super) type LoopGeometry = (Vec<SlotId>, Vec<u32>, Vec<Point>);
+
 /// True when a loop's nodes repeat one (the loop touches itself there):
 /// such a loop is not closed as a whole.
 pub(super) fn is_pinched(nodes: &[u32]) -> bool {
@@ -176,7 +180,7 @@ pub(super) fn is_pinched(nodes: &[u32]) -> bool {
 impl Mesher {
     /// Loop `lid`'s slots, their nodes and the nodes' positions, in loop
     /// order from its head.
-    pub(super) fn loop_geometry(&self, lid: u32) -> (Vec<SlotId>, Vec<u32>, Vec<Point>) {
+    pub(super) fn loop_geometry(&self, lid: u32) -> LoopGeometry {
         let slots = self.front.loop_slots(lid);
         let nodes: Vec<u32> = slots.iter().map(|&s| self.front.node(s)).collect();
         let pts: Vec<Point> = nodes.iter().map(|&v| self.mesh.nodes[v as usize]).collect();

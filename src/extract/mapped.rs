@@ -15,7 +15,7 @@
 //! match. The grid is taken only if every quad is convex with a scaled
 //! Jacobian of at least [`MIN_SJ`] and no other loop lies inside.
 
-use super::closure::is_pinched;
+use super::closure::{is_pinched, LoopGeometry};
 use super::report::{StepKind, StepReport};
 use super::session::Mesher;
 use crate::geom::{is_measurably_convex, Point};
@@ -233,34 +233,12 @@ pub fn best_strip(pts: &[Point], across: usize) -> Option<(Grid, f64)> {
     best
 }
 
-/// True the first time loop `lid` is looked at in its `version` (`seen`:
-/// per loop, the version last looked at, 0 for none), which it records.
-fn first_look(seen: &mut Vec<u32>, lid: u32, version: u32) -> bool {
-    let k = lid as usize;
-    if seen.get(k) == Some(&version) {
-        return false;
-    }
-    if seen.len() <= k {
-        seen.resize(k + 1, 0);
-    }
-    seen[k] = version;
-    true
-}
-
 impl Mesher {
     /// Closes loop `lid` by a mapped grid, if it is a logical rectangle at
     /// most [`MeshParams::mapped_rows`](super::MeshParams::mapped_rows)
     /// across whose grid is good enough.
     pub(super) fn close_mapped(&mut self, lid: u32) -> Option<StepReport> {
-        let rows = self.params.mapped_rows?;
-        let l = self.front.loops[lid as usize];
-        if !(8..=MAX_LOOP).contains(&l.len) || !first_look(&mut self.mapped_seen, lid, l.version) {
-            return None;
-        }
-        let (slots, nodes, pts) = self.loop_geometry(lid);
-        if is_pinched(&nodes) {
-            return None;
-        }
+        let (rows, (slots, nodes, pts)) = self.grid_loop(lid, |m| &mut m.mapped_seen)?;
         let corners = rectangle(&pts)?;
         let g = grid(&pts, corners);
         if g.n > rows || !g.min_sj().is_some_and(|sj| sj >= MIN_SJ) {
@@ -280,25 +258,45 @@ impl Mesher {
     /// would move them, a fill would meet the same skew, and a convex grid
     /// is taken.
     pub(super) fn close_strip(&mut self, lid: u32) -> Option<StepReport> {
-        let rows = self.params.mapped_rows?;
-        let l = self.front.loops[lid as usize];
-        if !(8..=MAX_LOOP).contains(&l.len) || !first_look(&mut self.strip_seen, lid, l.version) {
-            return None;
-        }
-        let (slots, nodes, pts) = self.loop_geometry(lid);
-        if is_pinched(&nodes) {
-            return None;
-        }
+        let (rows, (slots, nodes, pts)) = self.grid_loop(lid, |m| &mut m.strip_seen)?;
         let (g, sj) = best_strip(&pts, rows)?;
-        let fixed = nodes
-            .iter()
-            .all(|&v| (v as usize) < self.boundary.node_count());
+        let fixed = nodes.iter().all(|&v| self.mesh.is_boundary(v));
         if (sj < STRIP_SJ && !fixed) || !self.loop_is_clear(&slots, &nodes, &pts) {
             return None;
         }
         let mut r = self.commit_grid(lid, &nodes, &g);
         r.remedy = super::report::Remedy::RuleBased;
         Some(r)
+    }
+
+    /// The rows a grid may have across and loop `lid`'s slots, nodes and
+    /// points, if the loop is to be looked at for a grid: mapping is on,
+    /// the loop has 8 to [`MAX_LOOP`] nodes, is not pinched, and has
+    /// changed since it was last looked at (`seen` picks the record: per
+    /// loop, the version last looked at, 0 for none; updated here).
+    fn grid_loop(
+        &mut self,
+        lid: u32,
+        seen: fn(&mut Mesher) -> &mut Vec<u32>,
+    ) -> Option<(usize, LoopGeometry)> {
+        let rows = self.params.mapped_rows?;
+        let l = self.front.loops[lid as usize];
+        if !(8..=MAX_LOOP).contains(&l.len) {
+            return None;
+        }
+        let (k, seen) = (lid as usize, seen(self));
+        if seen.get(k) == Some(&l.version) {
+            return None;
+        }
+        if seen.len() <= k {
+            seen.resize(k + 1, 0);
+        }
+        seen[k] = l.version;
+        let (slots, nodes, pts) = self.loop_geometry(lid);
+        if is_pinched(&nodes) {
+            return None;
+        }
+        Some((rows, (slots, nodes, pts)))
     }
 
     /// Meshes loop `lid` (its `nodes`) by the grid `g` over it and removes
@@ -320,7 +318,7 @@ impl Mesher {
             self.push_quad(quad);
             r.quads.push(quad);
         }
-        r.reference = g.at.iter().flatten().next().map(|&t| nodes[t]);
+        r.reference = g.at[0].map(|t| nodes[t]);
         self.front.remove_loop(lid);
         r
     }
