@@ -311,7 +311,7 @@ impl Work<'_> {
                         }))
                     };
                     let start = quality(self.mesh).unwrap_or_default();
-                    pattern_search(self.mesh, v as usize, &nbs, start, quality);
+                    pattern_search(self.mesh, v as usize, &nbs, start, |m, _| quality(m));
                 }
                 let (new_min, new_count) = self.slivers(after(), bound);
                 after().all(|r| is_measurably_convex(self.mesh.corners(r)))

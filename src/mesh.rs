@@ -173,11 +173,14 @@ impl QuadMesh {
             let q = (p - lo) / span * f64::from(u32::MAX);
             spread(q.x as u64) | (spread(q.y as u64) << 1)
         };
-        let mut order: Vec<usize> = (nb..self.nodes.len()).collect();
-        order.sort_by_key(|&i| (key(self.nodes[i]), i));
+        // Keys made once; with the node's id, no two are equal.
+        let mut order: Vec<(u64, usize)> = (nb..self.nodes.len())
+            .map(|i| (key(self.nodes[i]), i))
+            .collect();
+        order.sort_unstable();
         let mut new_id: Vec<u32> = (0..self.nodes.len() as u32).collect();
         let mut nodes = self.nodes[..nb].to_vec();
-        for &i in &order {
+        for &(_, i) in &order {
             new_id[i] = nodes.len() as u32;
             nodes.push(self.nodes[i]);
         }

@@ -161,7 +161,7 @@ impl Work<'_> {
             .iter()
             .map(|&j| self.mesh.quads[j as usize])
             .collect();
-        let loops = boundary_loops(&self.mesh.nodes, &quads).ok()?;
+        let loops = cavity_loops(&self.mesh.nodes, &quads)?;
         let mut ids: Vec<u32> = Vec::new();
         let mut local: BTreeMap<u32, usize> = BTreeMap::new();
         let sub_loops: Vec<Vec<usize>> = loops
@@ -298,6 +298,27 @@ fn candidates(params: &MeshParams) -> Vec<MeshParams> {
         ..base.clone()
     };
     vec![base, other_strategy, other_finish]
+}
+
+/// [`boundary_loops`] of a cavity's `quads`, found over the cavity's own
+/// nodes numbered in the order of their ids (so the loops are the same, in
+/// the same order), not over every node of the mesh.
+fn cavity_loops(nodes: &[Point], quads: &[[u32; 4]]) -> Option<Vec<Vec<u32>>> {
+    let mut ids: Vec<u32> = quads.iter().flatten().copied().collect();
+    ids.sort_unstable();
+    ids.dedup();
+    let local: Vec<[u32; 4]> = quads
+        .iter()
+        .map(|q| q.map(|v| ids.partition_point(|&u| u < v) as u32))
+        .collect();
+    let points: Vec<Point> = ids.iter().map(|&v| nodes[v as usize]).collect();
+    let loops = boundary_loops(&points, &local).ok()?;
+    Some(
+        loops
+            .into_iter()
+            .map(|l| l.into_iter().map(|i| ids[i as usize]).collect())
+            .collect(),
+    )
 }
 
 /// Remeshes the regions around quads below `finish.remesh.below` (see the

@@ -5,7 +5,7 @@
 //! Nodes are visited in id order (Gauss–Seidel), so the result is
 //! deterministic.
 
-use crate::geom::{is_measurably_convex, is_strictly_convex, Point};
+use crate::geom::{is_measurably_convex, Point};
 use crate::mesh::QuadMesh;
 use crate::quality::{QuadQuality, Shape};
 use serde::{Deserialize, Serialize};
@@ -100,10 +100,13 @@ impl Adjacency {
         let mut nbs = Vec::with_capacity(4 * mesh.quads.len());
         for v in 0..n {
             let (a, b) = (2 * quad_start[v] as usize, 2 * quad_start[v + 1] as usize);
-            let mut list: Vec<u32> = nb_raw[a..b].to_vec();
+            let list = &mut nb_raw[a..b];
             list.sort_unstable();
-            list.dedup();
-            nbs.extend_from_slice(&list);
+            for (i, &u) in list.iter().enumerate() {
+                if i == 0 || list[i - 1] != u {
+                    nbs.push(u);
+                }
+            }
             nb_start[v + 1] = nbs.len() as u32;
         }
         Adjacency {
@@ -286,6 +289,42 @@ fn quads_of(adj: &Adjacency, nodes: &[usize], n_quads: usize) -> Vec<u32> {
     (0..n_quads as u32).filter(|&k| mark[k as usize]).collect()
 }
 
+/// Which nodes a sweep of [`smooth_with`] or [`search_with`] visits. A
+/// visit depends on the corners of the node's quads alone (and, in a
+/// search, on which of those quads were poor when the sweep began), so a
+/// node is visited again only when one of those corners moved in the
+/// sweep before or in its own: the others would do what they did last
+/// time, which was nothing. Sweeps give the same mesh as visiting every
+/// node, at the cost of the nodes still moving.
+struct Visits {
+    /// Per node, the last sweep it is to be visited in.
+    until: Vec<usize>,
+}
+
+impl Visits {
+    /// Every node visited in sweep 0.
+    fn new(n_nodes: usize) -> Visits {
+        Visits {
+            until: vec![0; n_nodes],
+        }
+    }
+
+    /// Whether node `v` is visited in `sweep`.
+    fn due(&self, v: usize, sweep: usize) -> bool {
+        self.until[v] >= sweep
+    }
+
+    /// Node `v` moved in `sweep`: the corners of its quads are visited in
+    /// this sweep (those still to come) and the next.
+    fn moved(&mut self, mesh: &QuadMesh, adj: &Adjacency, v: usize, sweep: usize) {
+        for &k in &adj.quads[adj.quad_start[v] as usize..adj.quad_start[v + 1] as usize] {
+            for &u in &mesh.quads[k as usize] {
+                self.until[u as usize] = sweep + 1;
+            }
+        }
+    }
+}
+
 fn smooth_with(
     mesh: &mut QuadMesh,
     params: &SmoothParams,
@@ -299,19 +338,28 @@ fn smooth_with(
     // Jacobian, whether it is measurably convex, its stretch bound. Filled
     // when first needed and kept up to date as its corners move.
     let mut now: Vec<Option<(f64, bool, f64)>> = vec![None; mesh.quads.len()];
+    // With whether the quad is strictly convex.
     let limits = |p: [Point; 4]| {
         let shape = Shape::of(p);
+        let (strict, measurable) = shape.convexity(p);
         (
-            shape.scaled_jacobian,
-            is_measurably_convex(p),
-            shape.stretch().max(MAX_STRETCH),
+            strict,
+            (
+                shape.scaled_jacobian,
+                measurable,
+                shape.stretch().max(MAX_STRETCH),
+            ),
         )
     };
     let mut accepted = 0;
     let mut after = Vec::new();
-    for _ in 0..params.iterations {
+    let mut visits = Visits::new(mesh.nodes.len());
+    for sweep in 0..params.iterations {
         let mut moved = 0;
         for &v in nodes {
+            if !visits.due(v, sweep) {
+                continue;
+            }
             let (q0, q1) = (adj.quad_start[v] as usize, adj.quad_start[v + 1] as usize);
             if q0 == q1 {
                 continue;
@@ -329,7 +377,7 @@ fn smooth_with(
             }
             for &k in &adj.quads[q0..q1] {
                 if now[k as usize].is_none() {
-                    now[k as usize] = Some(limits(mesh.corners(&mesh.quads[k as usize])));
+                    now[k as usize] = Some(limits(mesh.corners(&mesh.quads[k as usize])).1);
                 }
             }
             mesh.nodes[v] = target;
@@ -339,13 +387,12 @@ fn smooth_with(
                 let Some((b, m, st)) = now[k as usize] else {
                     return false;
                 };
-                let p = mesh.corners(&mesh.quads[k as usize]);
-                if !is_strictly_convex(p) {
+                let (strict, l) = limits(mesh.corners(&mesh.quads[k as usize]));
+                if !strict {
                     return false;
                 }
                 // (Stretch bounds are at least MAX_STRETCH, so comparing
                 // them is comparing the stretch itself.)
-                let l = limits(p);
                 after.push(l);
                 (!m || l.1) && l.0 >= b.min(params.threshold) && l.2 <= st
             });
@@ -354,6 +401,7 @@ fn smooth_with(
                 for (&k, &l) in adj.quads[q0..q1].iter().zip(&after) {
                     now[k as usize] = Some(l);
                 }
+                visits.moved(mesh, adj, v, sweep);
             } else {
                 mesh.nodes[v] = old;
             }
@@ -400,14 +448,24 @@ const MIN_AREA_RATIO: f64 = 0.3;
 /// up to `clip`) and their sum, or `None` when one goes past its [`Floor`]:
 /// not measurably convex (when it was), smaller than its area bound,
 /// thinner than its Rs bound or stretched past its stretch bound.
-fn node_quality(mesh: &QuadMesh, quads: &[u32], floor: &[Floor], clip: f64) -> Option<(f64, f64)> {
+///
+/// It is `None` as well as soon as one quad is under `beat`: the node's
+/// quality would then not improve on a best whose worst is `beat`
+/// ([`improves`]), and the other quads need not be looked at.
+fn node_quality(
+    mesh: &QuadMesh,
+    quads: &[u32],
+    floor: &[Floor],
+    clip: f64,
+    beat: f64,
+) -> Option<(f64, f64)> {
     let mut min = f64::INFINITY;
     let mut sum = 0.0;
     for &k in quads {
         let p = mesh.corners(&mesh.quads[k as usize]);
         let q = Shape::of(p);
         let f = &floor[k as usize];
-        if (f.convex && !is_measurably_convex(p))
+        if (f.convex && !q.convexity(p).1)
             || q.area < f.area
             || q.rs < f.rs
             || q.stretch() > f.stretch
@@ -415,6 +473,9 @@ fn node_quality(mesh: &QuadMesh, quads: &[u32], floor: &[Floor], clip: f64) -> O
             return None;
         }
         let sj = q.scaled_jacobian;
+        if sj < beat {
+            return None;
+        }
         min = min.min(sj);
         sum += sj;
     }
@@ -449,14 +510,16 @@ const DIRECTIONS: [(f64, f64); 8] = [
 /// is refused) is best, starting from `best` = its quality where it is, by
 /// a pattern search in eight directions whose step starts at a quarter of
 /// the shortest edge to `nbs`, doubles after a success (up to a quarter of
-/// the longest) and halves after a failure. Returns the final position
-/// (the node is left there).
+/// the longest) and halves after a failure. `quality` is given the worst
+/// member of the best so far: a position whose worst is under it cannot
+/// improve, and `quality` may refuse it without looking further. Returns
+/// the final position (the node is left there).
 pub(crate) fn pattern_search(
     mesh: &mut QuadMesh,
     v: usize,
     nbs: &[u32],
     mut best: (f64, f64),
-    quality: impl Fn(&QuadMesh) -> Option<(f64, f64)>,
+    quality: impl Fn(&QuadMesh, f64) -> Option<(f64, f64)>,
 ) -> Point {
     let start = mesh.nodes[v];
     let (shortest, longest) = edge_range(mesh, v, nbs);
@@ -470,7 +533,7 @@ pub(crate) fn pattern_search(
         let mut step = None;
         for (dx, dy) in DIRECTIONS {
             mesh.nodes[v] = at + Point::new(dx, dy) * h;
-            if let Some(q) = quality(mesh).filter(|&q| improves(q, best)) {
+            if let Some(q) = quality(mesh, best.0).filter(|&q| improves(q, best)) {
                 best = q;
                 step = Some(mesh.nodes[v]);
             }
@@ -687,29 +750,43 @@ fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usi
     };
     let mut moved = 0;
     let mut poor = vec![false; mesh.quads.len()];
-    for _ in 0..pass.sweeps {
+    // The quads a corner of moved in since `poor` was last set.
+    let mut stale = vec![true; mesh.quads.len()];
+    let mut visits = Visits::new(mesh.nodes.len());
+    for sweep in 0..pass.sweeps {
         for &k in &quads {
-            poor[k as usize] = quad_sj(mesh, &mesh.quads[k as usize]) < pass.below;
+            if std::mem::take(&mut stale[k as usize]) {
+                poor[k as usize] = quad_sj(mesh, &mesh.quads[k as usize]) < pass.below;
+            }
         }
         let mut moved_now = 0;
         for &v in nodes {
+            if !visits.due(v, sweep) {
+                continue;
+            }
             let quads = &adj.quads[adj.quad_start[v] as usize..adj.quad_start[v + 1] as usize];
             if !quads.iter().any(|&k| poor[k as usize]) {
                 continue;
             }
-            let quality = |m: &QuadMesh| node_quality(m, quads, &floor, clip);
-            let Some(best) = quality(mesh) else {
+            let quality = |m: &QuadMesh, beat: f64| node_quality(m, quads, &floor, clip, beat);
+            let Some(best) = quality(mesh, f64::NEG_INFINITY) else {
                 continue;
             };
             let start = mesh.nodes[v];
             let nbs = &adj.nbs[adj.nb_start[v] as usize..adj.nb_start[v + 1] as usize];
             let at = match pass.seek {
                 Seek::Worst => pattern_search(mesh, v, nbs, best, quality),
-                Seek::Sum { keep } if best.0 >= keep => ascend(mesh, v, nbs, best, quality),
+                Seek::Sum { keep } if best.0 >= keep => {
+                    ascend(mesh, v, nbs, best, |m| quality(m, f64::NEG_INFINITY))
+                }
                 Seek::Sum { .. } => continue,
             };
             if at != start {
                 moved_now += 1;
+                visits.moved(mesh, adj, v, sweep);
+                for &k in quads {
+                    stale[k as usize] = true;
+                }
             }
         }
         moved += moved_now;

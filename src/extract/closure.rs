@@ -315,7 +315,7 @@ impl Mesher {
             nbs.extend(nodes.iter().copied().filter(|&u| u != v));
             let old = self.mesh.nodes[v as usize];
             self.front.unfile_edges_at(s);
-            let at = pattern_search(&mut self.mesh, v as usize, &nbs, start, quality);
+            let at = pattern_search(&mut self.mesh, v as usize, &nbs, start, |m, _| quality(m));
             let (pp, pn) = (
                 self.world(self.front.prev(s)),
                 self.world(self.front.next(s)),
