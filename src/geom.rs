@@ -68,8 +68,9 @@ pub fn is_measurably_convex(p: [Point; 4]) -> bool {
 }
 
 /// A sine over which a corner is convex, strictly and measurably, whatever
-/// the rounding of the plain cross product that shows it.
-const SURE_SINE: f64 = 1e-6;
+/// the rounding of the plain cross product or scaled Jacobian
+/// ([`crate::quality::Shape::convexity`]) that shows it.
+pub const SURE_SINE: f64 = 1e-6;
 
 /// Edge lengths squared between which [`surely_convex`] answers: its
 /// products neither overflow nor fall into the subnormals.

@@ -7,7 +7,7 @@
 //! edges). The formulas are those of the independent judge
 //! (`bench/tools/judge.py`), so both agree to rounding.
 
-use crate::geom::{orient, Point, MIN_CORNER_SINE};
+use crate::geom::{is_measurably_convex, is_strictly_convex, Point, SURE_SINE};
 use crate::mesh::QuadMesh;
 use serde::{Deserialize, Serialize};
 
@@ -51,30 +51,18 @@ impl Shape {
     }
 
     /// Whether the quad `p` this shape is of is strictly convex
-    /// ([`crate::geom::is_strictly_convex`]) and whether it is measurably
-    /// so ([`crate::geom::is_measurably_convex`]), the same answers from one
-    /// orientation test per corner and the edge lengths already here.
-    ///
-    /// A quad whose scaled Jacobian is over [`Shape::SURELY_CONVEX`] is both
-    /// without a test: every corner's sine is then that far above zero and
-    /// above [`MIN_CORNER_SINE`], far past the rounding of either figure.
+    /// ([`is_strictly_convex`]) and whether it is measurably so
+    /// ([`is_measurably_convex`]). A quad whose scaled Jacobian is over
+    /// [`SURE_SINE`] is both without a test: every corner's sine is then
+    /// that far above zero and above [`crate::geom::MIN_CORNER_SINE`], far
+    /// past the rounding of either figure.
     #[inline]
     pub fn convexity(&self, p: [Point; 4]) -> (bool, bool) {
-        if self.scaled_jacobian > Self::SURELY_CONVEX {
+        if self.scaled_jacobian > SURE_SINE {
             return (true, true);
         }
-        let (mut strict, mut measurable) = (true, true);
-        for k in 0..4 {
-            let o = orient(p[(k + 3) % 4], p[k], p[(k + 1) % 4]);
-            strict &= o > 0.0;
-            measurable &= o > 0.0 && o > MIN_CORNER_SINE * self.edges[(k + 3) % 4] * self.edges[k];
-        }
-        (strict, measurable)
+        (is_strictly_convex(p), is_measurably_convex(p))
     }
-
-    /// A scaled Jacobian over which [`Shape::convexity`] needs no
-    /// orientation test.
-    pub const SURELY_CONVEX: f64 = 1e-6;
 
     /// Longest over shortest edge.
     pub fn stretch(&self) -> f64 {
@@ -250,7 +238,6 @@ impl MeshQuality {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::{is_measurably_convex, is_strictly_convex};
 
     #[test]
     fn convexity_answers_as_the_geometry_tests_do() {
