@@ -4,9 +4,15 @@
 //! with no fill unless `--layers K` or `--fill` say otherwise.
 //!
 //! `cargo run --release --example partial -- IN.poly OUT.svg [--steps N]
-//! [--model default|rules|thesis|FILE] [--layers K] [--fill] [--trace]`
+//! [--model default|rules|thesis|FILE] [--layers K] [--fill] [--trace]
+//! [--check-every N] [--msh MESH.msh] [--front FRONT.txt]`
 //!
-//! `--trace` prints every step.
+//! `--trace` prints every step. The invariants are checked after every
+//! step, or after every `N`th and at the end with `--check-every N` (a
+//! check costs time in proportion to the mesh, too much for a large case
+//! at every step).
+//! `--msh` also writes the mesh so far, `--front` the front's loops, one
+//! line each of `x y` points separated by `;`.
 
 use quadex::extract::{MeshParams, Mesher, StepOutcome};
 use quadex::io::svg::{write_svg, SvgOptions};
@@ -34,6 +40,10 @@ fn main() {
     };
     let b = quadex::io::read_boundary(input.as_ref()).expect("boundary");
     let mut m = Mesher::new(b, model, params);
+    let check_every: usize = opt("--check-every")
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1)
+        .max(1);
     let mut steps = 0;
     while steps < max {
         match m.step() {
@@ -57,9 +67,11 @@ fn main() {
                 break;
             }
         }
-        if let Err(e) = m.check_invariants() {
-            eprintln!("invariant broken after step {steps}: {e}");
-            break;
+        if steps % check_every == 0 {
+            if let Err(e) = m.check_invariants() {
+                eprintln!("invariant broken after step {steps}: {e}");
+                break;
+            }
         }
         if flag("--tiny") {
             // Front edges far shorter than the size there.
@@ -79,6 +91,11 @@ fn main() {
                     }
                 }
             }
+        }
+    }
+    if check_every > 1 {
+        if let Err(e) = m.check_invariants() {
+            eprintln!("invariant broken at the end ({steps} steps): {e}");
         }
     }
     if flag("--sizes") {
@@ -124,6 +141,20 @@ fn main() {
     extra.push_str("</g>\n</svg>\n");
     svg = svg.replace("</svg>\n", &extra);
     std::fs::write(output, svg).expect("write");
+    if let Some(path) = opt("--msh") {
+        quadex::io::write_mesh(mesh, path.as_ref()).expect("write mesh");
+    }
+    if let Some(path) = opt("--front") {
+        let mut text = String::new();
+        for lid in f.live_loops() {
+            for sl in f.loop_slots(lid) {
+                let p = mesh.nodes[f.node(sl) as usize];
+                text.push_str(&format!("{} {};", p.x, p.y));
+            }
+            text.push('\n');
+        }
+        std::fs::write(path, text).expect("write front");
+    }
     if f.len() <= 24 || flag("--loops") {
         for lid in f.live_loops() {
             let pts: Vec<String> = f
