@@ -93,7 +93,9 @@ fn main() {
             }
         }
     }
-    if check_every > 1 {
+    // The last state, unless the loop checked it already (or stopped at a
+    // broken invariant).
+    if steps % check_every != 0 {
         if let Err(e) = m.check_invariants() {
             eprintln!("invariant broken at the end ({steps} steps): {e}");
         }
