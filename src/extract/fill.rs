@@ -32,6 +32,11 @@
 //!    little towards the cell's centre so that the ring quad beside it stays
 //!    strictly convex. The ring height is tried at decreasing scales.
 //!
+//! Where a construction leaves a few new quads folded (a triangle's centre
+//! that cannot serve a front corner beside a zigzag of the front), the new
+//! nodes of those quads are moved to where their worst quad is best, the
+//! front fixed, before the check below.
+//!
 //! A fill is accepted only when every new quad is measurably convex and
 //! every front edge is the side of one quad and every other side of two; the
 //! result is then a valid tiling of the region (the new quads are all
@@ -392,6 +397,7 @@ fn try_fill(
             }
         }
     }
+    untangle(&mut b, nodes, min_area);
     check_quads(&b, nodes, min_area)?;
     if !ring_is_clear(loops, &inner, nodes, &b) {
         return Err(FillError::RingCrossing);
@@ -432,6 +438,7 @@ fn try_direct(
     quadrangulate(&coarse, nodes, &mut b, size, true, |_, u, w, _, _| {
         skipped.get(&(u, w)).copied()
     })?;
+    untangle(&mut b, nodes, min_area);
     check_quads(&b, nodes, min_area)?;
     check_edges(loops, &b.quads)?;
     Ok(b)
@@ -460,12 +467,125 @@ fn check_edges(loops: &[Vec<u32>], quads: &[[u32; 4]]) -> Result<(), FillError> 
     Ok(())
 }
 
+/// Sweeps of [`untangle`] at most.
+const UNTANGLE_SWEEPS: usize = 12;
+
+/// Whether a new quad passes [`check_quads`].
+fn quad_ok(p: [Point; 4], min_area: f64) -> bool {
+    crate::geom::is_measurably_convex(p) && crate::geom::polygon_area(p) >= min_area
+}
+
+/// Moves the new nodes of quads that are not convex (a fill's quads at a
+/// front node whose angle one triangle's centre cannot serve, or beside a
+/// zigzag of the front) to where the worst of their quads is best: a
+/// pattern search over each such node's position, the front nodes fixed,
+/// sweep after sweep while a sweep still mends a quad. The quads' topology
+/// is kept, so a fill that is valid but for a few folded quads becomes
+/// valid; the smoothing after the fill evens the sizes out.
+fn untangle(b: &mut RegionFill, nodes: &[Point], min_area: f64) {
+    let at = |b: &RegionFill, q: [u32; 4]| q.map(|v| b.at(v, nodes));
+    let bad = |b: &RegionFill| -> Vec<usize> {
+        (0..b.quads.len())
+            .filter(|&k| !quad_ok(at(b, b.quads[k]), min_area))
+            .collect()
+    };
+    let mut worse = bad(b);
+    if worse.is_empty() {
+        return;
+    }
+    let mut incident: Vec<Vec<usize>> = vec![Vec::new(); b.points.len()];
+    for (k, q) in b.quads.iter().enumerate() {
+        for &v in q {
+            if v >= b.first_new {
+                incident[(v - b.first_new) as usize].push(k);
+            }
+        }
+    }
+    // A node's quality: its worst quad's scaled Jacobian (signed: a
+    // folded quad's reflex corner counts below a flat one).
+    let quality = |b: &RegionFill, v: usize| -> f64 {
+        incident[v]
+            .iter()
+            .map(|&k| crate::quality::Shape::of(at(b, b.quads[k])).scaled_jacobian)
+            .fold(f64::INFINITY, f64::min)
+    };
+    for _ in 0..UNTANGLE_SWEEPS {
+        let mut movable: Vec<usize> = worse
+            .iter()
+            .flat_map(|&k| b.quads[k])
+            .filter(|&v| v >= b.first_new)
+            .map(|v| (v - b.first_new) as usize)
+            .collect();
+        movable.sort_unstable();
+        movable.dedup();
+        for v in movable {
+            let start = b.points[v];
+            let reach = incident[v]
+                .iter()
+                .flat_map(|&k| b.quads[k])
+                .map(|u| b.at(u, nodes).distance(start))
+                .filter(|&d| d > 0.0)
+                .fold(f64::INFINITY, f64::min);
+            if !reach.is_finite() {
+                continue;
+            }
+            let mut best = quality(b, v);
+            // First the mean of its edge neighbours (a Laplacian step
+            // undoes a fold a search from where the node is cannot
+            // leave), then a pattern search.
+            let mut sum = Point::ZERO;
+            let mut count = 0.0;
+            for &k in &incident[v] {
+                let q = b.quads[k];
+                let i = q
+                    .iter()
+                    .position(|&u| u == b.first_new + v as u32)
+                    .unwrap_or(0);
+                sum += b.at(q[(i + 1) % 4], nodes) + b.at(q[(i + 3) % 4], nodes);
+                count += 2.0;
+            }
+            let mut here = start;
+            b.points[v] = sum / count;
+            let q = quality(b, v);
+            if q > best {
+                best = q;
+                here = b.points[v];
+            }
+            b.points[v] = here;
+            let mut h = 0.25 * reach;
+            let mut tries = 0;
+            while h > 1e-3 * reach && tries < 60 {
+                tries += 1;
+                let mut step = None;
+                for k in 0..8 {
+                    let a = k as f64 * std::f64::consts::FRAC_PI_4;
+                    b.points[v] = here + Point::new(a.cos(), a.sin()) * h;
+                    let q = quality(b, v);
+                    if q > best + 1e-12 {
+                        best = q;
+                        step = Some(b.points[v]);
+                    }
+                }
+                match step {
+                    Some(p) => here = p,
+                    None => h *= 0.5,
+                }
+            }
+            b.points[v] = here;
+        }
+        let left = bad(b);
+        if left.is_empty() || left.len() >= worse.len() && left == worse {
+            return;
+        }
+        worse = left;
+    }
+}
+
 /// Measurably convex, and not so thin that its area is lost to rounding when
 /// computed from absolute coordinates (as other tools do).
 fn check_quads(b: &RegionFill, nodes: &[Point], min_area: f64) -> Result<(), FillError> {
     for quad in &b.quads {
-        let p = quad.map(|v| b.at(v, nodes));
-        if !crate::geom::is_measurably_convex(p) || crate::geom::polygon_area(p) < min_area {
+        if !quad_ok(quad.map(|v| b.at(v, nodes)), min_area) {
             return Err(FillError::NotConvex { node: quad[0] });
         }
     }
@@ -750,6 +870,46 @@ mod tests {
             }
         }
         f
+    }
+
+    #[test]
+    fn untangles_folded_quads_with_the_front_fixed() {
+        // A 3×3 grid over the unit square: the 12 nodes of its edge are
+        // the front (fixed), the 4 inside are new. Two inner nodes pushed
+        // past their neighbours fold quads around them.
+        let nodes: Vec<Point> = [(0, 0), (1, 0), (2, 0), (3, 0), (3, 1), (3, 2)]
+            .into_iter()
+            .chain([(3, 3), (2, 3), (1, 3), (0, 3), (0, 2), (0, 1)])
+            .map(|(x, y)| Point::new(x as f64 / 3.0, y as f64 / 3.0))
+            .collect();
+        let mut b = RegionFill::new(&nodes);
+        let inner = [(1, 1), (2, 1), (2, 2), (1, 2)]
+            .map(|(x, y)| b.add(Point::new(x as f64 / 3.0, y as f64 / 3.0)));
+        let [a, c, d, e] = inner;
+        b.quads = vec![
+            [0, 1, a, 11],
+            [1, 2, c, a],
+            [2, 3, 4, c],
+            [11, a, e, 10],
+            [a, c, d, e],
+            [c, 4, 5, d],
+            [10, e, 8, 9],
+            [e, d, 7, 8],
+            [d, 5, 6, 7],
+        ];
+        b.points[0] = Point::new(0.8, 0.45);
+        b.points[2] = Point::new(0.3, 0.55);
+        let min_area = 1e-7 / 9.0;
+        assert!(check_quads(&b, &nodes, min_area).is_err());
+        untangle(&mut b, &nodes, min_area);
+        check_quads(&b, &nodes, min_area).expect("untangled");
+        check_edges(&[(0..12).collect()], &b.quads).expect("same tiling");
+        for (k, &p) in b.points.iter().enumerate() {
+            assert!(
+                p.x > 0.0 && p.x < 1.0 && p.y > 0.0 && p.y < 1.0,
+                "node {k} at {p}"
+            );
+        }
     }
 
     #[test]

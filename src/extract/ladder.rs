@@ -84,7 +84,7 @@ impl Mesher {
                 && self.front.angle(s, &self.mesh.nodes) > hi
                 && self.front.angle(t, &self.mesh.nodes) > hi
             {
-                if let Some(r) = self.square_on(s, limits) {
+                if let Some(r) = self.square_on(s, limits, 0.0) {
                     return Ok(r);
                 }
             }

@@ -14,6 +14,22 @@ use std::f64::consts::PI;
 /// as a share of the front's spacing at its ends.
 const CHORD_CLEARANCE: f64 = 0.1;
 
+/// A square cut where no reference point works ([`Squares::Any`]) is made
+/// lower than its edge is long (0.7 or 0.5 of it) only if its sides stay
+/// at least this share of the size there. Otherwise a stuck loop's
+/// squares shrink by half at each cut, each on the side of the one before
+/// (the shortest edge), and spiral down to nothing.
+const SQUARE_FLOOR: f64 = 0.5;
+
+/// A removal around regions to be filled ([`Mesher::tidy_removal`]) also
+/// takes the quads at boundary edges shorter than this share of the size.
+const TIDY_EDGE: f64 = 0.2;
+/// ... and the quads at corners of the boundary sharper than this, or more
+/// reflex than a full turn less this (radians, 20°).
+const TIDY_ANGLE: f64 = 20.0 * PI / 180.0;
+/// See [`TIDY_EDGE`].
+const TIDY_ROUNDS: usize = 6;
+
 /// Where [`Mesher::square_cut`] looks for the shortest front edge.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Squares {
@@ -32,11 +48,43 @@ impl Mesher {
     /// rebuilds the front around the enlarged hole in the mesh.
     pub(super) fn rip_up(&mut self, lid: u32, rings: usize) -> StepReport {
         let mut r = self.report(StepKind::RipUp);
-        let mut mark = vec![false; self.mesh.nodes.len()];
-        for s in self.front.loop_slots(lid) {
-            mark[self.front.node(s) as usize] = true;
-        }
         r.reference = Some(self.front.node(self.front.loops[lid as usize].head));
+        let mark;
+        (r.removed, mark) = self.remove_around(&[lid], rings, false);
+        // The enlarged loop is split next: a chord across the wider region.
+        let target = self.front.live_loops().max_by_key(|&l| {
+            self.front
+                .loop_slots(l)
+                .iter()
+                .filter(|&&s| mark[self.front.node(s) as usize])
+                .count()
+        });
+        if let Some(t) = target {
+            if let Some(split) = self.chord_split(t) {
+                r.quads = split.quads;
+                r.new_nodes = split.new_nodes;
+            }
+        }
+        self.row_start = self.front.live_loops().collect();
+        r
+    }
+
+    /// Removes every quad within `rings` element rings of the loops `lids`
+    /// and rebuilds the front around the enlarged holes in the mesh: the
+    /// quads removed, and a mark on every node of the removed quads and of
+    /// the loops.
+    pub(super) fn remove_around(
+        &mut self,
+        lids: &[u32],
+        rings: usize,
+        tidy: bool,
+    ) -> (usize, Vec<bool>) {
+        let mut mark = vec![false; self.mesh.nodes.len()];
+        for &lid in lids {
+            for s in self.front.loop_slots(lid) {
+                mark[self.front.node(s) as usize] = true;
+            }
+        }
         // The region left grows by the quads removed: its bounding edges are
         // the front's edges and the removed quads' edges, a pair met in
         // both directions cancelling (only the front and the removed quads
@@ -76,7 +124,10 @@ impl Mesher {
                 }
             }
         }
-        r.removed += self.remove_quads(&removed);
+        if tidy {
+            self.tidy_removal(&mut removed, &mut mark, &mut edges);
+        }
+        let count = self.remove_quads(&removed);
         let loops = Front::link_loops(edges.into_iter().collect(), &self.mesh.nodes);
         self.front = Front::new(
             &loops,
@@ -88,22 +139,76 @@ impl Mesher {
         for s in 0..self.front.slots.len() as SlotId {
             self.push(s);
         }
-        // The enlarged loop is split next: a chord across the wider region.
-        let target = self.front.live_loops().max_by_key(|&l| {
-            self.front
-                .loop_slots(l)
+        (count, mark)
+    }
+
+    /// Grows a removal (quads `removed`, region boundary `edges`, nodes
+    /// `mark`) until the region's boundary is one a fill can take: no node
+    /// the boundary passes twice (two removed quads meeting at a corner
+    /// only) and no boundary edge under [`TIDY_EDGE`] of the size there
+    /// (the knots of tiny quads where rows met) and no slit ([`TIDY_ANGLE`]). All quads at such a node
+    /// go, for at most [`TIDY_ROUNDS`] rounds.
+    fn tidy_removal(
+        &self,
+        removed: &mut [bool],
+        mark: &mut [bool],
+        edges: &mut std::collections::BTreeSet<(u32, u32)>,
+    ) {
+        let toggle = |edges: &mut std::collections::BTreeSet<(u32, u32)>, (a, b): (u32, u32)| {
+            if !edges.remove(&(b, a)) {
+                edges.insert((a, b));
+            }
+        };
+        let nodes = &self.mesh.nodes;
+        for _ in 0..TIDY_ROUNDS {
+            let mut seen: std::collections::BTreeMap<u32, usize> = Default::default();
+            let mut bad: Vec<u32> = Vec::new();
+            for &(a, b) in edges.iter() {
+                *seen.entry(a).or_default() += 1;
+                let (pa, pb) = (nodes[a as usize], nodes[b as usize]);
+                if pa.distance(pb) < TIDY_EDGE * self.size.at(0.5 * (pa + pb)) {
+                    bad.extend([a, b]);
+                }
+            }
+            bad.extend(seen.iter().filter(|(_, &c)| c > 1).map(|(&v, _)| v));
+            // Slits: a corner so sharp or so reflex that the boundary
+            // nearly runs back on itself (a sliver quad outside it).
+            let mut next: std::collections::BTreeMap<u32, u32> = Default::default();
+            let mut prev: std::collections::BTreeMap<u32, u32> = Default::default();
+            for &(a, b) in edges.iter() {
+                next.insert(a, b);
+                prev.insert(b, a);
+            }
+            for (&v, &w) in &next {
+                if let Some(&u) = prev.get(&v) {
+                    let p = nodes[v as usize];
+                    let angle = crate::geom::ccw_angle(p, nodes[w as usize], nodes[u as usize]);
+                    if !(TIDY_ANGLE..=2.0 * PI - TIDY_ANGLE).contains(&angle) {
+                        bad.push(v);
+                    }
+                }
+            }
+            bad.sort_unstable();
+            bad.dedup();
+            let mut hit: Vec<usize> = bad
                 .iter()
-                .filter(|&&s| mark[self.front.node(s) as usize])
-                .count()
-        });
-        if let Some(t) = target {
-            if let Some(split) = self.chord_split(t) {
-                r.quads = split.quads;
-                r.new_nodes = split.new_nodes;
+                .flat_map(|&v| self.incident[v as usize].iter().map(|&q| q as usize))
+                .filter(|&q| !removed[q])
+                .collect();
+            hit.sort_unstable();
+            hit.dedup();
+            if hit.is_empty() {
+                return;
+            }
+            for k in hit {
+                removed[k] = true;
+                let q = self.mesh.quads[k];
+                for j in 0..4 {
+                    mark[q[j] as usize] = true;
+                    toggle(edges, (q[j], q[(j + 1) % 4]));
+                }
             }
         }
-        self.row_start = self.front.live_loops().collect();
-        r
     }
 
     /// Seam at sharp slot `s`: merges P_l1 and P_r1 (at their midpoint, or
@@ -304,10 +409,14 @@ impl Mesher {
             .map(|s| (self.world(s).distance(self.world(self.front.next(s))), s))
             .collect();
         edges.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        edges
-            .iter()
-            .take(64)
-            .find_map(|&(_, s)| self.square_on(s, limits))
+        edges.iter().take(64).find_map(|&(_, s)| {
+            let floor = if only == Squares::Any {
+                SQUARE_FLOOR
+            } else {
+                0.0
+            };
+            self.square_on(s, limits, floor)
+        })
     }
 
     /// True when loop `lid` runs clockwise: a hole's front, with the
@@ -317,14 +426,24 @@ impl Mesher {
     }
 
     /// A square element on the front edge from slot `s`, as high as the
-    /// edge is long (or 0.7 or 0.5 of that where the full one does not fit).
-    pub(super) fn square_on(&mut self, s: SlotId, limits: Limits) -> Option<StepReport> {
+    /// edge is long (or 0.7 or 0.5 of that where the full one does not fit
+    /// and those sides are at least `floor` times the size there).
+    pub(super) fn square_on(
+        &mut self,
+        s: SlotId,
+        limits: Limits,
+        floor: f64,
+    ) -> Option<StepReport> {
         {
             let t = self.front.next(s);
             let (a, b) = (self.world(s), self.world(t));
             let len = a.distance(b);
             let up = (b - a).perp() / len;
+            let least = floor * self.size.at(0.5 * (a + b));
             for height in [1.0, 0.7, 0.5] {
+                if height < 1.0 && len * height < least {
+                    break;
+                }
                 let (a2, b2) = (a + up * len * height, b + up * len * height);
                 let corners = [
                     Corner::Partial(s),

@@ -59,6 +59,21 @@ pub(super) const PROGRESS_EVERY: usize = 128;
 pub(super) const PROGRESS_WINDOW: usize = 2048;
 /// See [`PROGRESS_EVERY`].
 pub(super) const PROGRESS_RATE: f64 = 0.25;
+/// The progress watch's window in the end game, when the front encloses
+/// less than one [`PROGRESS_WINDOW`] is held to take off: the last pockets
+/// where rows met close one after another, each by rip-ups and
+/// relaxations that give area back before the pocket closes, so a window
+/// sees little progress however well the run goes (disk3200 and disk4800
+/// close their last few hundred front nodes by extraction some 2,000
+/// steps after a 2,048-step window calls them stalled).
+pub(super) const END_WINDOW: usize = 4 * PROGRESS_WINDOW;
+/// A region the fill cannot take has this many element rings around it
+/// removed, one ring more at each try, before the fill gives up on it
+/// ([`Mesher::fill_rest`]).
+const FILL_RINGS: usize = 3;
+/// A window whose front lost at least this share of its nodes made
+/// progress whatever the area: pockets are closing.
+pub(super) const FRONT_SHRINK: f64 = 0.1;
 
 /// Cell width of the front's edge grid: as fine as the finest elements (the
 /// grid caps its cell count), so a query near fine elements stays short.
@@ -132,8 +147,8 @@ pub struct Mesher {
     /// The same for [`Mesher::close_strip`].
     pub(super) strip_seen: Vec<u32>,
     /// The progress watch's checkpoints: (step, area still open, [`Mesher::asked`]
-    /// then), one per [`PROGRESS_EVERY`] steps.
-    pub(super) progress: Vec<(usize, f64, f64)>,
+    /// then, front nodes then), one per [`PROGRESS_EVERY`] steps.
+    pub(super) progress: Vec<(usize, f64, f64, usize)>,
     /// The area the size field asks of the quads made so far: the sum of
     /// h² at the centre of every quad extraction has made (the progress
     /// watch's second measure, [`PROGRESS_EVERY`]).
@@ -367,30 +382,40 @@ impl Mesher {
     }
 
     /// The progress watch ([`PROGRESS_EVERY`]): true when the last
-    /// [`PROGRESS_WINDOW`] steps made too little of the mesh.
+    /// [`PROGRESS_WINDOW`] steps ([`END_WINDOW`] once the area still open
+    /// is less than that window is held to take off) made too little of
+    /// the mesh and did not shrink the front by [`FRONT_SHRINK`].
     pub(super) fn stalled(&mut self) -> bool {
         let n = self.history.len();
         if n == 0 || n % PROGRESS_EVERY != 0 || self.progress.last().is_some_and(|p| p.0 == n) {
             return false;
         }
         let open = self.front.open_area(&self.mesh.nodes);
-        self.progress.push((n, open, self.asked));
-        let Some(k) = n.checked_sub(PROGRESS_WINDOW) else {
-            return false;
-        };
-        let Some(&(_, before, asked_before)) = self.progress.iter().rev().find(|p| p.0 <= k) else {
-            return false;
-        };
-        if before - open >= PROGRESS_RATE * (self.asked - asked_before) {
-            return false;
-        }
+        self.progress.push((n, open, self.asked, self.front.len()));
         let (needles, needle_area) = self.needle_quads;
         let quads = self.mesh.quads.len().saturating_sub(needles);
         if quads == 0 {
             return false;
         }
         let mean = (self.boundary.area() - open - needle_area) / quads as f64;
-        before - open < PROGRESS_RATE * PROGRESS_WINDOW as f64 * mean
+        let window = if open < PROGRESS_RATE * END_WINDOW as f64 * mean {
+            END_WINDOW
+        } else {
+            PROGRESS_WINDOW
+        };
+        let Some(k) = n.checked_sub(window) else {
+            return false;
+        };
+        let Some(&(_, before, asked_before, front_before)) =
+            self.progress.iter().rev().find(|p| p.0 <= k)
+        else {
+            return false;
+        };
+        if (self.front.len() as f64) < (1.0 - FRONT_SHRINK) * front_before as f64 {
+            return false;
+        }
+        before - open < PROGRESS_RATE * (self.asked - asked_before)
+            && before - open < PROGRESS_RATE * window as f64 * mean
     }
 
     /// When extraction has led the front into a state no fill can take, the
@@ -421,7 +446,9 @@ impl Mesher {
             tried = k;
             let mut fresh = self.replayed(&self.history[..k]);
             let kept = fresh.mesh.quads.len();
-            if let Some(mut r) = fresh.commit_fill() {
+            // Only a fill that closes the whole front ends the run.
+            let filled = fresh.commit_fill().filter(|_| fresh.front.is_empty());
+            if let Some(mut r) = filled {
                 r.removed = self.mesh.quads.len().saturating_sub(kept);
                 let worst = fresh.mesh.worst_scaled_jacobian();
                 if best.as_ref().is_none_or(|b| worst > b.0) {
@@ -458,7 +485,10 @@ impl Mesher {
     }
 
     /// Fills the whole region left with [`fill::fill_region`] and empties
-    /// the front.
+    /// the front; where that fails, fills the regions left one by one,
+    /// removing up to [`FILL_RINGS`] rings of elements around those it
+    /// cannot take. `None` when nothing changed (tried again after a
+    /// quarter as many steps as made so far).
     pub(super) fn fill_rest(&mut self) -> Option<StepReport> {
         let step = self.history.len();
         if step < self.fill_retry_at {
@@ -466,11 +496,103 @@ impl Mesher {
         }
         let ids: Vec<u32> = self.front.live_loops().collect();
         let loops: Vec<Vec<u32>> = ids.iter().map(|&l| self.front.loop_nodes(l)).collect();
-        let Ok(f) = fill::fill_region(&loops, &self.mesh.nodes) else {
-            self.fill_retry_at = step + (step / 4).max(50);
-            return None;
-        };
         let mut r = self.report(StepKind::Fill);
+        if let Ok(f) = fill::fill_region(&loops, &self.mesh.nodes) {
+            self.commit_region(f, &ids, &mut r);
+            return Some(r);
+        }
+        // The regions left one by one (each counter-clockwise loop with the
+        // clockwise loops inside it: holes, or islands of elements a
+        // rip-up cut loose), and where none of those can be filled
+        // either, the elements around what is left are removed ring by
+        // ring and the wider regions filled: a pocket where a coarse row
+        // met a fine one is a sliver no fill takes, but a few rings out its
+        // loop runs through whole elements. This only ever takes off the
+        // elements around the regions left, never the whole run.
+        for rings in 0..=FILL_RINGS {
+            if rings > 0 {
+                let ids: Vec<u32> = self.front.live_loops().collect();
+                let (removed, _) = self.remove_around(&ids, 1, true);
+                r.removed += removed;
+                // The front was built anew: its loops and slots renumbered.
+                self.row_start = self.front.live_loops().collect();
+                self.row_edges.clear();
+            }
+            let ids: Vec<u32> = self.front.live_loops().collect();
+            let regions = self.regions(&ids);
+            if rings == 0 && regions.len() == 1 {
+                continue;
+            }
+            for region in regions {
+                let part: Vec<Vec<u32>> = region
+                    .iter()
+                    .map(|&k| self.front.loop_nodes(ids[k]))
+                    .collect();
+                let ff = fill::fill_region(&part, &self.mesh.nodes);
+                if let Ok(f) = ff {
+                    let lids: Vec<u32> = region.iter().map(|&k| ids[k]).collect();
+                    self.commit_region(f, &lids, &mut r);
+                }
+            }
+            if self.front.is_empty() {
+                return Some(r);
+            }
+        }
+        if r.quads.is_empty() {
+            self.fill_retry_at = step + (step / 4).max(50);
+            if r.removed == 0 {
+                return None;
+            }
+            // Nothing filled, but elements were removed: the step is the
+            // rip-up it was.
+            r.kind = StepKind::RipUp;
+        }
+        Some(r)
+    }
+
+    /// The regions bounded by front loops `ids`, as indices into `ids`: each
+    /// counter-clockwise loop, followed by the clockwise loops whose first
+    /// node lies inside it and inside no smaller one. A clockwise loop in no
+    /// counter-clockwise one makes every loop one region.
+    fn regions(&self, ids: &[u32]) -> Vec<Vec<usize>> {
+        let nodes = &self.mesh.nodes;
+        let area: Vec<f64> = ids
+            .iter()
+            .map(|&l| self.front.loop_area(l, nodes))
+            .collect();
+        let outline: Vec<Vec<Point>> = ids
+            .iter()
+            .map(|&l| {
+                self.front
+                    .loop_nodes(l)
+                    .iter()
+                    .map(|&v| nodes[v as usize])
+                    .collect()
+            })
+            .collect();
+        let mut regions: Vec<Vec<usize>> = Vec::new();
+        let mut region_of = vec![usize::MAX; ids.len()];
+        for k in (0..ids.len()).filter(|&k| area[k] > 0.0) {
+            region_of[k] = regions.len();
+            regions.push(vec![k]);
+        }
+        for k in (0..ids.len()).filter(|&k| area[k] <= 0.0) {
+            let inside = (0..ids.len())
+                .filter(|&o| {
+                    area[o] > 0.0 && crate::geom::point_in_polygon(outline[k][0], &outline[o])
+                })
+                .min_by(|&a, &b| area[a].total_cmp(&area[b]));
+            match inside {
+                Some(o) => regions[region_of[o]].push(k),
+                None => return vec![(0..ids.len()).collect()],
+            }
+        }
+        regions
+    }
+
+    /// Adds a region fill's nodes and quads to the mesh and to report `r`,
+    /// and takes the loops it filled off the front.
+    fn commit_region(&mut self, f: fill::RegionFill, loops: &[u32], r: &mut StepReport) {
         for p in f.points {
             let v = self.add_node(p);
             r.new_nodes.push(v);
@@ -479,10 +601,9 @@ impl Mesher {
             self.push_quad(q);
             r.quads.push(q);
         }
-        for l in ids {
+        for &l in loops {
             self.front.remove_loop(l);
         }
-        Some(r)
     }
 
     /// Commits an element chosen by the user at reference node `c.reference`.
