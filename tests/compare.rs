@@ -95,7 +95,7 @@ fn compare_meshes_a_boundary_with_each_model() {
 fn steps_whose_pn_was_rescaled_are_not_counted_as_accepted() {
     use quadex::extract::{Remedy, StepKind, RESCALED_BEYOND};
     use quadex::{ElementType, MeshParams, Mesher, StepOutcome};
-    let b = quadex::io::read_boundary(&common::bench().join("boundaries/annulus.poly")).unwrap();
+    let b = quadex::io::read_boundary(&common::bench().join("boundaries/plate_hole.poly")).unwrap();
     let model: std::sync::Arc<dyn quadex::Model> =
         std::sync::Arc::from(quadex::model::builtin("default").unwrap());
     let mut m = Mesher::new(b.clone(), model.clone(), MeshParams::DEFAULT);

@@ -397,7 +397,7 @@ fn try_fill(
             }
         }
     }
-    untangle(&mut b, nodes, min_area);
+    untangle(&mut b, nodes, min_area)?;
     check_quads(&b, nodes, min_area)?;
     if !ring_is_clear(loops, &inner, nodes, &b) {
         return Err(FillError::RingCrossing);
@@ -438,7 +438,7 @@ fn try_direct(
     quadrangulate(&coarse, nodes, &mut b, size, true, |_, u, w, _, _| {
         skipped.get(&(u, w)).copied()
     })?;
-    untangle(&mut b, nodes, min_area);
+    untangle(&mut b, nodes, min_area)?;
     check_quads(&b, nodes, min_area)?;
     check_edges(loops, &b.quads)?;
     Ok(b)
@@ -470,6 +470,11 @@ fn check_edges(loops: &[Vec<u32>], quads: &[[u32; 4]]) -> Result<(), FillError> 
 /// Sweeps of [`untangle`] at most.
 const UNTANGLE_SWEEPS: usize = 12;
 
+/// Every quad at a node [`untangle`] moved must have at least this scaled
+/// Jacobian: a fold undone only to a sliver is no better a fill than none
+/// (the run then closes the region another way, or rewinds).
+const UNTANGLE_SJ: f64 = 0.1;
+
 /// Whether a new quad passes [`check_quads`].
 fn quad_ok(p: [Point; 4], min_area: f64) -> bool {
     crate::geom::is_measurably_convex(p) && crate::geom::polygon_area(p) >= min_area
@@ -481,8 +486,9 @@ fn quad_ok(p: [Point; 4], min_area: f64) -> bool {
 /// pattern search over each such node's position, the front nodes fixed,
 /// sweep after sweep while a sweep still mends a quad. The quads' topology
 /// is kept, so a fill that is valid but for a few folded quads becomes
-/// valid; the smoothing after the fill evens the sizes out.
-fn untangle(b: &mut RegionFill, nodes: &[Point], min_area: f64) {
+/// valid; the smoothing after the fill evens the sizes out. Fails when a
+/// quad at a moved node stays under [`UNTANGLE_SJ`].
+fn untangle(b: &mut RegionFill, nodes: &[Point], min_area: f64) -> Result<(), FillError> {
     let at = |b: &RegionFill, q: [u32; 4]| q.map(|v| b.at(v, nodes));
     let bad = |b: &RegionFill| -> Vec<usize> {
         (0..b.quads.len())
@@ -491,7 +497,7 @@ fn untangle(b: &mut RegionFill, nodes: &[Point], min_area: f64) {
     };
     let mut worse = bad(b);
     if worse.is_empty() {
-        return;
+        return Ok(());
     }
     let mut incident: Vec<Vec<usize>> = vec![Vec::new(); b.points.len()];
     for (k, q) in b.quads.iter().enumerate() {
@@ -509,6 +515,7 @@ fn untangle(b: &mut RegionFill, nodes: &[Point], min_area: f64) {
             .map(|&k| crate::quality::Shape::of(at(b, b.quads[k])).scaled_jacobian)
             .fold(f64::INFINITY, f64::min)
     };
+    let moved_from = b.points.clone();
     for _ in 0..UNTANGLE_SWEEPS {
         let mut movable: Vec<usize> = worse
             .iter()
@@ -574,11 +581,23 @@ fn untangle(b: &mut RegionFill, nodes: &[Point], min_area: f64) {
             b.points[v] = here;
         }
         let left = bad(b);
-        if left.is_empty() || left.len() >= worse.len() && left == worse {
-            return;
+        if left.is_empty() || left == worse {
+            break;
         }
         worse = left;
     }
+    for (v, quads) in incident.iter().enumerate() {
+        if b.points[v] == moved_from[v] {
+            continue;
+        }
+        for &k in quads {
+            let q = b.quads[k];
+            if crate::quality::Shape::of(at(b, q)).scaled_jacobian < UNTANGLE_SJ {
+                return Err(FillError::NotConvex { node: q[0] });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Measurably convex, and not so thin that its area is lost to rounding when
@@ -901,7 +920,7 @@ mod tests {
         b.points[2] = Point::new(0.3, 0.55);
         let min_area = 1e-7 / 9.0;
         assert!(check_quads(&b, &nodes, min_area).is_err());
-        untangle(&mut b, &nodes, min_area);
+        untangle(&mut b, &nodes, min_area).expect("untangled");
         check_quads(&b, &nodes, min_area).expect("untangled");
         check_edges(&[(0..12).collect()], &b.quads).expect("same tiling");
         for (k, &p) in b.points.iter().enumerate() {

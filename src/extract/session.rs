@@ -551,8 +551,8 @@ impl Mesher {
     }
 
     /// The regions bounded by front loops `ids`, as indices into `ids`: each
-    /// counter-clockwise loop, followed by the clockwise loops whose first
-    /// node lies inside it and inside no smaller one. A clockwise loop in no
+    /// counter-clockwise loop, followed by the clockwise loops most of
+    /// whose nodes lie inside it and inside no smaller one. A clockwise loop in no
     /// counter-clockwise one makes every loop one region.
     fn regions(&self, ids: &[u32]) -> Vec<Vec<usize>> {
         let nodes = &self.mesh.nodes;
@@ -579,7 +579,13 @@ impl Mesher {
         for k in (0..ids.len()).filter(|&k| area[k] <= 0.0) {
             let inside = (0..ids.len())
                 .filter(|&o| {
-                    area[o] > 0.0 && crate::geom::point_in_polygon(outline[k][0], &outline[o])
+                    // Most of its nodes (a node it shares with the loop
+                    // around it, at a pinch, may test either way).
+                    let inside = outline[k]
+                        .iter()
+                        .filter(|&&p| crate::geom::point_in_polygon(p, &outline[o]))
+                        .count();
+                    area[o] > 0.0 && 2 * inside > outline[k].len()
                 })
                 .min_by(|&a, &b| area[a].total_cmp(&area[b]));
             match inside {
