@@ -43,6 +43,15 @@ pub(super) enum Squares {
     SmallHoles,
 }
 
+/// Adds the directed edge `(a, b)` to a region's boundary `edges`, or
+/// takes `(b, a)` off it where the region already had that edge the other
+/// way (the two sides of an edge inside the region cancel).
+fn toggle_edge(edges: &mut std::collections::BTreeSet<(u32, u32)>, (a, b): (u32, u32)) {
+    if !edges.remove(&(b, a)) {
+        edges.insert((a, b));
+    }
+}
+
 impl Mesher {
     /// Removes every quad within `rings` element rings of loop `lid` and
     /// rebuilds the front around the enlarged hole in the mesh.
@@ -92,14 +101,9 @@ impl Mesher {
         // A chord that split a loop (an edge in both directions, no quad on
         // either side) goes too: the loops it parted become one again.
         let mut edges: std::collections::BTreeSet<(u32, u32)> = Default::default();
-        let toggle = |edges: &mut std::collections::BTreeSet<(u32, u32)>, (a, b): (u32, u32)| {
-            if !edges.remove(&(b, a)) {
-                edges.insert((a, b));
-            }
-        };
         for l in self.front.live_loops() {
             for s in self.front.loop_slots(l) {
-                toggle(
+                toggle_edge(
                     &mut edges,
                     (self.front.node(s), self.front.node(self.front.next(s))),
                 );
@@ -120,7 +124,7 @@ impl Mesher {
                 for j in 0..4 {
                     let (a, b) = (q[j], q[(j + 1) % 4]);
                     mark[a as usize] = true;
-                    toggle(&mut edges, (a, b));
+                    toggle_edge(&mut edges, (a, b));
                 }
             }
         }
@@ -146,19 +150,15 @@ impl Mesher {
     /// `mark`) until the region's boundary is one a fill can take: no node
     /// the boundary passes twice (two removed quads meeting at a corner
     /// only) and no boundary edge under [`TIDY_EDGE`] of the size there
-    /// (the knots of tiny quads where rows met) and no slit ([`TIDY_ANGLE`]). All quads at such a node
-    /// go, for at most [`TIDY_ROUNDS`] rounds.
+    /// (the knots of tiny quads where rows met) and no slit
+    /// ([`TIDY_ANGLE`]). All quads at such a node go, for at most
+    /// [`TIDY_ROUNDS`] rounds.
     fn tidy_removal(
         &self,
         removed: &mut [bool],
         mark: &mut [bool],
         edges: &mut std::collections::BTreeSet<(u32, u32)>,
     ) {
-        let toggle = |edges: &mut std::collections::BTreeSet<(u32, u32)>, (a, b): (u32, u32)| {
-            if !edges.remove(&(b, a)) {
-                edges.insert((a, b));
-            }
-        };
         let nodes = &self.mesh.nodes;
         for _ in 0..TIDY_ROUNDS {
             let mut seen: std::collections::BTreeMap<u32, usize> = Default::default();
@@ -205,7 +205,7 @@ impl Mesher {
                 let q = self.mesh.quads[k];
                 for j in 0..4 {
                     mark[q[j] as usize] = true;
-                    toggle(edges, (q[j], q[(j + 1) % 4]));
+                    toggle_edge(edges, (q[j], q[(j + 1) % 4]));
                 }
             }
         }
