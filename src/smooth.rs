@@ -510,43 +510,81 @@ const DIRECTIONS: [(f64, f64); 8] = [
 /// is refused) is best, starting from `best` = its quality where it is, by
 /// a pattern search in eight directions whose step starts at a quarter of
 /// the shortest edge to `nbs`, doubles after a success (up to a quarter of
-/// the longest) and halves after a failure. `quality` is given the worst
-/// member of the best so far: a position whose worst is under it cannot
-/// improve, and `quality` may refuse it without looking further. Returns
-/// the final position (the node is left there).
+/// the longest) and halves after a failure ([`search`]). `quality` is
+/// given the worst member of the best so far: a position whose worst is
+/// under it cannot improve, and `quality` may refuse it without looking
+/// further. Returns the final position (the node is left there).
 pub(crate) fn pattern_search(
     mesh: &mut QuadMesh,
     v: usize,
     nbs: &[u32],
-    mut best: (f64, f64),
+    best: (f64, f64),
     quality: impl Fn(&QuadMesh, f64) -> Option<(f64, f64)>,
 ) -> Point {
-    let start = mesh.nodes[v];
     let (shortest, longest) = edge_range(mesh, v, nbs);
-    let mut h = 0.25 * shortest;
-    let stop = 1e-3 * shortest;
-    let cap = 0.25 * longest;
+    let steps = SearchSteps {
+        first: 0.25 * shortest,
+        stop: 1e-3 * shortest,
+        cap: 0.25 * longest,
+        grow: 2.0,
+    };
+    let at = search(mesh.nodes[v], steps, best, |p, worst| {
+        mesh.nodes[v] = p;
+        quality(mesh, worst)
+    });
+    mesh.nodes[v] = at;
+    at
+}
+
+/// The steps of a [`search`]: the first, the one it stops under, the
+/// largest, and the factor a step grows by after a success.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SearchSteps {
+    pub(crate) first: f64,
+    pub(crate) stop: f64,
+    pub(crate) cap: f64,
+    pub(crate) grow: f64,
+}
+
+/// Tries at most this many rounds of a [`search`].
+const SEARCH_ROUNDS: usize = 60;
+
+/// A pattern search for the position of one node: from `start`, whose
+/// quality is `best`, each round tries a step in each of eight directions
+/// (`try_at` puts the node there and gives its quality, lexicographic, or
+/// `None` to refuse it; it is given the worst member of the best so far)
+/// and moves to the best that improves; the step grows by `steps.grow`
+/// after a move (up to `steps.cap`) and halves after a round without one,
+/// until it is under `steps.stop` or [`SEARCH_ROUNDS`] rounds are done.
+/// Returns the best position found; where `try_at` left the node is the
+/// caller's to undo.
+pub(crate) fn search(
+    start: Point,
+    steps: SearchSteps,
+    mut best: (f64, f64),
+    mut try_at: impl FnMut(Point, f64) -> Option<(f64, f64)>,
+) -> Point {
+    let mut h = steps.first;
     let mut at = start;
-    let mut iterations = 0;
-    while h > stop && iterations < 60 {
-        iterations += 1;
+    let mut rounds = 0;
+    while h > steps.stop && rounds < SEARCH_ROUNDS {
+        rounds += 1;
         let mut step = None;
         for (dx, dy) in DIRECTIONS {
-            mesh.nodes[v] = at + Point::new(dx, dy) * h;
-            if let Some(q) = quality(mesh, best.0).filter(|&q| improves(q, best)) {
+            let p = at + Point::new(dx, dy) * h;
+            if let Some(q) = try_at(p, best.0).filter(|&q| improves(q, best)) {
                 best = q;
-                step = Some(mesh.nodes[v]);
+                step = Some(p);
             }
         }
         match step {
             Some(p) => {
                 at = p;
-                h = (2.0 * h).min(cap);
+                h = (steps.grow * h).min(steps.cap);
             }
             None => h *= 0.5,
         }
     }
-    mesh.nodes[v] = at;
     at
 }
 

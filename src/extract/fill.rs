@@ -51,6 +51,7 @@ use spade::{
 
 use crate::front::EdgeGrid;
 use crate::geom::{ccw_angle, is_strictly_convex, Aabb, Point};
+use crate::smooth::{search, SearchSteps};
 
 /// The quads that fill a region, over the existing nodes (ids below
 /// `first_new`) and the new nodes `points` (id `first_new + k`).
@@ -559,25 +560,16 @@ fn untangle(b: &mut RegionFill, nodes: &[Point], min_area: f64) -> Result<(), Fi
                 here = b.points[v];
             }
             b.points[v] = here;
-            let mut h = 0.25 * reach;
-            let mut tries = 0;
-            while h > 1e-3 * reach && tries < 60 {
-                tries += 1;
-                let mut step = None;
-                for k in 0..8 {
-                    let a = k as f64 * std::f64::consts::FRAC_PI_4;
-                    b.points[v] = here + Point::new(a.cos(), a.sin()) * h;
-                    let q = quality(b, v);
-                    if q > best + 1e-12 {
-                        best = q;
-                        step = Some(b.points[v]);
-                    }
-                }
-                match step {
-                    Some(p) => here = p,
-                    None => h *= 0.5,
-                }
-            }
+            let steps = SearchSteps {
+                first: 0.25 * reach,
+                stop: 1e-3 * reach,
+                cap: f64::INFINITY,
+                grow: 1.0,
+            };
+            here = search(here, steps, (best, 0.0), |p, _| {
+                b.points[v] = p;
+                Some((quality(b, v), 0.0))
+            });
             b.points[v] = here;
         }
         let left = bad(b);
