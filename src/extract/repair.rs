@@ -89,9 +89,15 @@ impl Mesher {
         tidy: bool,
     ) -> (usize, Vec<bool>) {
         let mut mark = vec![false; self.mesh.nodes.len()];
+        // The marked nodes, listed too (the mesh may be millions of nodes).
+        let mut marked: Vec<u32> = Vec::new();
         for &lid in lids {
             for s in self.front.loop_slots(lid) {
-                mark[self.front.node(s) as usize] = true;
+                let v = self.front.node(s);
+                if !mark[v as usize] {
+                    mark[v as usize] = true;
+                    marked.push(v);
+                }
             }
         }
         // The region left grows by the quads removed: its bounding edges are
@@ -111,9 +117,9 @@ impl Mesher {
         }
         let mut removed = vec![false; self.mesh.quads.len()];
         for _ in 0..rings {
-            let mut hit: Vec<usize> = (0..mark.len())
-                .filter(|&v| mark[v])
-                .flat_map(|v| self.incident[v].iter().map(|&q| q as usize))
+            let mut hit: Vec<usize> = marked
+                .iter()
+                .flat_map(|&v| self.incident[v as usize].iter().map(|&q| q as usize))
                 .filter(|&q| !removed[q])
                 .collect();
             hit.sort_unstable();
@@ -123,7 +129,10 @@ impl Mesher {
                 let q = self.mesh.quads[k];
                 for j in 0..4 {
                     let (a, b) = (q[j], q[(j + 1) % 4]);
-                    mark[a as usize] = true;
+                    if !mark[a as usize] {
+                        mark[a as usize] = true;
+                        marked.push(a);
+                    }
                     toggle_edge(&mut edges, (a, b));
                 }
             }

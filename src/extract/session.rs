@@ -116,6 +116,8 @@ pub struct Mesher {
     /// boundary left behind.
     pub(super) row_edges: Vec<SlotId>,
     pub(super) rip_ups: usize,
+    /// The area inside the boundary.
+    pub(super) domain_area: f64,
     /// Quads incident to each node.
     pub(super) incident: Vec<Vec<u32>>,
     /// Per node made by a row: the row's elements since its last
@@ -173,7 +175,8 @@ impl Mesher {
         for (a, b) in boundary.segments() {
             min_seg = min_seg.min(boundary.points[a].distance(boundary.points[b]));
         }
-        let est = (boundary.area() / (min_seg * min_seg)).min(1e9) as usize;
+        let domain_area = boundary.area();
+        let est = (domain_area / (min_seg * min_seg)).min(1e9) as usize;
         let work = est.max(boundary.node_count());
         let step_limit = params.max_steps.unwrap_or(8 * work + 10_000);
         let quads = size.quad_estimate().min(1e9);
@@ -205,6 +208,7 @@ impl Mesher {
             row_start: Vec::new(),
             row_edges: Vec::new(),
             rip_ups: 0,
+            domain_area,
             incident: Vec::new(),
             row_run: Vec::new(),
             small_stuck: Vec::new(),
@@ -397,7 +401,7 @@ impl Mesher {
         if quads == 0 {
             return false;
         }
-        let mean = (self.boundary.area() - open - needle_area) / quads as f64;
+        let mean = (self.domain_area - open - needle_area) / quads as f64;
         let window = if open < PROGRESS_RATE * END_WINDOW as f64 * mean {
             END_WINDOW
         } else {
