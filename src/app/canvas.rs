@@ -794,7 +794,10 @@ fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn 
         let s = to(p);
         let c = match r.remedy {
             Remedy::None => Color32::from_rgb(120, 255, 120),
-            Remedy::Rescaled => Color32::from_rgb(120, 220, 255),
+            // White: the model's element, its Pn drawn to the size field
+            // (cyan is the next element's, blue the leading points', and the
+            // element itself sits on quads coloured green by quality).
+            Remedy::Rescaled => Color32::from_rgb(240, 240, 240),
             _ => Color32::from_rgb(255, 120, 255),
         };
         let d = 6.0;
