@@ -79,7 +79,8 @@ impl Mesher {
     }
 
     /// Removes every quad within `rings` element rings of the loops `lids`
-    /// and rebuilds the front around the enlarged holes in the mesh: the
+    /// and rebuilds the front around the enlarged holes in the mesh (every
+    /// loop then waits for a row start, and no front edge for one): the
     /// quads removed, and a mark on every node of the removed quads and of
     /// the loops.
     pub(super) fn remove_around(
@@ -152,6 +153,10 @@ impl Mesher {
         for s in 0..self.front.slots.len() as SlotId {
             self.push(s);
         }
+        // The front was built anew: loop and slot ids from before mean
+        // nothing now.
+        self.row_start = self.front.live_loops().collect();
+        self.row_edges.clear();
         (count, mark)
     }
 

@@ -518,9 +518,6 @@ impl Mesher {
                 let ids: Vec<u32> = self.front.live_loops().collect();
                 let (removed, _) = self.remove_around(&ids, 1, true);
                 r.removed += removed;
-                // The front was built anew: its loops and slots renumbered.
-                self.row_start = self.front.live_loops().collect();
-                self.row_edges.clear();
             }
             let ids: Vec<u32> = self.front.live_loops().collect();
             let regions = self.regions(&ids);
