@@ -119,6 +119,44 @@ fn undo_returns_to_the_same_state() {
     assert_eq!(m.steps(), 7);
 }
 
+/// Undo on a long run replays from a checkpoint kept behind the end
+/// (`CHECKPOINT_BEHIND`), switching models where the run did: each undo
+/// gives the mesh a run stopped there gives.
+#[test]
+fn undo_on_a_long_run_matches_a_run_stopped_there() {
+    use quadex::extract::CHECKPOINT_BEHIND;
+    let b = quadex::io::read_boundary(&common::bench().join("boundaries/disk400.poly")).unwrap();
+    let shipped: Arc<dyn quadex::model::Model> = Arc::new(quadex::model::default_model().unwrap());
+    let rules: Arc<dyn quadex::model::Model> = Arc::new(RulesModel::DEFAULT);
+    // Steps in all, and the step after which the model changes: past the
+    // first checkpoint, so replays from it must switch models too.
+    let (total, switch) = (3 * CHECKPOINT_BEHIND, 2 * CHECKPOINT_BEHIND + 100);
+    let run_to = |n: usize| {
+        let mut m = Mesher::new(b.clone(), shipped.clone(), MeshParams::DEFAULT);
+        for k in 0..n {
+            if k == switch {
+                m.set_model(rules.clone());
+            }
+            m.step().unwrap();
+        }
+        m
+    };
+    let mut m = run_to(total);
+    let end = m.mesh().clone();
+    // Undo back across the model change and the first checkpoint.
+    let back = total - CHECKPOINT_BEHIND - 50;
+    for n in (back..total).rev() {
+        assert!(m.undo());
+        if n % 97 == 0 || n == back || n == switch {
+            let stopped = run_to(n);
+            assert_eq!(m.mesh(), stopped.mesh(), "after undoing to step {n}");
+            m.check_invariants().unwrap();
+        }
+    }
+    assert_eq!(m.steps(), back);
+    assert_ne!(m.mesh(), &end);
+}
+
 /// Redo takes undone steps again, corrections included, and a new step
 /// clears what was undone.
 #[test]

@@ -35,4 +35,4 @@ pub use report::{
     Action, Correction, MeshError, Remedy, StepKind, StepOutcome, StepReport, StepStats,
     RESCALED_BEYOND,
 };
-pub use session::Mesher;
+pub use session::{Mesher, CHECKPOINT_BEHIND};

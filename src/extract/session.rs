@@ -163,7 +163,17 @@ pub struct Mesher {
     pub(super) memo: super::memo::EvalMemo,
     /// The box of the front the last [`Mesher::evaluate`] read.
     pub(super) evaluated: (Point, Point),
+    /// This run as it was after the first actions of its history (as many
+    /// as the checkpoint's own history holds): replays start from it
+    /// rather than from the boundary ([`Mesher::undo`]). Kept only while
+    /// those actions are still the first of the history.
+    pub(super) checkpoint: Option<Arc<Mesher>>,
 }
+
+/// [`Mesher::undo`] keeps a [`Mesher::checkpoint`] this many actions
+/// before the end of the history, so the undos after it replay at most
+/// this many steps each, not the whole run.
+pub const CHECKPOINT_BEHIND: usize = 512;
 
 impl Mesher {
     /// A mesher over `boundary` with `model` and `params`.
@@ -221,6 +231,7 @@ impl Mesher {
             evaluated: (Point::ZERO, Point::ZERO),
             relaxes: 0,
             relax_streak: 0,
+            checkpoint: None,
         };
         m.row_start = m.front.live_loops().collect();
         m.incident = vec![Vec::new(); m.mesh.nodes.len()];
@@ -731,13 +742,22 @@ impl Mesher {
         Ok(true)
     }
 
-    /// Undoes the last step by replaying all the others from the start
-    /// (steps are deterministic). Returns false when there is nothing to undo.
+    /// Undoes the last step by replaying the others (steps are
+    /// deterministic): from the [`Mesher::checkpoint`] if one is at most
+    /// `2 ×` [`CHECKPOINT_BEHIND`] actions back, else from the start, keeping
+    /// a new checkpoint [`CHECKPOINT_BEHIND`] actions before the end. Undo
+    /// after undo thus replays a few hundred steps, not the whole run.
+    /// Returns false when there is nothing to undo.
     pub fn undo(&mut self) -> bool {
         let Some(a) = self.history.pop() else {
             return false;
         };
-        let mut fresh = self.replayed(&self.history);
+        let n = self.history.len();
+        let near = self
+            .usable_checkpoint(n)
+            .is_some_and(|c| n - c.history.len() <= 2 * CHECKPOINT_BEHIND);
+        let keep_at = (!near && n > CHECKPOINT_BEHIND).then(|| n - CHECKPOINT_BEHIND);
+        let mut fresh = self.replayed_keeping(&self.history, keep_at);
         fresh.rewound = self.rewound;
         fresh.undone = std::mem::take(&mut self.undone);
         fresh.undone.push(a);
@@ -788,15 +808,48 @@ impl Mesher {
     /// A new mesher over the same input with `actions` replayed, switching
     /// models where [`Mesher::set_model`] did; a model set after the last
     /// replayed action stays in force.
+    /// `actions` must be the first of this run's history.
     pub(super) fn replayed(&self, actions: &[Action]) -> Mesher {
-        let mut fresh = Mesher::new(
-            self.boundary.clone(),
-            self.initial_model.clone(),
-            self.params.clone(),
-        );
+        self.replayed_keeping(actions, None)
+    }
+
+    /// The [`Mesher::checkpoint`], if a replay of the first `n` actions of
+    /// the history can start from it.
+    fn usable_checkpoint(&self, n: usize) -> Option<&Arc<Mesher>> {
+        let c = self.checkpoint.as_ref().filter(|c| c.history.len() <= n)?;
+        debug_assert!(self.history.starts_with(&c.history));
+        Some(c)
+    }
+
+    /// [`Mesher::replayed`] from the [`Mesher::checkpoint`] when it can
+    /// start there; keeps a new checkpoint after `keep_at` actions (if the
+    /// replay passes there), else the one it started from.
+    fn replayed_keeping(&self, actions: &[Action], keep_at: Option<usize>) -> Mesher {
+        debug_assert!(self.history.starts_with(actions));
+        let base = self.usable_checkpoint(actions.len());
+        let (mut fresh, start) = match base {
+            Some(c) => (Mesher::clone(c), c.history.len()),
+            None => (
+                Mesher::new(
+                    self.boundary.clone(),
+                    self.initial_model.clone(),
+                    self.params.clone(),
+                ),
+                0,
+            ),
+        };
         fresh.replaying = true;
-        let mut changes = self.model_changes.iter().peekable();
-        for (i, a) in actions.iter().enumerate() {
+        // The checkpoint's model is already the one set before `start`.
+        let mut changes = self
+            .model_changes
+            .iter()
+            .filter(|(at, _)| *at >= start)
+            .peekable();
+        let mut kept = None;
+        for (i, a) in actions.iter().enumerate().skip(start) {
+            if keep_at == Some(i) {
+                kept = Some(Arc::new(fresh.clone()));
+            }
             while let Some((_, m)) = changes.next_if(|(at, _)| *at <= i) {
                 fresh.set_model(m.clone());
             }
@@ -807,6 +860,7 @@ impl Mesher {
             fresh.set_model(m.clone());
         }
         fresh.replaying = false;
+        fresh.checkpoint = kept.or_else(|| base.cloned());
         fresh
     }
 
