@@ -489,9 +489,13 @@ fn run(c: Command) -> Result<()> {
                 extract: params,
                 finish,
             };
-            let (mesh, stats) = pipeline::mesh_boundary(&boundary, model, &params, |left| {
+            let (mesh, stats) = pipeline::mesh_boundary(&boundary, model, &params, |at| {
                 if let Some(b) = &bar {
-                    b.set_message(format!("{left} front nodes"));
+                    b.set_message(format!(
+                        "{:.0}% of the area, {} front nodes",
+                        100.0 * at.meshed,
+                        at.front
+                    ));
                     b.tick();
                 }
             })

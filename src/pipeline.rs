@@ -8,7 +8,7 @@
 
 use crate::boundary::Boundary;
 use crate::cleanup::{improve, CleanupParams};
-use crate::extract::{MeshError, MeshParams, Mesher, StepStats};
+use crate::extract::{MeshError, MeshParams, Mesher, RunProgress, StepStats};
 use crate::mesh::QuadMesh;
 use crate::model::Model;
 use crate::remesh::{remesh_bad, RemeshParams};
@@ -104,12 +104,12 @@ fn finish_at(
 
 /// Meshes a boundary to the end with `model` and `params`: extraction, then
 /// finishing. Returns the mesh and the step counts; `progress` is called
-/// after every step with the number of front nodes left.
+/// after every step with how far extraction has got.
 pub fn mesh_boundary(
     boundary: &Boundary,
     model: Arc<dyn Model>,
     params: &Params,
-    progress: impl FnMut(usize),
+    progress: impl FnMut(RunProgress),
 ) -> Result<(QuadMesh, StepStats), MeshError> {
     let (local, origin) = boundary.to_local();
     let mut m = Mesher::new(local, model, params.extract.clone());

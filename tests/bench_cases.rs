@@ -157,6 +157,28 @@ fn undo_on_a_long_run_matches_a_run_stopped_there() {
     assert_ne!(m.mesh(), &end);
 }
 
+/// A run's progress is the share of the domain's area meshed: on a disk,
+/// whose rows keep their node count as they go in, it is past half while
+/// the front has kept more than half its nodes, and it ends at 1.
+#[test]
+fn run_progress_follows_the_area_meshed() {
+    let b = quadex::io::read_boundary(&common::bench().join("boundaries/disk400.poly")).unwrap();
+    let start = b.node_count();
+    let model = Arc::new(quadex::model::default_model().unwrap());
+    let mut m = Mesher::new(b, model, MeshParams::DEFAULT);
+    let mut seen = Vec::new();
+    m.run(|at| seen.push(at)).unwrap();
+    let last = seen.last().unwrap();
+    assert_eq!((last.front, last.meshed), (0, 1.0));
+    assert!(seen.iter().all(|at| (0.0..=1.0).contains(&at.meshed)));
+    let half = seen.iter().find(|at| at.meshed > 0.5).unwrap();
+    assert!(
+        half.front * 2 > start,
+        "half the area meshed with {} of {start} front nodes left",
+        half.front
+    );
+}
+
 /// Redo takes undone steps again, corrections included, and a new step
 /// clears what was undone.
 #[test]

@@ -12,7 +12,7 @@ use crate::extract::{Mesher, StepReport};
 use crate::mesh::QuadMesh;
 use crate::pipeline::{self, FinishParams};
 use std::ops::ControlFlow;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 
@@ -58,6 +58,8 @@ pub struct Job {
     cancel: Arc<AtomicBool>,
     steps: Arc<AtomicUsize>,
     front: Arc<AtomicUsize>,
+    /// The share of the domain meshed, as `f64` bits.
+    meshed: Arc<AtomicU64>,
     /// What runs, for the progress line.
     pub what: &'static str,
     pub work: Work,
@@ -65,7 +67,6 @@ pub struct Job {
     /// The mesh version the job started from, and for finishing the
     /// parameters (what its result belongs to).
     pub key: super::FinishKey,
-    start_front: usize,
     started: std::time::Instant,
 }
 
@@ -80,19 +81,20 @@ impl Job {
     ) -> Job {
         let cancel = Arc::new(AtomicBool::new(false));
         let steps = Arc::new(AtomicUsize::new(0));
-        let start_front = mesher.front().len();
-        let front = Arc::new(AtomicUsize::new(start_front));
-        let (c, s, f) = (cancel.clone(), steps.clone(), front.clone());
+        let front = Arc::new(AtomicUsize::new(mesher.front().len()));
+        let meshed = Arc::new(AtomicU64::new(mesher.meshed_share().to_bits()));
+        let (c, s, f, a) = (cancel.clone(), steps.clone(), front.clone(), meshed.clone());
         let handle = std::thread::spawn(move || {
             let (mut last, mut taken, mut error) = (None, 0, None);
             let finish = match work {
                 Work::Run { max_steps, finish } => {
                     if max_steps > 0 && !c.load(Ordering::Relaxed) {
-                        let res = mesher.run_with(|r, left| {
+                        let res = mesher.run_with(|r, at| {
                             taken += 1;
                             last = Some(r.clone());
                             s.store(taken, Ordering::Relaxed);
-                            f.store(left, Ordering::Relaxed);
+                            f.store(at.front, Ordering::Relaxed);
+                            a.store(at.meshed.to_bits(), Ordering::Relaxed);
                             if taken >= max_steps || c.load(Ordering::Relaxed) {
                                 ControlFlow::Break(())
                             } else {
@@ -121,11 +123,11 @@ impl Job {
             cancel,
             steps,
             front,
+            meshed,
             what,
             work,
             record,
             key,
-            start_front,
             started: std::time::Instant::now(),
         }
     }
@@ -142,17 +144,14 @@ impl Job {
         self.handle.take()
     }
 
-    /// Steps taken so far, front nodes left, and a rough fraction done
-    /// (the front shrinks as the mesh fills; the finishing pass has none).
+    /// Steps taken so far, front nodes left, and the share of the
+    /// domain's area meshed ([`Mesher::meshed_share`]; the finishing pass
+    /// has none).
     pub fn progress(&self) -> (usize, usize, f32) {
         let steps = self.steps.load(Ordering::Relaxed);
         let front = self.front.load(Ordering::Relaxed);
-        let frac = if self.start_front == 0 {
-            0.0
-        } else {
-            1.0 - (front as f32 / self.start_front as f32).min(1.0)
-        };
-        (steps, front, frac)
+        let meshed = f64::from_bits(self.meshed.load(Ordering::Relaxed));
+        (steps, front, meshed as f32)
     }
 
     /// Seconds since the start.

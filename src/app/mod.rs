@@ -1989,7 +1989,7 @@ impl App {
                             .desired_width(120.0)
                             .show_percentage(),
                     )
-                    .on_hover_text("The share of the front meshed so far");
+                    .on_hover_text("The share of the domain's area meshed so far");
                     ui.label(format!(
                         "{}: {}, {} left",
                         j.what,

@@ -184,6 +184,16 @@ pub struct Correction {
     pub snap_to: Option<u32>,
 }
 
+/// How far a run has got, after each of its steps ([`super::Mesher::run_with`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunProgress {
+    /// Front nodes left.
+    pub front: usize,
+    /// The share of the domain's area meshed ([`super::Mesher::meshed_share`]),
+    /// measured every 128 steps and when the front closes.
+    pub meshed: f64,
+}
+
 /// One recorded step, as [`Mesher::actions`] lists them: replaying the
 /// actions of a run with [`Mesher::take`] rebuilds it (steps are
 /// deterministic), which is how undo works and how a project file keeps a

@@ -10,7 +10,8 @@ use super::guard::{Limits, Scratch};
 use super::params::MeshParams;
 use super::queue::Entry;
 use super::report::{
-    Action, Correction, MeshError, Remedy, StepKind, StepOutcome, StepReport, StepStats,
+    Action, Correction, MeshError, Remedy, RunProgress, StepKind, StepOutcome, StepReport,
+    StepStats,
 };
 use super::size::SizeField;
 use crate::boundary::Boundary;
@@ -240,6 +241,17 @@ impl Mesher {
             m.push(s);
         }
         m
+    }
+
+    /// The share of the domain's area meshed, from 0 to 1 (the area the
+    /// front still encloses, over the domain's: a walk over the front).
+    /// Unlike the front's node count, it grows steadily on a disk, whose
+    /// rows keep their node count as they go in.
+    pub fn meshed_share(&self) -> f64 {
+        if self.front.is_empty() || self.domain_area <= 0.0 {
+            return 1.0;
+        }
+        (1.0 - self.front.open_area(&self.mesh.nodes) / self.domain_area).clamp(0.0, 1.0)
     }
 
     /// The mesh so far (unsmoothed).
@@ -716,26 +728,38 @@ impl Mesher {
         )
     }
 
-    /// Runs to the end; `progress` is called after every step with the
-    /// number of front nodes left.
-    pub fn run(&mut self, mut progress: impl FnMut(usize)) -> Result<(), MeshError> {
-        self.run_with(|_, left| {
-            progress(left);
+    /// Runs to the end; `progress` is called after every step with how far
+    /// the run has got.
+    pub fn run(&mut self, mut progress: impl FnMut(RunProgress)) -> Result<(), MeshError> {
+        self.run_with(|_, at| {
+            progress(at);
             ControlFlow::Continue(())
         })
         .map(|_| ())
     }
 
     /// Steps until the mesh is complete or `each` breaks; `each` sees every
-    /// step's report and the number of front nodes left after it (a
-    /// background run counts steps, shows the last element and stops when
-    /// cancelled). Returns whether the mesh is complete.
+    /// step's report and how far the run has got after it (a background
+    /// run counts steps, shows the last element and its progress, and stops
+    /// when cancelled). Returns whether the mesh is complete.
     pub fn run_with(
         &mut self,
-        mut each: impl FnMut(&StepReport, usize) -> ControlFlow<()>,
+        mut each: impl FnMut(&StepReport, RunProgress) -> ControlFlow<()>,
     ) -> Result<bool, MeshError> {
+        // The meshed share is measured every PROGRESS_EVERY steps (it walks
+        // the front).
+        let mut meshed = self.meshed_share();
+        let mut taken = 0;
         while let StepOutcome::Stepped(r) = self.step()? {
-            if each(&r, self.front.len()).is_break() {
+            taken += 1;
+            if taken % PROGRESS_EVERY == 0 || self.front.is_empty() {
+                meshed = self.meshed_share();
+            }
+            let at = RunProgress {
+                front: self.front.len(),
+                meshed,
+            };
+            if each(&r, at).is_break() {
                 return Ok(self.is_done());
             }
         }
