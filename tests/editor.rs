@@ -1550,7 +1550,8 @@ fn issue17_the_wheel_scrolls_the_model_panel() {
 
 /// 10e. Esc closes an open menu (and cancels nothing); the histograms have
 ///      ticks along x; controls explain themselves on hover; the export
-///      path starts beside the document's file.
+///      path starts beside the document's file, the export dialog starts
+///      from it, and another document resets it.
 #[test]
 fn issue17_menus_ticks_tooltips_and_export_path() {
     let mut h = harness(open(&boundary("plate_hole.poly")));
@@ -1590,6 +1591,26 @@ fn issue17_menus_ticks_tooltips_and_export_path() {
     // The export path.
     let want = boundary("plate_hole.msh");
     assert_eq!(PathBuf::from(&h.state().panels.export_path), want);
+    // The export dialog (here the prompt in the window) starts where the
+    // Export box says.
+    let dir = tempfile::tempdir().unwrap();
+    let custom = dir.path().join("custom.vtk").display().to_string();
+    h.state_mut().panels.export_path = custom.clone();
+    h.state_mut().window.native_dialogs = false;
+    h.run();
+    // (Nodes showing the path: the Export box's, then the prompt's too.)
+    let showing = |h: &Harness<'static, App>| h.query_all_by_value(&custom).count();
+    let panel = showing(&h);
+    assert!(panel > 0);
+    h.state_mut()
+        .apply(Command::Dialog(quadex::app::command::Dialog::ExportMesh));
+    h.run();
+    assert_eq!(showing(&h), 2 * panel, "the prompt does not show the path");
+    h.key_press(egui::Key::Escape);
+    h.run();
+    assert_eq!(showing(&h), panel, "the prompt stays open");
+    // Another document: the Export box starts again beside it, though it
+    // held a path of the user's.
     h.state_mut().apply(Command::OpenExample("lshape.poly"));
     h.run();
     let p = PathBuf::from(&h.state().panels.export_path);

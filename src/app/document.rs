@@ -1221,6 +1221,15 @@ pub fn is_mesh_file(path: &Path) -> bool {
     )
 }
 
+/// True for a file named as one [`Document::open`] reads: a boundary
+/// (`.poly`, `.json`; a project is a `.json` too) or a quad mesh
+/// ([`is_mesh_file`]). An export to `.vtk`, `.vtu`, `.inp` or `.svg` is
+/// not one.
+pub fn opens(path: &Path) -> bool {
+    let ext = |e: &str| path.extension().is_some_and(|x| x.eq_ignore_ascii_case(e));
+    ext("poly") || ext("json") || is_mesh_file(path)
+}
+
 /// True for a JSON file whose `format` is a project's.
 pub fn is_project(path: &Path) -> bool {
     #[derive(Deserialize)]

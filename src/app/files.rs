@@ -186,7 +186,8 @@ impl Prompt {
     }
 }
 
-/// Files opened or saved lately, the newest first.
+/// Files opened or saved lately that Open reads ([`super::document::opens`]),
+/// the newest first.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Recent(pub Vec<PathBuf>);
 
@@ -194,7 +195,12 @@ impl Recent {
     /// How many the list keeps.
     pub const LEN: usize = 10;
 
+    /// Puts `p` first, unless Open cannot read it (a mesh exported to
+    /// `.vtk`, say): the list is for opening again.
     pub fn push(&mut self, p: &Path) {
+        if !super::document::opens(p) {
+            return;
+        }
         let p = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
         self.0.retain(|q| *q != p);
         self.0.insert(0, p);
@@ -210,11 +216,26 @@ mod tests {
     fn recent_files_are_unique_newest_first_and_bounded() {
         let mut r = Recent::default();
         for k in 0..15 {
-            r.push(Path::new(&format!("/d/f{}", k % 12)));
+            r.push(Path::new(&format!("/d/f{}.poly", k % 12)));
         }
-        r.push(Path::new("/d/f5"));
+        r.push(Path::new("/d/f5.poly"));
         assert_eq!(r.0.len(), Recent::LEN);
-        assert_eq!(r.0[0], Path::new("/d/f5"));
-        assert_eq!(r.0.iter().filter(|p| *p == Path::new("/d/f5")).count(), 1);
+        assert_eq!(r.0[0], Path::new("/d/f5.poly"));
+        assert_eq!(
+            r.0.iter().filter(|p| *p == Path::new("/d/f5.poly")).count(),
+            1
+        );
+    }
+
+    #[test]
+    fn recent_files_are_files_open_reads() {
+        let mut r = Recent::default();
+        for f in [
+            "a.poly", "b.msh", "c.vtk", "d.vtu", "e.inp", "f.svg", "g.json", "h.MSH22",
+        ] {
+            r.push(Path::new("/d").join(f).as_path());
+        }
+        let names: Vec<_> = r.0.iter().filter_map(|p| p.file_name()?.to_str()).collect();
+        assert_eq!(names, ["h.MSH22", "g.json", "b.msh", "a.poly"]);
     }
 }

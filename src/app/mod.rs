@@ -1291,7 +1291,10 @@ impl App {
     /// Asks for a file (the desktop's dialog, else the prompt in the
     /// window) and applies what it is for.
     fn dialog(&mut self, d: Dialog) {
-        let (dir, name) = self.dialog_start(d);
+        let (dir, name) = match self.export_box_path() {
+            Some(at) if d == Dialog::ExportMesh => at,
+            _ => self.dialog_start(d),
+        };
         if self.window.native_dialogs {
             if let Some(p) = files::pick(d, Some(&dir), &name) {
                 self.apply(files::command_for(d, p));
@@ -1299,6 +1302,15 @@ impl App {
         } else {
             self.window.prompt = Some(Prompt::new(d, &dir, &name));
         }
+    }
+
+    /// The folder and file name in the side panel's Export box, where the
+    /// export dialog starts too (so the two agree).
+    fn export_box_path(&self) -> Option<(PathBuf, String)> {
+        let p = Path::new(self.panels.export_path.trim());
+        let name = p.file_name()?.to_str()?.to_string();
+        let dir = p.parent().filter(|d| !d.as_os_str().is_empty())?;
+        Some((dir.to_path_buf(), name))
     }
 
     /// The default export path: beside the document's file, named after it.
@@ -1506,12 +1518,10 @@ impl App {
         self.input_commands(ctx, &mut cmds);
         self.panels.tools.sync(&self.document.doc);
         if self.panels.export_default.as_deref() != Some(&self.default_export_path()) {
+            // Another document (or the same under another name): the
+            // Export box starts again beside it.
             let d = self.default_export_path();
-            if self.panels.export_default.as_deref() == Some(self.panels.export_path.as_str())
-                || self.panels.export_path.is_empty()
-            {
-                self.panels.export_path = d.clone();
-            }
+            self.panels.export_path = d.clone();
             self.panels.export_default = Some(d);
         }
         self.refresh_finished(ctx);
