@@ -590,6 +590,8 @@ impl App {
     /// Takes the remembered state (the settings are the document's own).
     pub fn set_prefs(&mut self, p: Prefs) {
         self.window.recent = p.recent;
+        // (Lists remembered before the list kept only files Open reads.)
+        self.window.recent.0.retain(|f| document::opens(f));
         self.panels.step = p.step;
         self.panels.quality = p.quality;
         self.panels.tab = p.tab;
