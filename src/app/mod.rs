@@ -1911,8 +1911,8 @@ impl App {
             ui.separator();
             item(
                 ui,
-                "Restart the mesh",
-                "Drop the steps (undo brings them back)",
+                "Reset",
+                "Start the mesh again (undo brings the steps back)",
                 Command::Reset,
                 can_reset,
                 cmds,
