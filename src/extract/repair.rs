@@ -43,6 +43,20 @@ pub(super) enum Squares {
     SmallHoles,
 }
 
+/// A region of the mesh being removed ([`Mesher::remove_around`]).
+struct Removal {
+    /// Per quad, whether it goes.
+    removed: Vec<bool>,
+    /// Per node, whether it is on the loops the removal started from or a
+    /// corner of a quad that goes.
+    mark: Vec<bool>,
+    /// The nodes `mark` marks, in the order marked.
+    marked: Vec<u32>,
+    /// The region's boundary: the directed edges of the loops and of the
+    /// quads that go, a pair met both ways cancelling.
+    edges: std::collections::BTreeSet<(u32, u32)>,
+}
+
 /// Adds the directed edge `(a, b)` to a region's boundary `edges`, or
 /// takes `(b, a)` off it where the region already had that edge the other
 /// way (the two sides of an edge inside the region cancel).
@@ -116,31 +130,25 @@ impl Mesher {
                 );
             }
         }
-        let mut removed = vec![false; self.mesh.quads.len()];
+        let mut region = Removal {
+            removed: vec![false; self.mesh.quads.len()],
+            mark,
+            marked,
+            edges,
+        };
         for _ in 0..rings {
-            let mut hit: Vec<usize> = marked
-                .iter()
-                .flat_map(|&v| self.incident[v as usize].iter().map(|&q| q as usize))
-                .filter(|&q| !removed[q])
-                .collect();
-            hit.sort_unstable();
-            hit.dedup();
-            for &k in &hit {
-                removed[k] = true;
-                let q = self.mesh.quads[k];
-                for j in 0..4 {
-                    let (a, b) = (q[j], q[(j + 1) % 4]);
-                    if !mark[a as usize] {
-                        mark[a as usize] = true;
-                        marked.push(a);
-                    }
-                    toggle_edge(&mut edges, (a, b));
-                }
-            }
+            let ring = region.marked.clone();
+            self.take_quads_at(&ring, &mut region);
         }
         if tidy {
-            self.tidy_removal(&mut removed, &mut mark, &mut edges);
+            self.tidy_removal(&mut region);
         }
+        let Removal {
+            removed,
+            mark,
+            edges,
+            ..
+        } = region;
         let count = self.remove_quads(&removed);
         let loops = Front::link_loops(edges.into_iter().collect(), &self.mesh.nodes);
         self.front = Front::new(
@@ -160,21 +168,42 @@ impl Mesher {
         (count, mark)
     }
 
-    /// Grows a removal (quads `removed`, region boundary `edges`, nodes
-    /// `mark`) until the region's boundary is one a fill can take: no node
-    /// the boundary passes twice (two removed quads meeting at a corner
-    /// only) and no boundary edge under [`TIDY_EDGE`] of the size there
-    /// (the knots of tiny quads where rows met) and no slit
+    /// Adds to `region` every quad at one of `nodes` it does not hold yet
+    /// (in id order): marks their corners and toggles their edges on the
+    /// region's boundary. Returns how many it added.
+    fn take_quads_at(&self, nodes: &[u32], region: &mut Removal) -> usize {
+        let mut hit: Vec<usize> = nodes
+            .iter()
+            .flat_map(|&v| self.incident[v as usize].iter().map(|&q| q as usize))
+            .filter(|&q| !region.removed[q])
+            .collect();
+        hit.sort_unstable();
+        hit.dedup();
+        for &k in &hit {
+            region.removed[k] = true;
+            let q = self.mesh.quads[k];
+            for j in 0..4 {
+                let (a, b) = (q[j], q[(j + 1) % 4]);
+                if !region.mark[a as usize] {
+                    region.mark[a as usize] = true;
+                    region.marked.push(a);
+                }
+                toggle_edge(&mut region.edges, (a, b));
+            }
+        }
+        hit.len()
+    }
+
+    /// Grows a removal until the region's boundary is one a fill can take:
+    /// no node the boundary passes twice (two removed quads meeting at a
+    /// corner only) and no boundary edge under [`TIDY_EDGE`] of the size
+    /// there (the knots of tiny quads where rows met) and no slit
     /// ([`TIDY_ANGLE`]). All quads at such a node go, for at most
     /// [`TIDY_ROUNDS`] rounds.
-    fn tidy_removal(
-        &self,
-        removed: &mut [bool],
-        mark: &mut [bool],
-        edges: &mut std::collections::BTreeSet<(u32, u32)>,
-    ) {
+    fn tidy_removal(&self, region: &mut Removal) {
         let nodes = &self.mesh.nodes;
         for _ in 0..TIDY_ROUNDS {
+            let edges = &region.edges;
             let mut seen: std::collections::BTreeMap<u32, usize> = Default::default();
             let mut bad: Vec<u32> = Vec::new();
             for &(a, b) in edges.iter() {
@@ -204,23 +233,8 @@ impl Mesher {
             }
             bad.sort_unstable();
             bad.dedup();
-            let mut hit: Vec<usize> = bad
-                .iter()
-                .flat_map(|&v| self.incident[v as usize].iter().map(|&q| q as usize))
-                .filter(|&q| !removed[q])
-                .collect();
-            hit.sort_unstable();
-            hit.dedup();
-            if hit.is_empty() {
+            if self.take_quads_at(&bad, region) == 0 {
                 return;
-            }
-            for k in hit {
-                removed[k] = true;
-                let q = self.mesh.quads[k];
-                for j in 0..4 {
-                    mark[q[j] as usize] = true;
-                    toggle_edge(edges, (q[j], q[(j + 1) % 4]));
-                }
             }
         }
     }
