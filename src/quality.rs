@@ -187,6 +187,13 @@ pub struct MeshQuality {
 impl MeshQuality {
     /// Figures for `mesh` (all zero for a mesh without quads).
     pub fn of(mesh: &QuadMesh) -> MeshQuality {
+        Self::of_open(mesh, &[])
+    }
+
+    /// [`MeshQuality::of`] for a mesh still being made: the nodes `open`
+    /// (the front's) are not counted as interior nodes, since their quads
+    /// do not surround them yet and their valence says nothing.
+    pub fn of_open(mesh: &QuadMesh, open: &[u32]) -> MeshQuality {
         let n = mesh.quads.len();
         if n == 0 {
             return MeshQuality::default();
@@ -223,8 +230,14 @@ impl MeshQuality {
         }
         let nb = mesh.n_boundary();
         m.nodes = valence.iter().filter(|&&v| v > 0).count();
+        let mut on_front = vec![false; mesh.nodes.len()];
+        for &v in open {
+            if let Some(f) = on_front.get_mut(v as usize) {
+                *f = true;
+            }
+        }
         for (i, &v) in valence.iter().enumerate() {
-            if i >= nb && v > 0 {
+            if i >= nb && v > 0 && !on_front[i] {
                 m.interior_nodes += 1;
                 if v != 4 {
                     m.irregular_interior += 1;
@@ -266,6 +279,34 @@ mod tests {
             measurable > 0 && strict > measurable && strict < 30_000,
             "{strict} {measurable}"
         );
+    }
+
+    /// A 2 × 2 grid with one quad still to make: its middle node has three
+    /// quads, but it is on the front, not an irregular interior node.
+    #[test]
+    fn front_nodes_of_a_mesh_being_made_are_not_interior() {
+        let p = |x: f64, y: f64| Point::new(x, y);
+        let mesh = QuadMesh {
+            // The boundary loop (ids 0..8, CCW), then the middle node.
+            nodes: vec![
+                p(0., 0.),
+                p(1., 0.),
+                p(2., 0.),
+                p(2., 1.),
+                p(2., 2.),
+                p(1., 2.),
+                p(0., 2.),
+                p(0., 1.),
+                p(1., 1.),
+            ],
+            quads: vec![[0, 1, 8, 7], [1, 2, 3, 8], [8, 3, 4, 5]],
+            loops: vec![(0..8).collect()],
+        };
+        let all = MeshQuality::of(&mesh);
+        assert_eq!((all.irregular_interior, all.interior_nodes), (1, 1));
+        let open = MeshQuality::of_open(&mesh, &[8, 5, 6, 7]);
+        assert_eq!((open.irregular_interior, open.interior_nodes), (0, 0));
+        assert_eq!(open.quads, 3);
     }
 
     #[test]

@@ -1564,7 +1564,15 @@ impl App {
                 ..
             } = &mut self.view;
             let s = shown_of(&self.document, finished, empty);
-            stats.refresh(shown_key.0 * 8 + shown_key.1 as u64, s.mesh);
+            // The stepped mesh's front nodes are not interior nodes yet.
+            let open: Vec<u32> = match (s.kind, self.document.doc.mesher()) {
+                (MeshKind::Stepped, Some(m)) => {
+                    let f = m.front();
+                    f.live_loops().flat_map(|l| f.loop_nodes(l)).collect()
+                }
+                _ => Vec::new(),
+            };
+            stats.refresh(shown_key.0 * 8 + shown_key.1 as u64, s.mesh, &open);
             *stats_key = Some(shown_key);
         }
         let width = ctx.content_rect().width();

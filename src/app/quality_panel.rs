@@ -79,8 +79,10 @@ pub struct MeshStats {
 }
 
 impl MeshStats {
-    /// Recomputes for `mesh` unless `key` (the mesh version) is the same.
-    pub fn refresh(&mut self, key: u64, mesh: &QuadMesh) {
+    /// Recomputes for `mesh` unless `key` (the mesh version) is the same;
+    /// `open` are the nodes of the front of a mesh still being made
+    /// ([`MeshQuality::of_open`]).
+    pub fn refresh(&mut self, key: u64, mesh: &QuadMesh, open: &[u32]) {
         if self.key == Some(key) {
             return;
         }
@@ -90,7 +92,7 @@ impl MeshStats {
             .iter()
             .map(|q| QuadQuality::of(mesh.corners(q)))
             .collect();
-        self.summary = MeshQuality::of(mesh);
+        self.summary = MeshQuality::of_open(mesh, open);
         let counts = |f: fn(&QuadQuality) -> f64, (lo, hi, bins): (f64, f64, usize)| {
             let v: Vec<f64> = self.per_quad.iter().map(f).collect();
             bin_counts(&v, lo, hi, bins)
