@@ -689,11 +689,13 @@ fn draw_grid(painter: &egui::Painter, rect: Rect, view: &View, color: Color32) {
     }
 }
 
-/// `v` rounded to the grid step's decimals (no `0.30000000000000004`).
+/// `v` rounded to the grid step's decimals (no `0.30000000000000004`, and
+/// no `-0` for a line a rounding left of the axis).
 fn round_label(v: f64, step: f64) -> f64 {
     let decimals = (-step.log10()).ceil().max(0.0) as i32;
     let f = 10f64.powi(decimals);
-    (v * f).round() / f
+    // (Adding 0 turns -0 into 0.)
+    (v * f).round() / f + 0.0
 }
 
 /// Places labels beside points without overlaps: each label goes on the
@@ -825,6 +827,14 @@ fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn grid_labels_are_rounded_to_the_step_and_never_minus_zero() {
+        assert_eq!(format!("{}", round_label(0.1 + 0.2, 0.1)), "0.3");
+        assert_eq!(format!("{}", round_label(-1e-17, 0.5)), "0");
+        assert_eq!(format!("{}", round_label(-0.04, 0.1)), "0");
+        assert_eq!(format!("{}", round_label(-2.0, 1.0)), "-2");
+    }
 
     #[test]
     fn the_quad_index_finds_what_a_scan_finds() {
