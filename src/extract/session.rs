@@ -767,10 +767,11 @@ impl Mesher {
     }
 
     /// Undoes the last step by replaying the others (steps are
-    /// deterministic): from the [`Mesher::checkpoint`] if one is at most
-    /// `2 ×` [`CHECKPOINT_BEHIND`] actions back, else from the start, keeping
-    /// a new checkpoint [`CHECKPOINT_BEHIND`] actions before the end. Undo
-    /// after undo thus replays a few hundred steps, not the whole run.
+    /// deterministic), from the [`Mesher::checkpoint`] if there is one
+    /// before the step, else from the start. Unless the checkpoint is at
+    /// most `2 ×` [`CHECKPOINT_BEHIND`] actions back, the replay keeps a new
+    /// one [`CHECKPOINT_BEHIND`] actions before the end. Undo after undo
+    /// thus replays a few hundred steps, not the whole run.
     /// Returns false when there is nothing to undo.
     pub fn undo(&mut self) -> bool {
         let Some(a) = self.history.pop() else {
