@@ -1222,12 +1222,11 @@ pub fn is_mesh_file(path: &Path) -> bool {
 }
 
 /// True for a file named as one [`Document::open`] reads: a boundary
-/// (`.poly`, `.json`; a project is a `.json` too) or a quad mesh
+/// ([`io::is_boundary_file`]; a project is a `.json` too) or a quad mesh
 /// ([`is_mesh_file`]). An export to `.vtk`, `.vtu`, `.inp` or `.svg` is
 /// not one.
 pub fn opens(path: &Path) -> bool {
-    let ext = |e: &str| path.extension().is_some_and(|x| x.eq_ignore_ascii_case(e));
-    ext("poly") || ext("json") || is_mesh_file(path)
+    io::is_boundary_file(path) || is_mesh_file(path)
 }
 
 /// True for a JSON file whose `format` is a project's.

@@ -282,13 +282,27 @@ pub fn one_line(msg: &str) -> String {
 
 /// A boundary file's text, and whether it is `.poly` (else `.json`); any
 /// other extension is refused.
+/// The extensions of the boundary files [`read_boundary`] reads (any
+/// case).
+const BOUNDARY_EXTENSIONS: [&str; 2] = ["poly", "json"];
+
+/// True for a file named as a boundary [`read_boundary`] reads (`.poly`
+/// or `.json`).
+pub fn is_boundary_file(path: &Path) -> bool {
+    path.extension().is_some_and(|x| {
+        BOUNDARY_EXTENSIONS
+            .iter()
+            .any(|e| x.eq_ignore_ascii_case(e))
+    })
+}
+
 fn read_boundary_text(path: &Path) -> Result<(bool, String), ReadError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
-    if ext != "poly" && ext != "json" {
+    if !BOUNDARY_EXTENSIONS.contains(&ext.as_str()) {
         return Err(ReadError::UnknownFormat(quote(&ext)));
     }
     Ok((ext == "poly", decode_text(&std::fs::read(path)?)))
