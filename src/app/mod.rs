@@ -1519,10 +1519,10 @@ impl App {
         let mut cmds = Vec::new();
         self.input_commands(ctx, &mut cmds);
         self.panels.tools.sync(&self.document.doc);
-        if self.panels.export_default.as_deref() != Some(&self.default_export_path()) {
+        let d = self.default_export_path();
+        if self.panels.export_default.as_ref() != Some(&d) {
             // Another document (or the same under another name): the
             // Export box starts again beside it.
-            let d = self.default_export_path();
             self.panels.export_path = d.clone();
             self.panels.export_default = Some(d);
         }
