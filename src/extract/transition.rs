@@ -53,6 +53,22 @@ const MIN_SJ: f64 = 0.4;
 const MIN_SCORE: f64 = 0.5;
 /// Loops shorter than this are left to the closures.
 const MIN_LOOP: usize = 10;
+/// Front edges either side of the stretch looked at for the top of an
+/// earlier transition. A row coarsened by transitions leaves a front of
+/// one wide edge (a template's top, carried up by the rows after it)
+/// between runs of fine ones; judged by a fine run's own edges, the rows
+/// after it would take transitions again, row after row, and coarsen far
+/// past the size field (on `disk6400` to 2–4 times the boundary's spacing
+/// inside). There the mean over the window counts instead. Twice the
+/// longest run between transitions (`k` ≈ 6 at the default ratio) always
+/// takes in a template's top.
+const SPACING_REACH: isize = 6;
+/// A front edge this many times as wide as the stretch's mean is taken for
+/// the top of an earlier transition (a template's top is three times as
+/// wide as the edges it replaced). Where no such edge is near, the
+/// stretch is judged by its own edges, as on a graded front, whose edges
+/// grow far more slowly.
+const WIDE: f64 = 2.5;
 
 impl Mesher {
     /// The transition element at reference slot `s` when the row `s`
@@ -111,7 +127,7 @@ impl Mesher {
         let chord = p[3] - p[0];
         let normal = chord.perp() / chord.length();
         let want = self.size.at(0.5 * (p[0] + p[3]) + normal * (0.5 * h0));
-        let ratio = want / width;
+        let ratio = want / self.spacing_around(a[0], a[3], total);
         if ratio.is_nan() || ratio < coarser.max(1.0 + 1e-3) {
             return None;
         }
@@ -224,5 +240,37 @@ impl Mesher {
             self.push(x);
         }
         Some(r)
+    }
+
+    /// The width the stretch from slot `from` to slot `to` (its three edges
+    /// `stretch` long in all) is judged by: its own mean edge, or, where an
+    /// edge [`WIDE`] times that lies within [`SPACING_REACH`] edges either
+    /// side (the top of an earlier transition, carried up by the rows
+    /// since), the mean edge length over the stretch and those edges (fewer
+    /// where the loop is short).
+    fn spacing_around(&self, from: SlotId, to: SlotId, stretch: f64) -> f64 {
+        let f = &self.front;
+        let width = stretch / 3.0;
+        let reach = SPACING_REACH
+            .min((f.loop_len(from) as isize - 3) / 2 - 1)
+            .max(0);
+        let (mut sum, mut edges, mut wide) = (stretch, 3.0, false);
+        let (mut back, mut ahead) = (from, to);
+        for _ in 0..reach {
+            let (b, a) = (f.prev(back), f.next(ahead));
+            let (lb, la) = (
+                self.world(b).distance(self.world(back)),
+                self.world(ahead).distance(self.world(a)),
+            );
+            wide |= lb.max(la) > WIDE * width;
+            sum += lb + la;
+            edges += 2.0;
+            (back, ahead) = (b, a);
+        }
+        if wide {
+            sum / edges
+        } else {
+            width
+        }
     }
 }
