@@ -9,6 +9,7 @@ use super::candidate::Chosen;
 use super::guard::Limits;
 use super::memo::Eval;
 use super::params::Strategy;
+use super::queue::Entry;
 
 use super::repair::Squares;
 use super::report::{MeshError, Remedy, StepReport};
@@ -151,7 +152,7 @@ impl Mesher {
         //    exists (the "next reference point" remedy): the best of the
         //    group is taken before the queue moves on to the next group.
         let mut skipped = 0;
-        let mut deferred: Vec<SlotId> = Vec::new();
+        let mut deferred: Vec<Entry> = Vec::new();
         let mut best: Option<Chosen> = None;
         let mut chosen = None;
         let mut group = None;
@@ -171,18 +172,14 @@ impl Mesher {
             {
                 if let Some(mut r) = self.try_seam(e.slot) {
                     r.skipped = skipped;
-                    for s in deferred {
-                        self.push(s);
-                    }
+                    self.requeue(deferred);
                     return Ok(r);
                 }
             }
             if e.class > 0 {
                 if let Some(mut r) = self.try_transition(e.slot, limits) {
                     r.skipped = skipped;
-                    for s in deferred {
-                        self.push(s);
-                    }
+                    self.requeue(deferred);
                     return Ok(r);
                 }
             }
@@ -206,7 +203,7 @@ impl Mesher {
                 Some(c) => c.keep_if_best(&mut best),
                 None => {}
             }
-            deferred.push(e.slot);
+            deferred.push(e);
             skipped += 1;
         }
         // A remembered element is checked again before it is taken (its
@@ -215,9 +212,7 @@ impl Mesher {
         if let Some(c) = chosen.or(best) {
             let mut r = self.commit_chosen(c);
             r.skipped = skipped;
-            for s in deferred {
-                self.push(s);
-            }
+            self.requeue(deferred);
             return Ok(r);
         }
         // 4. A seam at any sharp corner.

@@ -85,6 +85,23 @@ impl Mesher {
         });
     }
 
+    /// Puts back entries popped and deferred by a step, after the step.
+    /// An entry still current (its slot alive and not pushed since) goes
+    /// back with the place [`Mesher::push`] would give it, its kind, band
+    /// and layer unchanged, without working them out again (a long group of
+    /// poor reference points is popped and put back at every step, and a
+    /// band asks the size field); any other is pushed anew.
+    pub(super) fn requeue(&mut self, deferred: Vec<Entry>) {
+        for e in deferred {
+            if self.front.slot(e.slot).alive && self.version[e.slot as usize] == e.version {
+                self.seq += 1;
+                self.queue.push(Entry { seq: self.seq, ..e });
+            } else {
+                self.push(e.slot);
+            }
+        }
+    }
+
     /// A slot's place in strategy B's order: its size band and its layer
     /// (both 0 under strategy A).
     pub(super) fn slot_key(&self, s: SlotId) -> (u32, u32) {
