@@ -14,6 +14,7 @@
 use super::guard::is_needle;
 use crate::boundary::Boundary;
 use crate::geom::Point;
+use rustc_hash::{FxHashMap, FxHashSet};
 use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
 
 /// Grid cells along the longer side of the domain's bounding box, at most.
@@ -61,8 +62,8 @@ struct Sources {
     lo: f64,
     near: SourceCells,
     far: SourceCells,
-    /// Keys of the grid cells holding a source, sorted, once each.
-    coarse: Vec<u64>,
+    /// Keys of the grid cells holding a source.
+    coarse: FxHashSet<u64>,
     /// Side of the grid's cells.
     grid_cell: f64,
 }
@@ -75,6 +76,10 @@ struct SourceCells {
     reach: i64,
     /// `(cell key, position, size)`, sorted by key.
     filed: Vec<(u64, Point, f64)>,
+    /// The run of `filed` each occupied cell's key heads (start, end): a
+    /// look-up of a cell is one hash probe, where a search of `filed` took
+    /// a dozen steps, and most cells a ring search visits are empty.
+    runs: FxHashMap<u64, (u32, u32)>,
 }
 
 /// Grid cells around a point (each way) within which sources are looked
@@ -95,10 +100,19 @@ impl SourceCells {
             })
             .collect();
         filed.sort_by_key(|e| e.0);
+        let mut runs = FxHashMap::default();
+        let mut start = 0;
+        for (i, e) in filed.iter().enumerate() {
+            if filed.get(i + 1).is_none_or(|n| n.0 != e.0) {
+                runs.insert(e.0, (start as u32, i as u32 + 1));
+                start = i + 1;
+            }
+        }
         SourceCells {
             cell,
             reach: reach.max(1),
             filed,
+            runs,
         }
     }
 
@@ -108,14 +122,12 @@ impl SourceCells {
     /// found.
     fn at(&self, p: Point, origin: Point, lo: f64) -> f64 {
         let (i, j) = index(p, origin, self.cell);
-        let in_cell = |x: i64, y: i64| {
-            let k = key(x, y);
-            let from = self.filed.partition_point(|e| e.0 < k);
-            self.filed[from..]
+        let in_cell = |x: i64, y: i64| match self.runs.get(&key(x, y)) {
+            Some(&(from, to)) => self.filed[from as usize..to as usize]
                 .iter()
-                .take_while(|e| e.0 == k)
                 .map(|&(_, q, h)| h + GRADING * q.distance(p))
-                .fold(f64::INFINITY, f64::min)
+                .fold(f64::INFINITY, f64::min),
+            None => f64::INFINITY,
         };
         let mut best = in_cell(i, j);
         for r in 1..=self.reach {
@@ -145,15 +157,13 @@ impl Sources {
         let far_cell = grid_cell / FAR_PER_CELL;
         let near_cell = (2.0 * sizes[sizes.len() / 2]).min(far_cell);
         let far_reach = (SOURCE_CELLS as f64 * FAR_PER_CELL).ceil() as i64;
-        let mut coarse: Vec<u64> = raw
+        let coarse: FxHashSet<u64> = raw
             .iter()
             .map(|&(p, _)| {
                 let (i, j) = index(p, origin, grid_cell);
                 key(i, j)
             })
             .collect();
-        coarse.sort_unstable();
-        coarse.dedup();
         Sources {
             origin,
             lo: sizes[0],
@@ -173,17 +183,46 @@ impl Sources {
         let (ci, cj) = index(p, self.origin, self.grid_cell);
         let near = (-SOURCE_CELLS..=SOURCE_CELLS).any(|dj| {
             (-SOURCE_CELLS..=SOURCE_CELLS)
-                .any(|di| self.coarse.binary_search(&key(ci + di, cj + dj)).is_ok())
+                .any(|di| self.coarse.contains(&key(ci + di, cj + dj)))
         });
         if !near {
             return f64::INFINITY;
         }
-        let h = self.near.at(p, self.origin, self.lo);
+        let h = if self.near_may_hold(p) {
+            self.near.at(p, self.origin, self.lo)
+        } else {
+            f64::INFINITY
+        };
         if h.is_finite() {
             h
         } else {
             self.far.at(p, self.origin, self.lo)
         }
+    }
+}
+
+impl Sources {
+    /// Whether the cells the near filing searches around `p` may hold a
+    /// source, answered from the coarser filing where that takes fewer
+    /// look-ups: far from every source (most of a domain) the near search
+    /// would visit all its rings of empty cells to find nothing. The far
+    /// cells looked at cover the near search's square with a cell to spare
+    /// each way, so a "no" is certain.
+    fn near_may_hold(&self, p: Point) -> bool {
+        let (near, far) = (&self.near, &self.far);
+        let (i, j) = index(p, self.origin, near.cell);
+        let r = near.reach as f64;
+        let corner = |di: f64, dj: f64| {
+            let q = self.origin + Point::new(i as f64 + di, j as f64 + dj) * near.cell;
+            index(q, self.origin, far.cell)
+        };
+        let ((x0, y0), (x1, y1)) = (corner(-r, -r), corner(r + 1.0, r + 1.0));
+        let (x0, y0, x1, y1) = (x0 - 1, y0 - 1, x1 + 1, y1 + 1);
+        let side = 2 * near.reach + 1;
+        if (x1 - x0 + 1) * (y1 - y0 + 1) >= side * side {
+            return true;
+        }
+        (y0..=y1).any(|y| (x0..=x1).any(|x| far.runs.contains_key(&key(x, y))))
     }
 }
 
