@@ -182,8 +182,7 @@ impl Sources {
         }
         let (ci, cj) = index(p, self.origin, self.grid_cell);
         let near = (-SOURCE_CELLS..=SOURCE_CELLS).any(|dj| {
-            (-SOURCE_CELLS..=SOURCE_CELLS)
-                .any(|di| self.coarse.contains(&key(ci + di, cj + dj)))
+            (-SOURCE_CELLS..=SOURCE_CELLS).any(|di| self.coarse.contains(&key(ci + di, cj + dj)))
         });
         if !near {
             return f64::INFINITY;
