@@ -626,12 +626,16 @@ impl Mesher {
     ) -> Result<Option<Chosen>, MeshError> {
         let (slots, frame, pred) = self.predict_at(s, rules);
         let leading: Vec<u32> = slots.iter().map(|&t| self.front.node(t)).collect();
-        self.evaluated = self.extent(s, &[self.model_candidate(s, pred, &frame).0]);
+        // The box read (`evaluated`) is worked out where the evaluation
+        // ends: of the model's element alone when it returns early, else of
+        // all the candidates.
+        let model_box = |m: &Self| m.extent(s, &[m.model_candidate(s, pred, &frame).0]);
         // The model's element comes first among the candidates: when it is
         // excellent the others need not be built.
         if !self.params.pure_model || rules {
             let (c, _) = self.model_candidate(s, pred, &frame);
             if let Some(score) = self.check(c, limits).filter(|&v| v >= EXCELLENT) {
+                self.evaluated = model_box(self);
                 return Ok(Some(Chosen {
                     cand: c,
                     remedy: Remedy::None,
@@ -648,6 +652,7 @@ impl Mesher {
             .filter(|_| !self.params.pure_model || rules)
         {
             let cand = Cand::New { s, pn };
+            self.evaluated = model_box(self);
             return Ok(self.check(cand, limits).map(|score| Chosen {
                 cand,
                 remedy: Remedy::CorrectedPn,
