@@ -5,7 +5,7 @@
 //! splits, a square cut, a relaxed rule-based element, relaxation, rip-up,
 //! and the fill as the last resort.
 
-use super::candidate::Chosen;
+use super::candidate::{beats, Chosen};
 use super::guard::Limits;
 use super::memo::Eval;
 use super::params::Strategy;
@@ -185,7 +185,17 @@ impl Mesher {
             }
             let node = self.front.node(e.slot);
             let result = match self.memo.get(Eval::Queue, e.slot, node) {
-                Some(r) => r.clone(),
+                // A remembered element is copied out only when it may be
+                // taken or kept as the best so far: most are neither, at
+                // every step they wait through.
+                Some(Some(c))
+                    if c.score >= self.params.defer_score
+                        || best.as_ref().is_none_or(|b| beats(c.score, b.score))
+                        || self.at_needle(e.slot) =>
+                {
+                    Some(c.clone())
+                }
+                Some(_) => None,
                 None => {
                     let r = self.evaluate(e.slot, limits, false)?;
                     if r.as_ref().is_none_or(|c| c.score < self.params.defer_score) {
