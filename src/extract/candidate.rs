@@ -113,9 +113,15 @@ pub(super) fn beats(a: f64, b: f64) -> bool {
 }
 
 impl Chosen {
+    /// Whether an element scoring `score` would be kept in `best`
+    /// ([`Chosen::keep_if_best`]).
+    pub(super) fn would_keep(score: f64, best: &Option<Chosen>) -> bool {
+        best.as_ref().is_none_or(|b| beats(score, b.score))
+    }
+
     /// Keeps `self` in `best` if it scores higher (the first wins ties).
     pub(super) fn keep_if_best(self, best: &mut Option<Chosen>) {
-        if best.as_ref().is_none_or(|b| beats(self.score, b.score)) {
+        if Chosen::would_keep(self.score, best) {
             *best = Some(self);
         }
     }
@@ -626,16 +632,15 @@ impl Mesher {
     ) -> Result<Option<Chosen>, MeshError> {
         let (slots, frame, pred) = self.predict_at(s, rules);
         let leading: Vec<u32> = slots.iter().map(|&t| self.front.node(t)).collect();
-        // The box read (`evaluated`) is worked out where the evaluation
-        // ends: of the model's element alone when it returns early, else of
-        // all the candidates.
-        let model_box = |m: &Self| m.extent(s, &[m.model_candidate(s, pred, &frame).0]);
         // The model's element comes first among the candidates: when it is
-        // excellent the others need not be built.
+        // excellent the others need not be built. The box read
+        // (`evaluated`) is worked out where the evaluation ends: of the
+        // model's element alone when it returns early, else of all the
+        // candidates.
         if !self.params.pure_model || rules {
             let (c, _) = self.model_candidate(s, pred, &frame);
             if let Some(score) = self.check(c, limits).filter(|&v| v >= EXCELLENT) {
-                self.evaluated = model_box(self);
+                self.evaluated = self.extent(s, &[c]);
                 return Ok(Some(Chosen {
                     cand: c,
                     remedy: Remedy::None,
@@ -652,7 +657,7 @@ impl Mesher {
             .filter(|_| !self.params.pure_model || rules)
         {
             let cand = Cand::New { s, pn };
-            self.evaluated = model_box(self);
+            self.evaluated = self.extent(s, &[self.model_candidate(s, pred, &frame).0]);
             return Ok(self.check(cand, limits).map(|score| Chosen {
                 cand,
                 remedy: Remedy::CorrectedPn,

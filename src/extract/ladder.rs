@@ -5,7 +5,7 @@
 //! splits, a square cut, a relaxed rule-based element, relaxation, rip-up,
 //! and the fill as the last resort.
 
-use super::candidate::{beats, Chosen};
+use super::candidate::Chosen;
 use super::guard::Limits;
 use super::memo::Eval;
 use super::params::Strategy;
@@ -190,7 +190,7 @@ impl Mesher {
                 // every step they wait through.
                 Some(Some(c))
                     if c.score >= self.params.defer_score
-                        || best.as_ref().is_none_or(|b| beats(c.score, b.score))
+                        || Chosen::would_keep(c.score, &best)
                         || self.at_needle(e.slot) =>
                 {
                     Some(c.clone())

@@ -198,9 +198,7 @@ impl Sources {
             self.far.at(p, self.origin, self.lo)
         }
     }
-}
 
-impl Sources {
     /// Whether the cells the near filing searches around `p` may hold a
     /// source, answered from the coarser filing where that takes fewer
     /// look-ups: far from every source (most of a domain) the near search
