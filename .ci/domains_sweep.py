@@ -60,7 +60,7 @@ def main():
     for r in rows:
         fams[r["family"]].append(r)
     print(f"{'family':11} {'tried':>5} {'no fill':>7} {'fill':>4} {'failed':>6} {'t/o':>4} "
-          f"{'panic':>5} {'med sjmean':>10} {'worst sjmin':>11} {'taper|asp>10':>12}")
+          f"{'panic':>5} {'med sjmean':>10} {'worst sjmin':>11} {'taper|asp>10':>12} {'fill share':>10}")
     for f in sorted(fams) + ["all"]:
         rs = rows if f == "all" else fams[f]
         ok = [r for r in rs if r.get("valid")]
@@ -71,8 +71,11 @@ def main():
         med = f"{statistics.median(r['sj_mean'] for r in ok):.4f}" if ok else "-"
         worst = f"{min(r['sj_min'] for r in ok):.4f}" if ok else "-"
         bad = sum(r["taper_max"] > 10 or r["aspect_max"] > 10 for r in ok)
+        # The median share of a filled mesh's quads that the fill made.
+        shares = [r.get("fill_quads", 0) / max(1, r["quads"]) for r in ok if r.get("fill", 0) > 0]
+        share = f"{100 * statistics.median(shares):.0f} %" if shares else "-"
         print(f"{f:11} {len(rs):5d} {len(ok) - fill:7d} {fill:4d} {failed:6d} {to:4d} {pan:5d} "
-              f"{med:>10} {worst:>11} {bad:12d}")
+              f"{med:>10} {worst:>11} {bad:12d} {share:>10}")
     groups = defaultdict(list)
     for r in rows:
         if not r.get("valid"):

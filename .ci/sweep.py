@@ -67,6 +67,7 @@ def run_case(poly, outdir, binary, extra, timeout):
         kinds = r.get("steps", {}).get("by_kind", {})
         row["kinds"] = kinds
         row["fill"] = kinds.get("Fill", 0)
+        row["fill_quads"] = r.get("steps", {}).get("quads_by_kind", {}).get("Fill", 0)
     return row
 
 

@@ -525,8 +525,9 @@ fn run(c: Command) -> Result<()> {
             let made_by = match stats.count(StepKind::Fill) {
                 0 => format!("{} extraction steps", stats.steps),
                 _ => format!(
-                    "{} extraction steps and a region fill",
-                    stats.steps - stats.count(StepKind::Fill)
+                    "{} extraction steps and a region fill ({} quads)",
+                    stats.steps - stats.count(StepKind::Fill),
+                    stats.quads_made(StepKind::Fill)
                 ),
             };
             outln!(

@@ -8,6 +8,7 @@ use egui_kittest::kittest::{NodeT, Queryable};
 use egui_kittest::Harness;
 use quadex::app::tools::Hover;
 use quadex::app::{App, Ask, Command, Document, MeshKind, Settings};
+use quadex::extract::StepKind;
 use quadex::model::{ElementType, Form};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -1355,6 +1356,37 @@ fn issue17_the_panels_say_which_mesh_they_count() {
     h.get_by_label_contains(&format!("{stepped} quads as stepped"));
     h.get_by_label(&format!(
         "The finished mesh (cleaned up, remeshed and smoothed): {finished} quads; the mesh as stepped has {stepped} quads."
+    ));
+}
+
+/// A run the region fill finished says so in the step panel, with the
+/// quads the fill made; one extraction finished does not.
+#[test]
+fn the_step_panel_names_the_region_fill_and_its_quads() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::RunToEnd);
+    h.step();
+    settle(&mut h);
+    assert!(h.state().doc().is_done());
+    assert!(h
+        .query_by_label_contains("the region fill (not extraction) made")
+        .is_none());
+    let two_layers = Settings {
+        fill_after_layers: Some(2),
+        ..Settings::default()
+    };
+    h.state_mut().apply(Command::SetSettings(two_layers));
+    h.state_mut().apply(Command::RunToEnd);
+    h.step();
+    settle(&mut h);
+    assert!(h.state().doc().is_done());
+    let stats = h.state().doc().mesher().unwrap().stats().clone();
+    let filled = stats.quads_made(StepKind::Fill);
+    assert_eq!(stats.count(StepKind::Fill), 1);
+    assert!(filled > 0 && filled < h.state().doc().mesher().unwrap().mesh().quads.len());
+    h.get_by_label(&format!(
+        "the region fill (not extraction) made {filled} quads"
     ));
 }
 

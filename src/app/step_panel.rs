@@ -6,7 +6,7 @@
 use super::command::{Command, Dialog};
 use super::document::{kind_name, Settings};
 use super::{Document, RunState};
-use crate::extract::{MeshParams, Remedy, Strategy};
+use crate::extract::{MeshParams, Remedy, StepKind, Strategy};
 use crate::model::BUILTIN;
 use egui::Ui;
 
@@ -277,6 +277,16 @@ impl super::View for StepPanel {
                 doc.name,
                 super::plural(m.quads.len(), "quad")
             ));
+        }
+        if stats.count(StepKind::Fill) > 0 {
+            ui.colored_label(
+                egui::Color32::from_rgb(230, 180, 60),
+                format!(
+                    "the region fill (not extraction) made {}",
+                    super::plural(stats.quads_made(StepKind::Fill), "quad")
+                ),
+            )
+            .on_hover_text("Extraction could not reduce the front any further; the region left was meshed by a split triangulation, as the last resort");
         }
         if doc.settings.pure_model {
             let (ok, all) = stats.model_valid();

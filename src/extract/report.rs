@@ -131,6 +131,10 @@ impl StepReport {
 pub struct StepStats {
     pub steps: usize,
     pub by_kind: BTreeMap<StepKind, usize>,
+    /// Quads made by the steps of each kind (before any later rip-up,
+    /// cleanup or remeshing): how much of a mesh the region fill made.
+    #[serde(default)]
+    pub quads_by_kind: BTreeMap<StepKind, usize>,
     pub by_type: [usize; 3],
     /// Element steps by what the guard did to the model's element.
     pub by_remedy: BTreeMap<Remedy, usize>,
@@ -158,9 +162,15 @@ impl StepStats {
         self.by_kind.get(&k).copied().unwrap_or(0)
     }
 
+    /// Quads made by steps of kind `k`.
+    pub fn quads_made(&self, k: StepKind) -> usize {
+        self.quads_by_kind.get(&k).copied().unwrap_or(0)
+    }
+
     pub(super) fn record(&mut self, r: &StepReport) {
         self.steps += 1;
         *self.by_kind.entry(r.kind).or_default() += 1;
+        *self.quads_by_kind.entry(r.kind).or_default() += r.quads.len();
         if let Some(t) = r.element_type {
             self.by_type[t as usize] += 1;
         }
@@ -213,4 +223,55 @@ pub enum Action {
 pub enum StepOutcome {
     Stepped(Box<StepReport>),
     Done,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn step(index: usize, kind: StepKind, quads: usize) -> StepReport {
+        StepReport {
+            index,
+            kind,
+            reference: None,
+            leading: Vec::new(),
+            prediction: None,
+            predicted_pn: None,
+            element_type: None,
+            remedy: Remedy::NotApplicable,
+            skipped: 0,
+            pattern: None,
+            quads: vec![[0, 1, 2, 3]; quads],
+            new_nodes: Vec::new(),
+            removed: 0,
+            rejected: 0,
+        }
+    }
+
+    #[test]
+    fn stats_count_the_quads_each_kind_of_step_made() {
+        let mut stats = StepStats::default();
+        for (k, (kind, quads)) in [
+            (StepKind::Element, 1),
+            (StepKind::Transition, 4),
+            (StepKind::Element, 1),
+            (StepKind::Fill, 37),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            stats.record(&step(k, kind, quads));
+        }
+        assert_eq!(stats.count(StepKind::Element), 2);
+        assert_eq!(stats.quads_made(StepKind::Element), 2);
+        assert_eq!(stats.quads_made(StepKind::Transition), 4);
+        assert_eq!(stats.quads_made(StepKind::Fill), 37);
+        assert_eq!(stats.quads_made(StepKind::Seam), 0);
+        // Reports written before the count existed still read.
+        let old = r#"{"steps":1,"by_kind":{"Fill":1},"by_type":[0,0,0],
+            "by_remedy":{},"skipped_references":0,"rejected_predictions":0}"#;
+        let read: StepStats = serde_json::from_str(old).unwrap();
+        assert_eq!(read.count(StepKind::Fill), 1);
+        assert_eq!(read.quads_made(StepKind::Fill), 0);
+    }
 }

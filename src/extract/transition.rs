@@ -61,7 +61,8 @@ const MIN_LOOP: usize = 10;
 /// past the size field (on `disk6400` to 2–4 times the boundary's spacing
 /// inside). There the mean over the window counts instead. Twice the
 /// longest run between transitions (`k` ≈ 6 at the default ratio) always
-/// takes in a template's top.
+/// takes in a template's top; at a ratio nearer one, transitions stand
+/// further apart and [`Mesher::spacing_reach`] looks further.
 const SPACING_REACH: isize = 6;
 /// A front edge this many times as wide as the stretch's mean is taken for
 /// the top of an earlier transition (a template's top is three times as
@@ -242,6 +243,16 @@ impl Mesher {
         Some(r)
     }
 
+    /// Front edges either side of a stretch looked at for the top of an
+    /// earlier transition: [`SPACING_REACH`], or more at a ratio closer to
+    /// one, where transitions stand further apart along a row (the `k`
+    /// ordinary elements per transition at the ratio itself, rounded up).
+    fn spacing_reach(&self) -> isize {
+        let t = self.params.transition_ratio.unwrap_or(1.3).max(1.0 + 1e-3);
+        let k = ((3.0 - t) / (t - 1.0)).ceil().clamp(0.0, 64.0) as isize;
+        SPACING_REACH.max(k)
+    }
+
     /// The width the stretch from slot `from` to slot `to` (its three edges
     /// `stretch` long in all) is judged by: its own mean edge, or, where an
     /// edge [`WIDE`] times that lies within [`SPACING_REACH`] edges either
@@ -251,7 +262,8 @@ impl Mesher {
     fn spacing_around(&self, from: SlotId, to: SlotId, stretch: f64) -> f64 {
         let f = &self.front;
         let width = stretch / 3.0;
-        let reach = SPACING_REACH
+        let reach = self
+            .spacing_reach()
             .min((f.loop_len(from) as isize - 3) / 2 - 1)
             .max(0);
         let (mut sum, mut edges, mut wide) = (stretch, 3.0, false);
