@@ -117,16 +117,19 @@ impl Outcome {
         }
         if self.sj_mean < before.sj_mean - WORSE_SJ_MEAN {
             why.push(format!(
-                "mean SJ {:.3} → {:.3}",
+                "mean SJ from {:.3} to {:.3}",
                 before.sj_mean, self.sj_mean
             ));
         }
         if self.sj_min < before.sj_min - WORSE_SJ_MIN {
-            why.push(format!("min SJ {:.3} → {:.3}", before.sj_min, self.sj_min));
+            why.push(format!(
+                "min SJ from {:.3} to {:.3}",
+                before.sj_min, self.sj_min
+            ));
         }
         if self.irregular_share > before.irregular_share + WORSE_IRREGULAR {
             why.push(format!(
-                "irregular {:.1} % → {:.1} %",
+                "irregular from {:.1} % to {:.1} %",
                 100.0 * before.irregular_share,
                 100.0 * self.irregular_share
             ));
@@ -343,6 +346,9 @@ mod tests {
         };
         let why = worse.worse_than(&o);
         assert_eq!(why.len(), 2, "{why:?}");
+        // Plain text: the editor's font has no arrows.
+        assert!(why[1].starts_with("mean SJ from ") && why[1].contains(" to "));
+        assert!(why.iter().all(|w| w.is_ascii()), "{why:?}");
         assert!(o.worse_than(&worse).is_empty());
         let failed = Outcome {
             finished: false,

@@ -185,6 +185,12 @@ fn step_undo_run_and_export_a_mesh_the_judge_accepts() {
     settle(&mut h);
     assert!(h.state().doc().is_done());
     h.get_by_label("mesh complete");
+    // The status counts the run's steps and all of them.
+    let all = h.state().doc().steps();
+    assert_eq!(
+        status(&h),
+        format!("{} steps taken ({all} in all), mesh complete", all - 5)
+    );
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("annulus.msh");
     h.state_mut().panels.export_path = out.display().to_string();
@@ -1671,6 +1677,11 @@ fn the_compare_panel_meshes_the_boundary_with_each_model() {
         h.step();
     }
     h.run();
+    // The status line says it is done (not "comparing" any more).
+    assert_eq!(
+        status(&h),
+        "compared 2 models: 2 finished (the Compare panel)"
+    );
     // The table: a heading per column, a row per model.
     for col in quadex::compare::COLUMNS {
         h.get_by_label(col);

@@ -748,7 +748,10 @@ impl Document {
             folds: 0,
             ..FitParams::DEFAULT
         };
-        let file = fit::refit(&base, &self.training, form, &refit_name(form, k), &params)?;
+        let (own, from_meshes) = fit::split_added(&self.training);
+        let mut global = global_fit(&base, &from_meshes, form, &params)?;
+        global.name = refit_name(form, k);
+        let file = fit::layer_corrections(global, &own, model::memory::DEFAULT_RADIUS)?;
         let model = file.model();
         let finishing = self.settings.finishing();
         let old = self.meshing_mut()?.mesher.model().clone();
@@ -943,6 +946,59 @@ fn boundary_doc_numbered(b: &Boundary, name: &str) -> BoundaryDoc {
 }
 
 /// The name of the `k`-th refitted model of `form`.
+/// The global fit of a refit ([`fit::refit_global`]): `form` on the
+/// reference samples `base` plus the samples `from_meshes`, kept for the
+/// rest of the session, since it depends on nothing else and takes seconds
+/// (a refit after each correction adds none from meshes). With none from
+/// meshes, a shipped model of that form and input points fitted with these
+/// parameters (folds aside) is that fit: its file is taken as it is (the
+/// tests `the_shipped_*_model_is_the_fit_of_the_reference_meshes` refit
+/// them and compare).
+fn global_fit(
+    base: &TrainingSet,
+    from_meshes: &TrainingSet,
+    form: Form,
+    params: &FitParams,
+) -> Result<ModelFile, EditorError> {
+    type Key = (usize, &'static str, String, u64);
+    static CACHE: OnceLock<Mutex<BTreeMap<Key, ModelFile>>> = OnceLock::new();
+    let samples = serde_json::to_string(&from_meshes.samples).unwrap_or_default();
+    let key: Key = (
+        base.points,
+        form.name(),
+        format!("{params:?}"),
+        fingerprint(&samples) ^ fingerprint(&base.len().to_string()),
+    );
+    let cache = CACHE.get_or_init(Default::default);
+    if let Some(f) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
+        return Ok(f);
+    }
+    let shipped_params = FitParams {
+        folds: FitParams::DEFAULT.folds,
+        ..*params
+    } == FitParams::DEFAULT;
+    let shipped = [model::DEFAULT_MODEL_JSON, model::ANN_MODEL_JSON]
+        .into_iter()
+        .filter(|_| from_meshes.is_empty() && shipped_params)
+        .filter_map(|json| ModelFile::from_json(json).ok())
+        .find(|f| f.points == base.points && f.coefficients.form() == form);
+    let file = match shipped {
+        Some(f) => f,
+        None => fit::refit_global(base, from_meshes, form, "global", params)?,
+    };
+    if let Ok(mut c) = cache.lock() {
+        c.insert(key, file.clone());
+    }
+    Ok(file)
+}
+
+/// A 64-bit fingerprint of `text` (FNV-1a).
+fn fingerprint(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
 fn refit_name(form: Form, k: usize) -> String {
     format!("fitted ({}) {k}", form.name())
 }

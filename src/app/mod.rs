@@ -994,7 +994,7 @@ impl App {
         }
         if !self.background.threads {
             self.compare_done();
-            return Ok("compared".into());
+            return Ok(self.window.status.clone());
         }
         Ok(format!("comparing {}…", plural(names.len(), "model")))
     }
@@ -1003,6 +1003,11 @@ impl App {
     fn compare_done(&mut self) {
         if let Some(mut j) = self.background.compare.take() {
             if let Some(outcomes) = j.wait() {
+                let finished = outcomes.iter().filter(|o| o.finished).count();
+                self.window.status = format!(
+                    "compared {}: {finished} finished (the Compare panel)",
+                    plural(outcomes.len(), "model")
+                );
                 self.background.comparison = Some(Comparison {
                     boundary: j.boundary.clone(),
                     outcomes,
@@ -1188,15 +1193,23 @@ impl App {
             };
             self.window.status = match done.error {
                 Some(e) => format!("{what}error after {}: {e}", plural(done.steps, "step")),
-                None => format!(
-                    "{what}{}{}",
-                    plural(done.steps, "step"),
-                    if self.document.doc.is_done() {
-                        ", mesh complete"
-                    } else {
-                        ""
-                    }
-                ),
+                None => {
+                    let all = self.document.doc.steps();
+                    format!(
+                        "{what}{} taken{}{}",
+                        plural(done.steps, "step"),
+                        if all > done.steps {
+                            format!(" ({all} in all)")
+                        } else {
+                            String::new()
+                        },
+                        if self.document.doc.is_done() {
+                            ", mesh complete"
+                        } else {
+                            ""
+                        }
+                    )
+                }
             };
         } else {
             // A finishing pass: kept when it belongs to the mesh as

@@ -423,22 +423,44 @@ pub fn fit_with_corrections(
     params: &FitParams,
     radius: f64,
 ) -> Result<(ModelFile, Vec<FitReport>), FitError> {
-    if corrections.points != set.points && !corrections.is_empty() {
+    correction_memory(set.points, corrections, radius)?;
+    let (file, reports) = fit_model(set, form, name, params)?;
+    Ok((layer_corrections(file, corrections, radius)?, reports))
+}
+
+/// The [`CorrectionMemory`] of `corrections` over a model of `points`
+/// input points, or why they cannot be layered over it.
+fn correction_memory(
+    points: usize,
+    corrections: &TrainingSet,
+    radius: f64,
+) -> Result<CorrectionMemory, FitError> {
+    if corrections.points != points && !corrections.is_empty() {
         return Err(FitError::BadSample {
             index: 0,
             msg: format!(
                 "the corrections have {} input points, the samples {}",
-                corrections.points, set.points
+                corrections.points, points
             ),
         });
     }
     let memory = CorrectionMemory::new(radius, corrections.samples.clone());
-    if let Some(msg) = memory.problem(set.n()) {
+    if let Some(msg) = memory.problem(points.saturating_sub(1) / 2) {
         return Err(FitError::Corrections(msg));
     }
-    let (mut file, reports) = fit_model(set, form, name, params)?;
+    Ok(memory)
+}
+
+/// `file`, a global fit, with `corrections` layered over it
+/// ([`CorrectionMemory`] with `radius`, as [`fit_with_corrections`] does).
+pub fn layer_corrections(
+    mut file: ModelFile,
+    corrections: &TrainingSet,
+    radius: f64,
+) -> Result<ModelFile, FitError> {
+    let memory = correction_memory(file.points, corrections, radius)?;
     file.training.corrections = corrections.len();
-    Ok((file.with_corrections(memory), reports))
+    Ok(file.with_corrections(memory))
 }
 
 /// A refit as the editor makes it: the global form fitted on `base` (the
@@ -456,29 +478,43 @@ pub fn refit(
     name: &str,
     params: &FitParams,
 ) -> Result<ModelFile, FitError> {
+    let (corrections, from_meshes) = split_added(added);
+    let global = refit_global(base, &from_meshes, form, name, params)?;
+    layer_corrections(global, &corrections, crate::model::memory::DEFAULT_RADIUS)
+}
+
+/// The samples of `added` in two sets: the user's own elements
+/// ([`Source::Correction`]), and those taken from meshes.
+pub fn split_added(added: &TrainingSet) -> (TrainingSet, TrainingSet) {
     let (corrections, from_meshes): (Vec<_>, Vec<_>) = added
         .samples
         .iter()
         .cloned()
         .partition(|s| s.source == Source::Correction);
+    let set = |samples| TrainingSet {
+        points: added.points,
+        samples,
+    };
+    (set(corrections), set(from_meshes))
+}
+
+/// The global part of [`refit`]: `form` fitted on `base` plus the samples
+/// `from_meshes` (duplicates dropped), with no corrections. It depends on
+/// nothing else, so a caller may keep it for the next refit that adds no
+/// sample from a mesh.
+pub fn refit_global(
+    base: &TrainingSet,
+    from_meshes: &TrainingSet,
+    form: Form,
+    name: &str,
+    params: &FitParams,
+) -> Result<ModelFile, FitError> {
     let mut set = base.clone();
     if !from_meshes.is_empty() {
-        set.samples.extend(from_meshes);
+        set.samples.extend(from_meshes.samples.iter().cloned());
         set.dedup();
     }
-    let corrections = TrainingSet {
-        points: added.points,
-        samples: corrections,
-    };
-    let (file, _) = fit_with_corrections(
-        &set,
-        &corrections,
-        Some(form),
-        name,
-        params,
-        crate::model::memory::DEFAULT_RADIUS,
-    )?;
-    Ok(file)
+    Ok(fit_model(&set, Some(form), name, params)?.0)
 }
 
 /// Least squares `min |X w − y|` by SVD.
