@@ -141,8 +141,15 @@ enum Command {
         #[arg(long)]
         keep_duplicates: bool,
         /// Window of the front's interior angle along a sample's path, in
-        /// degrees (method §3: 35,235).
-        #[arg(long, value_delimiter = ',', default_values_t = CollectParams::DEFAULT.turn)]
+        /// degrees: LO,HI (default 35,235, method §3; the shipped model and
+        /// the editor's "Collect from this mesh" use 35,300).
+        #[arg(
+            long,
+            value_name = "LO,HI",
+            value_delimiter = ',',
+            default_values_t = CollectParams::DEFAULT.turn,
+            hide_default_value = true
+        )]
         turn: Vec<f64>,
     },
     /// Fit a model to training sets (.csv or .json) and write the model

@@ -350,6 +350,37 @@ fn step_five_and_correct(
     (last, pn, moved)
 }
 
+/// Correcting the same step again replaces its sample: the training set
+/// keeps the last correction only, not two targets for one input.
+#[test]
+fn a_step_corrected_twice_keeps_one_sample() {
+    let mut h = harness(example());
+    let (_, pn, moved) = step_five_and_correct(&mut h, |pn, p0, _| p0 + (pn - p0) * 1.1);
+    assert_eq!(h.state().doc().training.len(), 1);
+    let again = pn + (moved - pn) * 0.5;
+    h.state_mut().apply(Command::CorrectLast {
+        element_type: ElementType::New,
+        pn: again,
+        snap_to: None,
+    });
+    h.run();
+    assert!(
+        status(&h).starts_with("element corrected"),
+        "{}",
+        status(&h)
+    );
+    let d = h.state().doc();
+    assert_eq!(d.training.len(), 1);
+    let last = d.last().cloned().unwrap();
+    let expected = d.mesher().unwrap().sample_of(&last).unwrap();
+    assert_eq!(d.training.samples[0], expected);
+    // One undo brings back the first correction and its sample.
+    h.state_mut().apply(Command::Undo);
+    h.run();
+    assert_eq!(h.state().doc().training.len(), 1);
+    assert_ne!(h.state().doc().training.samples[0], expected);
+}
+
 #[test]
 fn correct_append_refit_and_finish() {
     let mut h = harness(example());
@@ -723,6 +754,20 @@ fn panels_show_the_model_samples_quality_and_smoothing() {
     h.state_mut().apply(Command::CollectFromMesh);
     assert!(status(&h).contains("collected"), "{}", status(&h));
     assert!(h.state().doc().training.len() > 10);
+    // As many as `quadex samples --turn 35,300` takes from the same mesh
+    // (the status names the option).
+    let finished = h.state().doc().finished().unwrap().clone();
+    let params = quadex::samples::CollectParams {
+        turn: quadex::reference::DEFAULT_MODEL_TURN,
+        ..quadex::samples::CollectParams::DEFAULT
+    };
+    let direct = quadex::samples::TrainingSet::collect(&[("m".into(), finished)], 7, &params);
+    assert!(
+        status(&h).starts_with(&format!("{} samples collected", direct.len()))
+            && status(&h).contains("--turn 35,300"),
+        "{}",
+        status(&h)
+    );
     h.get_by_label("as stepped");
 }
 

@@ -627,8 +627,9 @@ impl Document {
 
     /// Replaces the last element by the user's (type 0 closes onto front
     /// node `snap_to` when given): the step is undone, the correction
-    /// committed at the same reference point, and its sample appended.
-    /// `before` is the mesher before the last step when the caller has it
+    /// committed at the same reference point, and its sample appended (in
+    /// place of the sample of the correction it replaces, when the last
+    /// step was one). `before` is the mesher before the last step when the caller has it
     /// (else it is replayed). If the correction is not a valid element,
     /// nothing changes.
     pub fn correct_last(
@@ -643,6 +644,11 @@ impl Document {
             return Err(EditorError::NotAnElement(kind_name(r.kind)));
         }
         let reference = r.reference.ok_or(EditorError::NoStep)?;
+        // A correction corrected again: its sample gives way to the new one.
+        let replaced = match r.kind {
+            StepKind::Correction => self.mesher().and_then(|m| m.sample_of(r)),
+            _ => None,
+        };
         let c = Correction {
             reference,
             element_type,
@@ -658,6 +664,11 @@ impl Document {
         let m = self.meshing_mut()?;
         m.mesher = mesher;
         m.last = Some(report);
+        if let Some(old) = replaced {
+            if let Some(k) = self.training.samples.iter().rposition(|s| *s == old) {
+                self.training.samples.remove(k);
+            }
+        }
         match sample {
             Some(s) => self.push_sample(s),
             None => Ok(self.training.len()),

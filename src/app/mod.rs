@@ -955,8 +955,13 @@ impl App {
                 let mesh = self.finished_mesh()?;
                 let name = self.document.doc.name.clone();
                 self.edit("collect samples", |d| {
-                    d.collect_samples(&name, mesh)
-                        .map(|n| format!("{} collected from the mesh", plural(n, "sample")))
+                    d.collect_samples(&name, mesh).map(|n| {
+                        let [lo, hi] = crate::reference::DEFAULT_MODEL_TURN;
+                        format!(
+                            "{} collected from the mesh (front turns within {lo} to {hi} degrees, as for the shipped model: `quadex samples --turn {lo},{hi}`)",
+                            plural(n, "sample")
+                        )
+                    })
                 })
             }
             Command::CollectFromFile(p) => self.edit("collect samples", |d| {
