@@ -1088,8 +1088,16 @@ fn issue17_clicking_a_front_node_closes_the_element_onto_it() {
             quadex::app::plural(valid.len(), "front node"),
             if valid.len() == 1 { "gives" } else { "give" }
         ));
-        // The valid targets are drawn (green rings).
-        assert!(strokes_of(&h, egui::Color32::from_rgb(90, 230, 110)) >= valid.len());
+        // The valid targets are ringed in the colour of their element's
+        // score: green good, amber fair, orange poor.
+        let p = quadex::MeshParams::DEFAULT;
+        let good = valid.iter().filter(|t| t.score >= p.accept_score).count();
+        let poor = valid.iter().filter(|t| t.score < p.defer_score).count();
+        assert!(valid.iter().all(|t| t.score > 0.0 && t.score <= 1.0));
+        assert!(targets.iter().all(|t| t.valid || t.score == 0.0));
+        assert!(strokes_of(&h, egui::Color32::from_rgb(90, 230, 110)) >= good);
+        assert!(strokes_of(&h, egui::Color32::from_rgb(240, 200, 60)) >= valid.len() - good - poor);
+        assert!(strokes_of(&h, egui::Color32::from_rgb(255, 140, 40)) >= poor);
         let last = h.state().doc().last().cloned().unwrap();
         let n = last.leading.len() / 2;
         let r2 = last.leading[n + 2];

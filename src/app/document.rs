@@ -289,6 +289,9 @@ pub struct Target {
     /// Type 1 for P_r2, type 2 for P_l2, else type 0 closed onto the node.
     pub element_type: ElementType,
     pub valid: bool,
+    /// The guard's score of the element (`[0, 1]`, 0 when not valid): a
+    /// valid element may still be a poor one.
+    pub score: f64,
 }
 
 impl Target {
@@ -723,11 +726,13 @@ impl Document {
                     pn: Some(p),
                     snap_to: (element_type == ElementType::New).then_some(v),
                 };
+                let score = before.check_correction(&c);
                 Target {
                     node: v,
                     at: p,
                     element_type,
-                    valid: before.check_correction(&c).is_ok(),
+                    valid: score.is_ok(),
+                    score: score.unwrap_or(0.0),
                 }
             })
             .collect()

@@ -346,7 +346,6 @@ impl Tools {
         let rect = at.pointer.rect;
         let to = |w: Point| at.view.to_screen(rect, w);
         let yellow = Color32::from_rgb(255, 230, 60);
-        let green = Color32::from_rgb(90, 230, 110);
         let red = Color32::from_rgb(255, 70, 70);
         let cyan = Color32::from_rgb(80, 220, 255);
         if self.tool == Tool::Correct {
@@ -369,13 +368,13 @@ impl Tools {
                 return;
             };
             for t in at.targets.iter().filter(|t| t.valid) {
-                painter.circle_stroke(to(t.at), 5.0, Stroke::new(2.0, green));
+                painter.circle_stroke(to(t.at), 5.0, Stroke::new(2.0, target_colour(t)));
             }
             // The candidate element: while dragging, or for the hovered
             // target.
             let candidate = match (self.pn_drag, self.hover) {
                 (Some(pn), _) => Some((pn, yellow)),
-                (None, Some(Hover::Target(t))) => Some((t.at, if t.valid { green } else { red })),
+                (None, Some(Hover::Target(t))) => Some((t.at, target_colour(&t))),
                 _ => None,
             };
             if let Some((pn, c)) = candidate {
@@ -393,16 +392,14 @@ impl Tools {
             }
             match self.hover {
                 Some(Hover::Target(t)) => {
-                    painter.circle_stroke(
-                        to(t.at),
-                        8.0,
-                        Stroke::new(2.5, if t.valid { green } else { red }),
-                    );
+                    painter.circle_stroke(to(t.at), 8.0, Stroke::new(2.5, target_colour(&t)));
                     let text = if t.valid {
                         format!(
-                            "click: close the element onto node {} (type {})",
+                            "click: close the element onto node {} (type {}); element score {:.2}, {}",
                             t.node,
-                            t.element_type.number()
+                            t.element_type.number(),
+                            t.score,
+                            score_word(t.score)
                         )
                     } else {
                         format!("node {}: not a valid element there", t.node)
@@ -582,7 +579,7 @@ impl Tools {
                             "No front node near P0 gives a valid element here (the quad would be flat or fold): drag Pn instead.".to_string()
                         } else {
                             format!(
-                                "{} near P0 {} a valid element (green): click one to close the element onto it, or drag Pn.",
+                                "{} near P0 {} a valid element (ringed: green good, amber fair, orange poor): click one to close the element onto it, or drag Pn.",
                                 super::plural(valid, "front node"),
                                 if valid == 1 { "gives" } else { "give" }
                             )
@@ -703,5 +700,35 @@ impl super::View for Tools {
             }
         }
         out
+    }
+}
+
+/// The colour a front node the element could be closed onto is ringed
+/// in: by the guard's score of that element (the extraction's own
+/// thresholds: taken at once from [`MeshParams::accept_score`], made to
+/// wait below [`MeshParams::defer_score`]), red when it is no valid
+/// element.
+///
+/// [`MeshParams::accept_score`]: crate::extract::MeshParams::accept_score
+/// [`MeshParams::defer_score`]: crate::extract::MeshParams::defer_score
+fn target_colour(t: &Target) -> Color32 {
+    let p = crate::extract::MeshParams::DEFAULT;
+    match t.score {
+        _ if !t.valid => Color32::from_rgb(255, 70, 70),
+        s if s >= p.accept_score => Color32::from_rgb(90, 230, 110),
+        s if s >= p.defer_score => Color32::from_rgb(240, 200, 60),
+        _ => Color32::from_rgb(255, 140, 40),
+    }
+}
+
+/// A word for the guard's score of an element (as [`target_colour`]).
+fn score_word(score: f64) -> &'static str {
+    let p = crate::extract::MeshParams::DEFAULT;
+    if score >= p.accept_score {
+        "good"
+    } else if score >= p.defer_score {
+        "fair"
+    } else {
+        "poor"
     }
 }

@@ -646,14 +646,16 @@ impl Mesher {
     }
 
     /// Checks that [`Mesher::correct`] would commit `c` now, without
-    /// committing it (the editor marks the front nodes an element can be
-    /// closed onto).
-    pub fn check_correction(&mut self, c: &Correction) -> Result<(), MeshError> {
-        self.correction_cand(c).map(|_| ())
+    /// committing it, and gives the guard's score of its element (in
+    /// `[0, 1]`: the quality of the quad and of the front it leaves; the
+    /// editor marks the front nodes an element can be closed onto, and how
+    /// good that element would be).
+    pub fn check_correction(&mut self, c: &Correction) -> Result<f64, MeshError> {
+        self.correction_cand(c).map(|(_, _, score)| score)
     }
 
     /// The element of a correction, checked with relaxed limits.
-    fn correction_cand(&mut self, c: &Correction) -> Result<(SlotId, Cand), MeshError> {
+    fn correction_cand(&mut self, c: &Correction) -> Result<(SlotId, Cand, f64), MeshError> {
         let s = self
             .front
             .live_loops()
@@ -682,15 +684,15 @@ impl Mesher {
             max_corner: PI - 1e-6,
             min_front: 1e-6,
         };
-        if self.check(cand, relaxed).is_none() {
-            return Err(MeshError::InvalidCorrection { node: c.reference });
+        match self.check(cand, relaxed) {
+            Some(score) => Ok((s, cand, score)),
+            None => Err(MeshError::InvalidCorrection { node: c.reference }),
         }
-        Ok((s, cand))
     }
 
     pub(super) fn apply_correction(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
         self.memo.clear();
-        let (s, cand) = self.correction_cand(c)?;
+        let (s, cand, _) = self.correction_cand(c)?;
         let leading: Vec<u32> = self
             .leading_slots(s, self.leading_n())
             .iter()
