@@ -407,6 +407,17 @@ fn correct_append_refit_and_finish() {
     settle(&mut h);
     let f = h.state().doc().last_refit.clone().expect("refit figures");
     assert_eq!(f.corrections, 2);
+    // The refit's counts are the model's own: samples fitted, corrections
+    // layered over them.
+    let info = h.state().doc().model_info();
+    assert_eq!(
+        (Some(f.samples), f.corrections),
+        (info.samples, info.corrections)
+    );
+    h.get_by_label(&format!(
+        "last refit: {}: {} samples fitted, 2 corrections of yours layered over them",
+        f.model, f.samples
+    ));
     // The fit of the samples is the shipped model's (R of Xn 0.864 on the
     // shipped set, assets/README.md); the corrections do not spoil it.
     assert!(f.after.0.accuracy > 0.95, "{f:?}");

@@ -241,7 +241,11 @@ pub struct Document {
 /// Figures of the model before and after a refit, on the same samples.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RefitFigures {
+    /// Samples the global part was fitted on (the reference meshes' and
+    /// those collected from meshes, duplicates dropped), as the model's
+    /// own summary counts them.
     pub samples: usize,
+    /// The user's corrections layered over it.
     pub corrections: usize,
     pub before: (TypeFigures, Figures, Figures),
     pub after: (TypeFigures, Figures, Figures),
@@ -753,7 +757,6 @@ impl Document {
     /// the figures of the old and the new model: on those samples, at each
     /// correction, and meshing the boundary from the start.
     pub fn refit(&mut self, form: Form) -> Result<RefitFigures, EditorError> {
-        let corrections = self.training.len();
         let base = reference_samples(self.training.points)?;
         let set = self.refit_set()?;
         let mut k = self.models.len() + 1;
@@ -809,8 +812,8 @@ impl Document {
         m.info = ModelInfo::of_file(&file);
         self.settings.model = file.name.clone();
         let f = RefitFigures {
-            samples: set.len(),
-            corrections,
+            samples: file.training.samples,
+            corrections: file.training.corrections,
             before,
             after,
             model: file.name.clone(),

@@ -889,9 +889,10 @@ impl App {
             Command::Refit { form, mesh_rest } => {
                 let f = self.edit("refit", |d| d.refit(form))?;
                 let mut msg = format!(
-                    "refitted {} on {}: Xn R {} to {}, Yn R {} to {}",
+                    "refitted {} on {} and {} of yours: Xn R {} to {}, Yn R {} to {}",
                     f.model,
                     plural(f.samples, "sample"),
+                    plural(f.corrections, "correction"),
                     figure(f.before.1.r, 3),
                     figure(f.after.1.r, 3),
                     figure(f.before.2.r, 3),

@@ -138,10 +138,10 @@ impl super::View for TrainPanel {
         }
         if let Some(f) = doc.last_refit.as_ref() {
             ui.label(format!(
-                "last refit: {}: {} ({} of yours)",
+                "last refit: {}: {} fitted, {} of yours layered over them",
                 f.model,
                 super::plural(f.samples, "sample"),
-                f.corrections
+                super::plural(f.corrections, "correction")
             ));
             refit_outcome(ui, f);
             egui::Grid::new("refit").num_columns(3).show(ui, |ui| {
