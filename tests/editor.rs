@@ -438,6 +438,57 @@ fn correct_append_refit_and_finish() {
     assert_judged_valid(&out);
 }
 
+/// A refit on samples collected from a mesh needs a new global fit (many
+/// seconds): it is made in a thread while the window stays live, with its
+/// progress in the status bar, and the refit follows.
+#[test]
+fn a_refit_that_must_fit_again_does_so_in_the_background() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    h.state_mut().apply(Command::CollectFromMesh);
+    let collected = h.state().doc().training.len();
+    assert!(collected > 1000, "{}", status(&h));
+    h.get_by_label("Refit").click();
+    h.step();
+    h.step();
+    assert_eq!(
+        status(&h),
+        "refit: a new global fit is made first (the refit follows)"
+    );
+    assert!(h.state().busy());
+    assert!(h.state().doc().last_refit.is_none());
+    // The window goes on drawing meanwhile: the status bar shows the fit.
+    h.get_by_label_contains("fitting the quadratic form on");
+    settle(&mut h);
+    assert!(
+        status(&h).starts_with("refitted fitted (quadratic) 1 on "),
+        "{}",
+        status(&h)
+    );
+    let f = h
+        .state()
+        .doc()
+        .last_refit
+        .clone()
+        .expect("the refit, after the fit");
+    assert_eq!(f.corrections, 0);
+    let base = quadex::app::document::reference_samples(7).unwrap().len();
+    assert!(f.samples > base && f.samples <= base + collected, "{f:?}");
+    // The fit is kept: a refit again (nothing new) is taken at once.
+    h.state_mut().apply(Command::Refit {
+        form: Form::Quadratic,
+        mesh_rest: false,
+    });
+    assert!(
+        status(&h).starts_with("refitted fitted (quadratic) 2 on "),
+        "{}",
+        status(&h)
+    );
+    assert!(!h.state().busy());
+}
+
 /// A Refit with nothing added is the shipped model: the same
 /// coefficients, and the annulus meshed the same as with `default`.
 #[test]

@@ -763,12 +763,8 @@ impl Document {
         while self.models.iter().any(|f| f.name == refit_name(form, k)) {
             k += 1;
         }
-        let params = FitParams {
-            folds: 0,
-            ..FitParams::DEFAULT
-        };
         let (own, from_meshes) = fit::split_added(&self.training);
-        let mut global = global_fit(&base, &from_meshes, form, &params)?;
+        let mut global = global_fit(&base, &from_meshes, form, &REFIT_PARAMS)?;
         global.name = refit_name(form, k);
         let file = fit::layer_corrections(global, &own, model::memory::DEFAULT_RADIUS)?;
         let model = file.model();
@@ -824,6 +820,21 @@ impl Document {
         self.models.push(file);
         self.last_refit = Some(f.clone());
         Ok(f)
+    }
+
+    /// The global fit a refit in `form` would make now, when it is not made
+    /// yet (it takes seconds: the editor makes it in a thread first);
+    /// `None` when the refit needs no new fit.
+    pub fn pending_fit(&self, form: Form) -> Result<Option<FitTask>, EditorError> {
+        let base = reference_samples(self.training.points)?;
+        let (_, from_meshes) = fit::split_added(&self.training);
+        Ok(cached_or_shipped(&base, &from_meshes, form, &REFIT_PARAMS)
+            .is_none()
+            .then_some(FitTask {
+                base,
+                from_meshes,
+                form,
+            }))
     }
 
     /// The settings for another document: a refitted model of this one
@@ -965,48 +976,101 @@ fn boundary_doc_numbered(b: &Boundary, name: &str) -> BoundaryDoc {
 }
 
 /// The name of the `k`-th refitted model of `form`.
+/// The fitting parameters of the editor's refit (no held-out folds: the
+/// figures shown are those of the samples themselves).
+const REFIT_PARAMS: FitParams = FitParams {
+    folds: 0,
+    ..FitParams::DEFAULT
+};
+
+/// A global fit to make before a refit ([`Document::pending_fit`]): what
+/// it needs, to be taken to another thread.
+pub struct FitTask {
+    base: Arc<TrainingSet>,
+    from_meshes: TrainingSet,
+    pub form: Form,
+}
+
+impl FitTask {
+    /// Samples it fits on (before duplicates are dropped).
+    pub fn samples(&self) -> usize {
+        self.base.len() + self.from_meshes.len()
+    }
+
+    /// Makes the fit and keeps it for the refit; the error, as text (the
+    /// editor's errors stay on its own thread).
+    pub fn run(self) -> Result<(), String> {
+        global_fit(&self.base, &self.from_meshes, self.form, &REFIT_PARAMS)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    }
+}
+
+/// Global fits made this session, by [`fit_key`].
+type FitKey = (usize, &'static str, String, u64);
+static FITS: OnceLock<Mutex<BTreeMap<FitKey, ModelFile>>> = OnceLock::new();
+
+/// What a global fit depends on: the input points, the form, the
+/// parameters and the samples.
+fn fit_key(
+    base: &TrainingSet,
+    from_meshes: &TrainingSet,
+    form: Form,
+    params: &FitParams,
+) -> FitKey {
+    let samples = serde_json::to_string(&from_meshes.samples).unwrap_or_default();
+    (
+        base.points,
+        form.name(),
+        format!("{params:?}"),
+        fingerprint(&samples) ^ fingerprint(&base.len().to_string()),
+    )
+}
+
+/// The global fit when it is made already: kept from earlier in the
+/// session, or a shipped model's own file. With no samples from meshes, a
+/// shipped model of that form and input points fitted with these
+/// parameters (folds aside) is that fit (the tests
+/// `the_shipped_*_model_is_the_fit_of_the_reference_meshes` refit them and
+/// compare).
+fn cached_or_shipped(
+    base: &TrainingSet,
+    from_meshes: &TrainingSet,
+    form: Form,
+    params: &FitParams,
+) -> Option<ModelFile> {
+    let key = fit_key(base, from_meshes, form, params);
+    let fits = FITS.get_or_init(Default::default);
+    if let Some(f) = fits.lock().ok().and_then(|c| c.get(&key).cloned()) {
+        return Some(f);
+    }
+    let shipped_params = FitParams {
+        folds: FitParams::DEFAULT.folds,
+        ..*params
+    } == FitParams::DEFAULT;
+    [model::DEFAULT_MODEL_JSON, model::ANN_MODEL_JSON]
+        .into_iter()
+        .filter(|_| from_meshes.is_empty() && shipped_params)
+        .filter_map(|json| ModelFile::from_json(json).ok())
+        .find(|f| f.points == base.points && f.coefficients.form() == form)
+}
+
 /// The global fit of a refit ([`fit::refit_global`]): `form` on the
 /// reference samples `base` plus the samples `from_meshes`, kept for the
 /// rest of the session, since it depends on nothing else and takes seconds
-/// (a refit after each correction adds none from meshes). With none from
-/// meshes, a shipped model of that form and input points fitted with these
-/// parameters (folds aside) is that fit: its file is taken as it is (the
-/// tests `the_shipped_*_model_is_the_fit_of_the_reference_meshes` refit
-/// them and compare).
+/// (a refit after each correction adds none from meshes).
 fn global_fit(
     base: &TrainingSet,
     from_meshes: &TrainingSet,
     form: Form,
     params: &FitParams,
 ) -> Result<ModelFile, EditorError> {
-    type Key = (usize, &'static str, String, u64);
-    static CACHE: OnceLock<Mutex<BTreeMap<Key, ModelFile>>> = OnceLock::new();
-    let samples = serde_json::to_string(&from_meshes.samples).unwrap_or_default();
-    let key: Key = (
-        base.points,
-        form.name(),
-        format!("{params:?}"),
-        fingerprint(&samples) ^ fingerprint(&base.len().to_string()),
-    );
-    let cache = CACHE.get_or_init(Default::default);
-    if let Some(f) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
+    if let Some(f) = cached_or_shipped(base, from_meshes, form, params) {
         return Ok(f);
     }
-    let shipped_params = FitParams {
-        folds: FitParams::DEFAULT.folds,
-        ..*params
-    } == FitParams::DEFAULT;
-    let shipped = [model::DEFAULT_MODEL_JSON, model::ANN_MODEL_JSON]
-        .into_iter()
-        .filter(|_| from_meshes.is_empty() && shipped_params)
-        .filter_map(|json| ModelFile::from_json(json).ok())
-        .find(|f| f.points == base.points && f.coefficients.form() == form);
-    let file = match shipped {
-        Some(f) => f,
-        None => fit::refit_global(base, from_meshes, form, "global", params)?,
-    };
-    if let Ok(mut c) = cache.lock() {
-        c.insert(key, file.clone());
+    let file = fit::refit_global(base, from_meshes, form, "global", params)?;
+    if let Ok(mut c) = FITS.get_or_init(Default::default).lock() {
+        c.insert(fit_key(base, from_meshes, form, params), file.clone());
     }
     Ok(file)
 }

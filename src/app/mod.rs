@@ -298,8 +298,19 @@ pub struct Background {
     settings_changed: Option<std::time::Instant>,
     /// A comparison of models being made.
     compare: Option<CompareJob>,
+    /// A refit's global fit being made, and the refit that follows it.
+    fit: Option<FitJob>,
     /// The last comparison made.
     comparison: Option<Comparison>,
+}
+
+/// The global fit of a refit, made in a thread ([`Document::pending_fit`]):
+/// the refit itself follows when it is done.
+struct FitJob {
+    handle: std::thread::JoinHandle<Result<(), String>>,
+    then: Command,
+    what: String,
+    started: std::time::Instant,
 }
 
 /// A question the editor asks before going on.
@@ -517,6 +528,7 @@ impl App {
                 threads: true,
                 settings_changed: None,
                 compare: None,
+                fit: None,
                 comparison: None,
             },
             window: Window {
@@ -609,7 +621,7 @@ impl App {
 
     /// True while a run goes on in the background.
     pub fn busy(&self) -> bool {
-        self.background.job.as_ref().is_some_and(Job::is_run)
+        self.background.job.as_ref().is_some_and(Job::is_run) || self.background.fit.is_some()
     }
 
     /// True while the finishing pass goes on in the background.
@@ -887,6 +899,24 @@ impl App {
                 })
             }
             Command::Refit { form, mesh_rest } => {
+                if self.background.threads {
+                    if let Some(task) = self.document.doc.pending_fit(form)? {
+                        let what = format!(
+                            "fitting the {} form on {}",
+                            form.name(),
+                            plural(task.samples(), "sample")
+                        );
+                        self.background.fit = Some(FitJob {
+                            handle: std::thread::spawn(move || task.run()),
+                            then: Command::Refit { form, mesh_rest },
+                            what,
+                            started: std::time::Instant::now(),
+                        });
+                        return Ok(
+                            "refit: a new global fit is made first (the refit follows)".into()
+                        );
+                    }
+                }
                 let f = self.edit("refit", |d| d.refit(form))?;
                 let mut msg = format!(
                     "refitted {} on {} and {} of yours: Xn R {} to {}, Yn R {} to {}",
@@ -1065,6 +1095,11 @@ impl App {
     /// finishing pass, or the animation.
     fn cancel(&mut self) -> String {
         let was_animating = self.background.animating.take().is_some();
+        if self.background.fit.take().is_some() {
+            // The thread cannot be stopped; the fit it makes is kept for
+            // the next refit.
+            return "cancelled the refit (the fit goes on in the background and the next refit takes it)".into();
+        }
         if self.panels.tools.drop_drawing() {
             return "dropped the loop being drawn".into();
         }
@@ -1534,6 +1569,20 @@ impl App {
             .is_some_and(CompareJob::is_finished)
         {
             self.compare_done();
+        }
+        if self
+            .background
+            .fit
+            .as_ref()
+            .is_some_and(|f| f.handle.is_finished())
+        {
+            if let Some(f) = self.background.fit.take() {
+                match f.handle.join() {
+                    Ok(Ok(())) => self.apply_now(f.then),
+                    Ok(Err(e)) => self.window.status = format!("error: {e}"),
+                    Err(_) => self.window.status = format!("error: {}", EditorError::JobPanicked),
+                }
+            }
         }
         let mut cmds = Vec::new();
         self.input_commands(ctx, &mut cmds);
@@ -2020,6 +2069,19 @@ impl App {
 
     fn status_bar(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
         ui.horizontal(|ui| {
+            if let Some(f) = &self.background.fit {
+                ui.spinner();
+                ui.label(&f.what);
+                ui.label(format!("{:.1} s", f.started.elapsed().as_secs_f64()));
+                if ui
+                    .button("Cancel")
+                    .on_hover_text("Stop waiting (Esc): the refit is not taken")
+                    .clicked()
+                {
+                    cmds.push(Command::Cancel);
+                }
+                ui.separator();
+            }
             if let Some(j) = &self.background.job {
                 let (steps, front, frac) = j.progress();
                 if j.is_run() {
