@@ -184,28 +184,12 @@ fn refit_outcome(ui: &mut Ui, f: &super::RefitFigures) {
             f.checks.len()
         ))
         .on_hover_text("The refitted model's element at each correction's input: the corrected type, and Pn within 0.05 (normalised)");
-        let pred = |p: &crate::model::Prediction| {
-            format!("{} ({:.3}, {:.3})", p.element_type.number(), p.pn.x, p.pn.y)
-        };
-        egui::Grid::new("corrections")
-            .num_columns(4)
-            .striped(true)
+        // A scroll area of its own: the table is wider than the panel, and
+        // the panel's lines below wrap at the panel's width, not its.
+        egui::ScrollArea::horizontal()
+            .id_salt("corrections scroll")
             .show(ui, |ui| {
-                ui.label("sample");
-                ui.label("corrected");
-                ui.label("model before");
-                ui.label("model now");
-                ui.end_row();
-                for c in &f.checks {
-                    ui.label(format!("{}", c.sample + 1));
-                    ui.label(pred(&c.corrected));
-                    ui.label(pred(&c.before));
-                    let now = ui.label(pred(&c.after));
-                    if !c.reproduced() {
-                        now.on_hover_text("not reproduced");
-                    }
-                    ui.end_row();
-                }
+                corrections_grid(ui, f);
             });
     }
     if let Some((before, after)) = &f.meshed {
@@ -236,4 +220,31 @@ fn refit_outcome(ui: &mut Ui, f: &super::RefitFigures) {
             );
         }
     }
+}
+
+/// The refitted model's element at each correction, before and now.
+fn corrections_grid(ui: &mut Ui, f: &super::RefitFigures) {
+    let pred = |p: &crate::model::Prediction| {
+        format!("{} ({:.3}, {:.3})", p.element_type.number(), p.pn.x, p.pn.y)
+    };
+    egui::Grid::new("corrections")
+        .num_columns(4)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.label("sample");
+            ui.label("corrected");
+            ui.label("model before");
+            ui.label("model now");
+            ui.end_row();
+            for c in &f.checks {
+                ui.label(format!("{}", c.sample + 1));
+                ui.label(pred(&c.corrected));
+                ui.label(pred(&c.before));
+                let now = ui.label(pred(&c.after));
+                if !c.reproduced() {
+                    now.on_hover_text("not reproduced");
+                }
+                ui.end_row();
+            }
+        });
 }
