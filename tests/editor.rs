@@ -45,9 +45,12 @@ fn settle(h: &mut Harness<'static, App>) {
     let t = Instant::now();
     loop {
         h.step();
-        if !h.state().busy() && !h.state().finishing() {
+        let idle = |h: &Harness<'static, App>| {
+            !h.state().busy() && !h.state().finishing() && !h.state().measuring()
+        };
+        if idle(h) {
             h.step();
-            if !h.state().busy() && !h.state().finishing() {
+            if idle(h) {
                 break;
             }
         }
@@ -779,7 +782,13 @@ fn panels_show_the_model_samples_quality_and_smoothing() {
     h.get_by_label("scaled Jacobian mean");
     // Model: the fit table and the critical factors of the samples.
     h.get_by_label("Model").click();
-    h.run();
+    h.step();
+    // Measured in a thread (seconds on the reference samples): the panel
+    // says so meanwhile.
+    assert!(h.state().measuring());
+    h.get_by_label_contains("on the samples…");
+    settle(&mut h);
+    assert!(!h.state().measuring());
     h.get_by_label_contains("type accuracy");
     h.get_by_label_contains("Critical factors");
     h.get_by_label("RMSE");
@@ -1566,7 +1575,7 @@ fn issue17_the_canvas_stays_put_while_stepping() {
         let mut h = harness_sized(example_named("plate_hole.poly"), 1000.0, 650.0);
         h.run();
         h.get_by_label(tab).click();
-        h.run();
+        settle(&mut h);
         let r0 = h.state().view.canvas_rect;
         for k in 0..40 {
             let cmd = match k {
@@ -1578,7 +1587,7 @@ fn issue17_the_canvas_stays_put_while_stepping() {
                 _ => Command::Step,
             };
             h.state_mut().apply(cmd);
-            h.run();
+            settle(&mut h);
             let r = h.state().view.canvas_rect;
             assert!(
                 (r.left() - r0.left()).abs() <= 1.0 && (r.right() - r0.right()).abs() <= 1.0,
@@ -1635,12 +1644,12 @@ fn issue17_every_glyph_exists_and_counts_read_as_english() {
     let mut texts = Vec::new();
     for tab in ["Quality", "Model", "Training set", "Smoothing"] {
         h.get_by_label(tab).click();
-        h.run();
+        settle(&mut h);
         texts.extend(painted(&h));
         if tab == "Model" {
             // One sample of yours: figures stay finite.
             h.get_by_label("yours").click();
-            h.run();
+            settle(&mut h);
             texts.extend(painted(&h));
         }
     }
@@ -1679,8 +1688,7 @@ fn issue17_the_wheel_scrolls_the_model_panel() {
     let mut h = harness(example());
     h.run();
     h.get_by_label("Model").click();
-    h.run();
-    h.run();
+    settle(&mut h);
     let rects = h.state().panels.model.plot_rects.clone();
     assert!(!rects.is_empty());
     let plot = rects[0];

@@ -744,9 +744,7 @@ impl Document {
 
     /// The reference samples and the user's, as a refit sees them.
     pub fn refit_set(&self) -> Result<TrainingSet, EditorError> {
-        let mut set = (*reference_samples(self.training.points)?).clone();
-        set.merge(self.training.clone())?;
-        Ok(set)
+        refit_set_of(self.training.clone())
     }
 
     /// Refits a model of `form` on the reference samples plus the user's
@@ -976,6 +974,14 @@ fn boundary_doc_numbered(b: &Boundary, name: &str) -> BoundaryDoc {
 }
 
 /// The name of the `k`-th refitted model of `form`.
+/// The reference samples and the user's `training`, as a refit sees them
+/// ([`Document::refit_set`]).
+pub fn refit_set_of(training: TrainingSet) -> Result<TrainingSet, EditorError> {
+    let mut set = (*reference_samples(training.points)?).clone();
+    set.merge(training)?;
+    Ok(set)
+}
+
 /// The fitting parameters of the editor's refit (no held-out folds: the
 /// figures shown are those of the samples themselves).
 const REFIT_PARAMS: FitParams = FitParams {

@@ -624,6 +624,11 @@ impl App {
         self.background.job.as_ref().is_some_and(Job::is_run) || self.background.fit.is_some()
     }
 
+    /// True while the Model panel measures the model in the background.
+    pub fn measuring(&self) -> bool {
+        self.panels.model.measuring()
+    }
+
     /// True while the finishing pass goes on in the background.
     pub fn finishing(&self) -> bool {
         self.background.job.as_ref().is_some_and(|j| !j.is_run())
@@ -1676,6 +1681,7 @@ impl App {
                 });
         }
         if self.panels.show_right {
+            let threads = self.background.threads;
             egui::SidePanel::right("panels")
                 .resizable(true)
                 .default_width(400.0)
@@ -1702,7 +1708,7 @@ impl App {
                             let p = &mut self.panels;
                             let out = match p.tab {
                                 Tab::Quality => p.quality.ui(ui, doc, figures),
-                                Tab::Model => p.model.ui(ui, doc, ()),
+                                Tab::Model => p.model.ui(ui, doc, threads),
                                 Tab::Samples => p.samples.ui(ui, doc, figures.kind),
                                 Tab::Smoothing => p.smooth.ui(ui, doc, figures),
                                 Tab::Compare => p.compare.ui(ui, doc, compare_state),

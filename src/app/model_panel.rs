@@ -5,7 +5,7 @@
 //! (thesis §4.2, Figures 34–37: the weight of each leading point).
 
 use super::command::Command;
-use super::document::Document;
+use super::document::{refit_set_of, Document};
 use crate::factors::{factors, Factors, CRITICAL_PERCENT};
 use crate::fit::{evaluate_all, Evaluation, Figures};
 use egui::{Color32, Ui};
@@ -65,6 +65,9 @@ pub struct ModelPanel {
     pub window_len: usize,
     key: Option<(usize, usize, usize, SampleChoice)>,
     fit: Option<Result<ModelFit, String>>,
+    /// The figures being measured in a thread (seconds on the reference
+    /// samples), and the model's name.
+    measuring: Option<(std::thread::JoinHandle<Result<ModelFit, String>>, String)>,
     /// Where the plots were drawn last (screen points).
     pub plot_rects: Vec<egui::Rect>,
 }
@@ -78,6 +81,7 @@ impl Default for ModelPanel {
             window_len: 150,
             key: None,
             fit: None,
+            measuring: None,
             plot_rects: Vec::new(),
         }
     }
@@ -87,9 +91,10 @@ impl Default for ModelPanel {
 const MAX_SCATTER: usize = 4000;
 
 impl ModelPanel {
-    /// The figures of the document's model, recomputed when the model or
-    /// the samples change.
-    pub fn refresh(&mut self, doc: &Document) -> Option<&ModelFit> {
+    /// The figures of the document's model, measured again when the model
+    /// or the samples change: in a thread when `threads` (the panel shows a
+    /// spinner meanwhile), else at once.
+    pub fn refresh(&mut self, doc: &Document, threads: bool) -> Option<&ModelFit> {
         let model = match doc.mesher() {
             Some(m) => m.model().clone(),
             None => match crate::model::load(&doc.settings.model) {
@@ -108,27 +113,56 @@ impl ModelPanel {
         );
         if self.key != Some(key) {
             self.key = Some(key);
-            let set = match self.samples {
-                SampleChoice::All => doc.refit_set().map_err(|e| e.to_string()),
-                SampleChoice::Yours => Ok(doc.training.clone()),
-            };
-            self.fit = Some(set.and_then(|set| {
+            let (training, choice) = (doc.training.clone(), self.samples);
+            let name = model.name().to_string();
+            let measure = move || {
+                let set = match choice {
+                    SampleChoice::All => refit_set_of(training).map_err(|e| e.to_string())?,
+                    SampleChoice::Yours => training,
+                };
                 let evaluation = evaluate_all(model.as_ref(), &set).map_err(|e| e.to_string())?;
                 Ok(ModelFit {
                     model: model.name().to_string(),
                     evaluation,
                     factors: factors(&set).ok(),
                 })
-            }));
+            };
+            self.fit = None;
+            // A measurement of figures no longer asked for is left to end
+            // on its own.
+            self.measuring = None;
+            if threads {
+                self.measuring = Some((std::thread::spawn(measure), name));
+            } else {
+                self.fit = Some(measure());
+            }
+        }
+        if self
+            .measuring
+            .as_ref()
+            .is_some_and(|(h, _)| h.is_finished())
+        {
+            if let Some((h, _)) = self.measuring.take() {
+                self.fit = Some(
+                    h.join()
+                        .unwrap_or_else(|_| Err("the measurement failed".to_string())),
+                );
+            }
         }
         self.fit.as_ref().and_then(|f| f.as_ref().ok())
+    }
+
+    /// True while the figures are being measured in a thread.
+    pub fn measuring(&self) -> bool {
+        self.measuring.is_some()
     }
 }
 
 impl super::View for ModelPanel {
-    type Input<'a> = ();
+    /// Whether the figures are measured in a thread.
+    type Input<'a> = bool;
 
-    fn ui(&mut self, ui: &mut Ui, doc: &Document, _: ()) -> Vec<Command> {
+    fn ui(&mut self, ui: &mut Ui, doc: &Document, threads: bool) -> Vec<Command> {
         self.plot_rects.clear();
         ui.horizontal(|ui| {
             ui.label("measured on");
@@ -137,7 +171,14 @@ impl super::View for ModelPanel {
             ui.selectable_value(&mut self.samples, SampleChoice::Yours, "yours")
                 .on_hover_text("Only the samples of your corrections and collections");
         });
-        self.refresh(doc);
+        self.refresh(doc, threads);
+        if let Some((_, name)) = &self.measuring {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label(format!("measuring {name} on the samples…"));
+            });
+            ui.ctx().request_repaint();
+        }
         let fit = match &self.fit {
             Some(Ok(f)) => f,
             Some(Err(e)) => {
