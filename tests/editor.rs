@@ -914,6 +914,48 @@ fn dragging_pn_on_the_canvas_corrects_the_element() {
     assert_eq!(st.doc().steps(), 5);
 }
 
+/// While Pn is dragged the element is outlined in the colour of its score
+/// (green, amber, orange; red where it would be no valid element) and the
+/// tip says what letting go would give.
+#[test]
+fn dragging_pn_shows_how_good_the_element_would_be() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(5));
+    h.run();
+    let last = h.state().doc().last().cloned().unwrap();
+    let m = h.state().doc().mesher().unwrap().mesh().clone();
+    let s = screen(&h, m.nodes[last.pn_node().unwrap() as usize]);
+    let t = screen(&h, m.nodes[last.reference.unwrap() as usize]);
+    h.hover_at(s);
+    h.run();
+    h.drag_at(s);
+    h.run();
+    for k in 1..=3 {
+        h.hover_at(s + (t - s) * (0.05 * k as f32));
+        h.run();
+    }
+    let scored = [(90, 230, 110), (240, 200, 60), (255, 140, 40)]
+        .map(|(r, g, b)| strokes_of(&h, egui::Color32::from_rgb(r, g, b)));
+    assert!(scored.iter().sum::<usize>() > 0, "{scored:?}");
+    let says =
+        |h: &Harness<'static, App>, text: &str| painted(h).iter().any(|(t, _, _)| t.contains(text));
+    assert!(says(&h, "let go: element score "));
+    // Past P0 the quad folds: no valid element, and letting go there
+    // changes nothing.
+    let past = t + (t - s);
+    for k in 1..=6 {
+        h.hover_at(s + (past - s) * (k as f32 / 6.0));
+        h.run();
+    }
+    assert!(says(&h, "not a valid element here"));
+    let before = h.state().doc().mesher().unwrap().mesh().clone();
+    h.drop_at(past);
+    h.run();
+    assert!(status(&h).contains("not valid"), "{}", status(&h));
+    assert_eq!(h.state().doc().mesher().unwrap().mesh(), &before);
+}
+
 // ---------------------------------------------------------------------
 // Issue 17: the editor as a newcomer finds it.
 

@@ -1758,6 +1758,7 @@ impl App {
             front,
             hover,
             empty,
+            before_last,
             ..
         } = &mut self.view;
         *canvas_rect = rect;
@@ -1773,10 +1774,27 @@ impl App {
                 doc,
                 targets: &targets,
                 kind,
+                drag: None,
             };
             self.panels.tools.input(&at, cmds)
         };
         canvas::pan_zoom(view, &resp, ui, taken);
+        // While Pn is dragged: how good the element would be, checked on
+        // the mesher before the last step (as the targets are).
+        let drag = self.panels.tools.pn_drag().and_then(|pn| {
+            let reference = doc.last_element()?.reference?;
+            let (k, before) = before_last.as_mut()?;
+            (*k == d.mesh_version).then(|| {
+                before
+                    .check_correction(&crate::extract::Correction {
+                        reference,
+                        element_type: crate::model::ElementType::New,
+                        pn: Some(pn),
+                        snap_to: None,
+                    })
+                    .ok()
+            })
+        });
         let pointer = pointer.in_view(view);
         *hover = pointer.world.filter(|_| pointer.hovered);
         // The front of the mesh as stepped, by mesh version.
@@ -1830,6 +1848,7 @@ impl App {
             doc,
             targets: &targets,
             kind,
+            drag,
         };
         self.panels.tools.draw(ui, &painter, &at);
         if doc.draft.loops.is_empty() && self.panels.tools.drawing.is_empty() {

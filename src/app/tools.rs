@@ -133,6 +133,9 @@ pub struct OnCanvas<'a> {
     pub targets: &'a [Target],
     /// What mesh is on the canvas (nothing to correct on a finished one).
     pub kind: MeshKind,
+    /// While Pn is dragged: the guard's score of the element it would
+    /// give (`None` inside: no valid element there).
+    pub drag: Option<Option<f64>>,
 }
 
 /// The draft's median segment, the default target of a resample.
@@ -160,6 +163,11 @@ pub fn loop_role(d: &Draft, li: usize) -> &'static str {
 }
 
 impl Tools {
+    /// Where Pn is being dragged to, if it is.
+    pub fn pn_drag(&self) -> Option<Point> {
+        self.pn_drag
+    }
+
     /// Keeps the tool state in step with the document: a new document
     /// (another file, New) sets the resample target to its median segment.
     pub fn sync(&mut self, doc: &Document) {
@@ -373,7 +381,13 @@ impl Tools {
             // The candidate element: while dragging, or for the hovered
             // target.
             let candidate = match (self.pn_drag, self.hover) {
-                (Some(pn), _) => Some((pn, yellow)),
+                (Some(pn), _) => Some((
+                    pn,
+                    match at.drag {
+                        Some(score) => score_colour(score),
+                        None => yellow,
+                    },
+                )),
                 (None, Some(Hover::Target(t))) => Some((t.at, target_colour(&t))),
                 _ => None,
             };
@@ -424,6 +438,14 @@ impl Tools {
                 Some(Hover::Handle) if self.pn_drag.is_none() => {
                     tip(ui, "drag Pn and let go to correct the element");
                 }
+                Some(Hover::Handle) => match at.drag {
+                    Some(Some(score)) => tip(
+                        ui,
+                        &format!("let go: element score {score:.2}, {}", score_word(score)),
+                    ),
+                    Some(None) => tip(ui, "not a valid element here: letting go changes nothing"),
+                    None => {}
+                },
                 _ => {}
             }
             return;
@@ -712,12 +734,18 @@ impl super::View for Tools {
 /// [`MeshParams::accept_score`]: crate::extract::MeshParams::accept_score
 /// [`MeshParams::defer_score`]: crate::extract::MeshParams::defer_score
 fn target_colour(t: &Target) -> Color32 {
+    score_colour(t.valid.then_some(t.score))
+}
+
+/// The colour of an element by the guard's score (`None`: no valid
+/// element), as [`target_colour`].
+fn score_colour(score: Option<f64>) -> Color32 {
     let p = crate::extract::MeshParams::DEFAULT;
-    match t.score {
-        _ if !t.valid => Color32::from_rgb(255, 70, 70),
-        s if s >= p.accept_score => Color32::from_rgb(90, 230, 110),
-        s if s >= p.defer_score => Color32::from_rgb(240, 200, 60),
-        _ => Color32::from_rgb(255, 140, 40),
+    match score {
+        None => Color32::from_rgb(255, 70, 70),
+        Some(s) if s >= p.accept_score => Color32::from_rgb(90, 230, 110),
+        Some(s) if s >= p.defer_score => Color32::from_rgb(240, 200, 60),
+        Some(_) => Color32::from_rgb(255, 140, 40),
     }
 }
 
