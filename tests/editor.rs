@@ -188,6 +188,21 @@ fn step_undo_run_and_export_a_mesh_the_judge_accepts() {
     settle(&mut h);
     assert!(h.state().doc().is_done());
     h.get_by_label("mesh complete");
+    // The colours of the quads have a legend, in the metric's figures.
+    let texts: Vec<String> = painted(&h).into_iter().map(|(t, _, _)| t).collect();
+    assert!(
+        texts.iter().any(|t| t == "scaled Jacobian (colour)"),
+        "{texts:?}"
+    );
+    assert!(texts.iter().any(|t| t == "0.50"));
+    h.state_mut().panels.quality.metric = Some(quadex::app::quality_panel::Metric::Aspect);
+    h.run();
+    let texts: Vec<String> = painted(&h).into_iter().map(|(t, _, _)| t).collect();
+    assert!(
+        texts.iter().any(|t| t == "aspect ratio (colour)"),
+        "{texts:?}"
+    );
+    assert!(texts.iter().any(|t| t == "10.0") && texts.iter().any(|t| t == "2.0"));
     // The status counts the run's steps and all of them.
     let all = h.state().doc().steps();
     assert_eq!(

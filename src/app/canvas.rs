@@ -251,6 +251,40 @@ pub fn quality_color(sj: f64) -> Color32 {
     Color32::from_rgb(r, g, b)
 }
 
+/// The colour legend of the quads' metric: a bar from bad to ideal in the
+/// canvas's lower left corner, labelled with the metric's figures.
+pub fn legend(painter: &egui::Painter, rect: egui::Rect, metric: super::quality_panel::Metric) {
+    const STOPS: [f64; 5] = [0.1, 0.25, 0.5, 0.75, 1.0];
+    let (w, h) = (44.0, 14.0);
+    let font = egui::FontId::proportional(12.0);
+    let text = Color32::from_rgb(230, 230, 230);
+    let origin = rect.left_bottom() + egui::vec2(12.0, -58.0);
+    let back = egui::Rect::from_min_size(
+        origin - egui::vec2(6.0, 20.0),
+        egui::vec2(w * STOPS.len() as f32 + 12.0, h + 40.0),
+    );
+    painter.rect_filled(back, 4.0, Color32::from_black_alpha(170));
+    painter.text(
+        origin - egui::vec2(0.0, 4.0),
+        egui::Align2::LEFT_BOTTOM,
+        format!("{} (colour)", metric.name()),
+        font.clone(),
+        text,
+    );
+    for (k, &score) in STOPS.iter().enumerate() {
+        let cell =
+            egui::Rect::from_min_size(origin + egui::vec2(w * k as f32, 0.0), egui::vec2(w, h));
+        painter.rect_filled(cell, 0.0, quality_color(score));
+        painter.text(
+            cell.center_bottom() + egui::vec2(0.0, 3.0),
+            egui::Align2::CENTER_TOP,
+            metric.label_at(score),
+            font.clone(),
+            text,
+        );
+    }
+}
+
 /// Adds a convex polygon as a triangle fan.
 fn push_fan(mesh: &mut Mesh, pts: &[Pos2], color: Color32) {
     let base = mesh.vertices.len() as u32;

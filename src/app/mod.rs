@@ -1828,6 +1828,9 @@ impl App {
             metric: self.panels.quality.metric,
         };
         let hovered_quad = canvas::draw(ui, &painter, view, mesh_cache, &overlay, &pointer);
+        if let Some(metric) = overlay.metric.filter(|_| !shown.mesh.quads.is_empty()) {
+            canvas::legend(&painter, rect, metric);
+        }
         if let Some((_, quads)) = preview {
             let cyan = egui::Color32::from_rgb(80, 220, 255);
             for q in quads.iter() {

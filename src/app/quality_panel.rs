@@ -50,6 +50,17 @@ impl Metric {
         }
     }
 
+    /// The figure whose [`Metric::score`] is `score` (in `(0, 1]`), as the
+    /// colour legend labels it.
+    pub fn label_at(self, score: f64) -> String {
+        match self {
+            Metric::ScaledJacobian => format!("{score:.2}"),
+            Metric::MinAngle => format!("{:.0}°", 90.0 * score),
+            Metric::MaxAngle => format!("{:.0}°", 180.0 - 90.0 * score),
+            Metric::Aspect | Metric::Taper => format!("{:.1}", 1.0 / score.max(1e-9)),
+        }
+    }
+
     /// The figure on a 0 (bad) to 1 (ideal) scale, for the colour.
     pub fn score(self, q: &QuadQuality) -> f64 {
         let v = self.value(q);
