@@ -166,29 +166,30 @@ impl super::View for StepPanel {
         }
         ui.separator();
         let can_step = doc.meshing.is_some() && !doc.is_done();
+        super::step_panel::button_enabled(
+            ui,
+            can_step,
+            "Step",
+            "Take one extraction step",
+            Command::Step,
+            &mut out,
+        );
+        // N beside the button it sets, and in its label.
         ui.horizontal_wrapped(|ui| {
-            super::step_panel::button_enabled(
+            button_enabled(
                 ui,
                 can_step,
-                "Step",
-                "Take one extraction step",
-                Command::Step,
+                &format!("Step ×{}", self.n),
+                "Take N steps (over 200 in the background); N is set beside",
+                Command::StepN(self.n),
                 &mut out,
             );
             ui.add(
                 egui::DragValue::new(&mut self.n)
                     .range(1..=100_000)
-                    .prefix("×"),
+                    .prefix("N = "),
             )
-            .on_hover_text("How many steps Step ×N takes");
-            button_enabled(
-                ui,
-                can_step,
-                "Step ×N",
-                "Take N steps (over 200 in the background)",
-                Command::StepN(self.n),
-                &mut out,
-            );
+            .on_hover_text("How many steps Step ×N takes (drag or type)");
         });
         ui.horizontal_wrapped(|ui| {
             let animating = run.animating;
