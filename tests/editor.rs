@@ -1571,7 +1571,13 @@ fn the_step_panel_names_the_region_fill_and_its_quads() {
     let stats = h.state().doc().mesher().unwrap().stats().clone();
     let filled = stats.quads_made(StepKind::Fill);
     assert_eq!(stats.count(StepKind::Fill), 1);
-    assert!(filled > 0 && filled < h.state().doc().mesher().unwrap().mesh().quads.len());
+    let mesh = h.state().doc().mesher().unwrap().mesh().clone();
+    assert!(filled > 0 && filled < mesh.quads.len());
+    // The fill's report lists the quads it left in the mesh.
+    let last = h.state().doc().last().cloned().unwrap();
+    assert_eq!(last.kind, StepKind::Fill);
+    assert_eq!(last.quads.len(), filled);
+    assert!(last.quads.iter().all(|q| mesh.quads.contains(q)));
     h.get_by_label(&format!(
         "the region fill (not extraction) made {filled} quads"
     ));

@@ -559,9 +559,11 @@ impl Mesher {
                 }
             }
             if self.front.is_empty() {
+                self.keep_standing(&mut r);
                 return Some(r);
             }
         }
+        self.keep_standing(&mut r);
         if r.quads.is_empty() {
             self.fill_retry_at = step + (step / 4).max(50);
             if r.removed == 0 {
@@ -572,6 +574,18 @@ impl Mesher {
             r.kind = StepKind::RipUp;
         }
         Some(r)
+    }
+
+    /// Keeps in report `r` only the quads still in the mesh: a fill that
+    /// removes rings of elements round what it could not take may remove
+    /// quads it made itself a ring before.
+    fn keep_standing(&self, r: &mut StepReport) {
+        if r.removed == 0 {
+            return;
+        }
+        let standing: std::collections::BTreeSet<[u32; 4]> =
+            self.mesh.quads.iter().copied().collect();
+        r.quads.retain(|q| standing.contains(q));
     }
 
     /// The regions bounded by front loops `ids`, as indices into `ids`: each
