@@ -397,6 +397,27 @@ fn a_step_corrected_twice_keeps_one_sample() {
     h.run();
     assert_eq!(h.state().doc().training.len(), 1);
     assert_ne!(h.state().doc().training.samples[0], expected);
+    // Corrected again after a Reset: still one sample, the newest.
+    h.state_mut().apply(Command::Reset);
+    h.state_mut().apply(Command::StepN(5));
+    h.state_mut().apply(Command::CorrectLast {
+        element_type: ElementType::New,
+        pn: moved,
+        snap_to: None,
+    });
+    h.run();
+    assert!(
+        status(&h).starts_with("element corrected"),
+        "{}",
+        status(&h)
+    );
+    let d = h.state().doc();
+    assert_eq!(d.training.len(), 1);
+    let last = d.last().cloned().unwrap();
+    assert_eq!(
+        d.training.samples[0],
+        d.mesher().unwrap().sample_of(&last).unwrap()
+    );
 }
 
 #[test]
@@ -481,7 +502,7 @@ fn a_refit_that_must_fit_again_does_so_in_the_background() {
     h.get_by_label_contains("fitting the quadratic form on");
     settle(&mut h);
     assert!(
-        status(&h).starts_with("refitted fitted (quadratic) 1 on "),
+        status(&h).starts_with("refit made fitted (quadratic) 1 from "),
         "{}",
         status(&h)
     );
@@ -500,7 +521,7 @@ fn a_refit_that_must_fit_again_does_so_in_the_background() {
         mesh_rest: false,
     });
     assert!(
-        status(&h).starts_with("refitted fitted (quadratic) 2 on "),
+        status(&h).starts_with("refit made fitted (quadratic) 2 from "),
         "{}",
         status(&h)
     );
@@ -1460,6 +1481,11 @@ fn issue17_new_draw_save_and_fix_a_broken_file() {
     h.state_mut().apply(Command::StepN(20));
     let steps = h.state().doc().steps();
     assert!(steps >= 1);
+    // Stepping put the drawing tool away: a click on the mesh corrects.
+    assert_eq!(
+        h.state().panels.tools.tool,
+        quadex::app::tools::Tool::Correct
+    );
     // The hole was drawn counter-clockwise (the boundary turns it around):
     // a project of the drawing reopens with the same nodes and steps.
     let dir = tempfile::tempdir().unwrap();
@@ -1471,8 +1497,9 @@ fn issue17_new_draw_save_and_fix_a_broken_file() {
         reopened.mesher().unwrap().mesh(),
         h.state().doc().mesher().unwrap().mesh()
     );
-    // The loops' numbers, as Resample names them (once the finished
-    // mesh's background pass is over).
+    // The loops' numbers, as Resample names them, with a boundary tool
+    // (once the finished mesh's background pass is over).
+    h.state_mut().panels.tools.tool = quadex::app::tools::Tool::Move;
     settle(&mut h);
     let texts: Vec<String> = painted(&h).into_iter().map(|t| t.0).collect();
     assert!(texts.iter().any(|t| t == "loop 0 (outer)"), "{texts:?}");

@@ -635,8 +635,8 @@ impl Document {
     /// Replaces the last element by the user's (type 0 closes onto front
     /// node `snap_to` when given): the step is undone, the correction
     /// committed at the same reference point, and its sample appended (in
-    /// place of the sample of the correction it replaces, when the last
-    /// step was one). `before` is the mesher before the last step when the caller has it
+    /// place of any earlier correction of the same input: the step
+    /// corrected again, or corrected before a Reset). `before` is the mesher before the last step when the caller has it
     /// (else it is replayed). If the correction is not a valid element,
     /// nothing changes.
     pub fn correct_last(
@@ -651,11 +651,6 @@ impl Document {
             return Err(EditorError::NotAnElement(kind_name(r.kind)));
         }
         let reference = r.reference.ok_or(EditorError::NoStep)?;
-        // A correction corrected again: its sample gives way to the new one.
-        let replaced = match r.kind {
-            StepKind::Correction => self.mesher().and_then(|m| m.sample_of(r)),
-            _ => None,
-        };
         let c = Correction {
             reference,
             element_type,
@@ -671,13 +666,16 @@ impl Document {
         let m = self.meshing_mut()?;
         m.mesher = mesher;
         m.last = Some(report);
-        if let Some(old) = replaced {
-            if let Some(k) = self.training.samples.iter().rposition(|s| *s == old) {
-                self.training.samples.remove(k);
-            }
-        }
         match sample {
-            Some(s) => self.push_sample(s),
+            Some(s) => {
+                // One input, one answer: an earlier correction of the same
+                // input (the step corrected again, or corrected before a
+                // Reset) gives way to this one.
+                self.training.samples.retain(|o| {
+                    !(o.source == crate::samples::Source::Correction && o.input == s.input)
+                });
+                self.push_sample(s)
+            }
             None => Ok(self.training.len()),
         }
     }
@@ -768,8 +766,15 @@ impl Document {
         let model = file.model();
         let finishing = self.settings.finishing();
         let old = self.meshing_mut()?.mesher.model().clone();
-        let before = fit::evaluate(old.as_ref(), &set)?;
-        let after = fit::evaluate(&model, &set)?;
+        // The two models measured side by side (a second each on the
+        // reference samples).
+        let (before, after) = std::thread::scope(|scope| {
+            let before = scope.spawn(|| fit::evaluate(old.as_ref(), &set));
+            let after = fit::evaluate(&model, &set);
+            (before.join(), after)
+        });
+        let before = before.map_err(|_| EditorError::JobPanicked)??;
+        let after = after?;
         let checks = self
             .training
             .samples

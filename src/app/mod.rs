@@ -746,6 +746,17 @@ impl App {
 
     /// Applies a command without asking.
     fn apply_now(&mut self, cmd: Command) {
+        // Stepping means meshing: the drawing tool (a loop closed, none
+        // begun) gives way to correcting, so that a click on the mesh
+        // corrects instead of starting a hole.
+        if matches!(
+            cmd,
+            Command::Step | Command::StepN(_) | Command::RunToEnd | Command::Animate(true)
+        ) && self.panels.tools.tool == Tool::Draw
+            && self.panels.tools.drawing.is_empty()
+        {
+            self.panels.tools.tool = Tool::Correct;
+        }
         match self.run_command(cmd) {
             Ok(s) => {
                 if !s.is_empty() {
@@ -924,7 +935,7 @@ impl App {
                 }
                 let f = self.edit("refit", |d| d.refit(form))?;
                 let mut msg = format!(
-                    "refitted {} on {} and {} of yours: Xn R {} to {}, Yn R {} to {}",
+                    "refit made {} from {} and {} of yours: Xn R {} to {}, Yn R {} to {}",
                     f.model,
                     plural(f.samples, "sample"),
                     plural(f.corrections, "correction"),
@@ -1087,6 +1098,10 @@ impl App {
         self.document.dirty = false;
         self.view.canvas.fit_pending = true;
         self.background.animating = None;
+        // A file opened is to be meshed: a click on it corrects, it does
+        // not start a loop (New chooses the drawing tool after this).
+        self.panels.tools.drop_drawing();
+        self.panels.tools.tool = Tool::Correct;
     }
 
     fn opened_message(&self, name: &str) -> String {

@@ -59,7 +59,7 @@ impl Tool {
     /// What the tool does, for its tooltip and the hint under the tools.
     pub fn hint(self) -> &'static str {
         match self {
-            Tool::Correct => "Drag the yellow Pn handle of the last element and let go, or click a front node to close the element onto it (green nodes give a valid element).",
+            Tool::Correct => "Drag the yellow Pn handle of the last element and let go, or click a ringed front node to close the element onto it (green good, amber fair, orange poor).",
             Tool::Draw => "Click to place nodes; click the first node to close the loop (the first loop is the outer one, later loops are holes). Right-click or Esc drops the loop being drawn.",
             Tool::Move => "Drag a boundary node.",
             Tool::Insert => "Click a segment to insert a node there.",

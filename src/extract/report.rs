@@ -116,6 +116,26 @@ pub struct StepReport {
 }
 
 impl StepReport {
+    /// The report of step `index` of `kind`, before the step fills it in.
+    pub(crate) fn new(index: usize, kind: StepKind) -> StepReport {
+        StepReport {
+            index,
+            kind,
+            reference: None,
+            leading: Vec::new(),
+            prediction: None,
+            predicted_pn: None,
+            element_type: None,
+            remedy: Remedy::NotApplicable,
+            skipped: 0,
+            rejected: 0,
+            pattern: None,
+            quads: Vec::new(),
+            new_nodes: Vec::new(),
+            removed: 0,
+        }
+    }
+
     /// The element's Pn as a node: the corner of its (first) quad opposite
     /// the reference point; for types 1 and 2 that is P_r2 or P_l2.
     pub fn pn_node(&self) -> Option<u32> {
@@ -231,20 +251,8 @@ mod tests {
 
     fn step(index: usize, kind: StepKind, quads: usize) -> StepReport {
         StepReport {
-            index,
-            kind,
-            reference: None,
-            leading: Vec::new(),
-            prediction: None,
-            predicted_pn: None,
-            element_type: None,
-            remedy: Remedy::NotApplicable,
-            skipped: 0,
-            pattern: None,
             quads: vec![[0, 1, 2, 3]; quads],
-            new_nodes: Vec::new(),
-            removed: 0,
-            rejected: 0,
+            ..StepReport::new(index, kind)
         }
     }
 

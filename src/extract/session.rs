@@ -10,8 +10,7 @@ use super::guard::{Limits, Scratch};
 use super::params::MeshParams;
 use super::queue::Entry;
 use super::report::{
-    Action, Correction, MeshError, Remedy, RunProgress, StepKind, StepOutcome, StepReport,
-    StepStats,
+    Action, Correction, MeshError, RunProgress, StepKind, StepOutcome, StepReport, StepStats,
 };
 use super::size::SizeField;
 use crate::boundary::Boundary;
@@ -390,22 +389,7 @@ impl Mesher {
     }
 
     pub(super) fn report(&self, kind: StepKind) -> StepReport {
-        StepReport {
-            index: self.history.len(),
-            kind,
-            reference: None,
-            leading: Vec::new(),
-            prediction: None,
-            predicted_pn: None,
-            element_type: None,
-            remedy: Remedy::NotApplicable,
-            skipped: 0,
-            rejected: 0,
-            pattern: None,
-            quads: Vec::new(),
-            new_nodes: Vec::new(),
-            removed: 0,
-        }
+        StepReport::new(self.history.len(), kind)
     }
 
     /// The progress watch ([`PROGRESS_EVERY`]): true when the last
