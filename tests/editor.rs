@@ -368,49 +368,16 @@ fn step_five_and_correct(
     (last, pn, moved)
 }
 
-/// Correcting the same step again replaces its sample: the training set
-/// keeps the last correction only, not two targets for one input.
-#[test]
-fn a_step_corrected_twice_keeps_one_sample() {
-    let mut h = harness(example());
-    let (_, pn, moved) = step_five_and_correct(&mut h, |pn, p0, _| p0 + (pn - p0) * 1.1);
-    assert_eq!(h.state().doc().training.len(), 1);
-    let again = pn + (moved - pn) * 0.5;
+/// Corrects the last step with type 0 at `pn`; the training set then holds
+/// that correction's sample alone.
+fn correct_and_keep_one_sample(h: &mut Harness<'static, App>, pn: quadex::Point) {
     h.state_mut().apply(Command::CorrectLast {
         element_type: ElementType::New,
-        pn: again,
+        pn,
         snap_to: None,
     });
     h.run();
-    assert!(
-        status(&h).starts_with("element corrected"),
-        "{}",
-        status(&h)
-    );
-    let d = h.state().doc();
-    assert_eq!(d.training.len(), 1);
-    let last = d.last().cloned().unwrap();
-    let expected = d.mesher().unwrap().sample_of(&last).unwrap();
-    assert_eq!(d.training.samples[0], expected);
-    // One undo brings back the first correction and its sample.
-    h.state_mut().apply(Command::Undo);
-    h.run();
-    assert_eq!(h.state().doc().training.len(), 1);
-    assert_ne!(h.state().doc().training.samples[0], expected);
-    // Corrected again after a Reset: still one sample, the newest.
-    h.state_mut().apply(Command::Reset);
-    h.state_mut().apply(Command::StepN(5));
-    h.state_mut().apply(Command::CorrectLast {
-        element_type: ElementType::New,
-        pn: moved,
-        snap_to: None,
-    });
-    h.run();
-    assert!(
-        status(&h).starts_with("element corrected"),
-        "{}",
-        status(&h)
-    );
+    assert!(status(h).starts_with("element corrected"), "{}", status(h));
     let d = h.state().doc();
     assert_eq!(d.training.len(), 1);
     let last = d.last().cloned().unwrap();
@@ -418,6 +385,26 @@ fn a_step_corrected_twice_keeps_one_sample() {
         d.training.samples[0],
         d.mesher().unwrap().sample_of(&last).unwrap()
     );
+}
+
+/// Correcting the same step again replaces its sample: the training set
+/// keeps the last correction only, not two targets for one input.
+#[test]
+fn a_step_corrected_twice_keeps_one_sample() {
+    let mut h = harness(example());
+    let (_, pn, moved) = step_five_and_correct(&mut h, |pn, p0, _| p0 + (pn - p0) * 1.1);
+    assert_eq!(h.state().doc().training.len(), 1);
+    correct_and_keep_one_sample(&mut h, pn + (moved - pn) * 0.5);
+    let second = h.state().doc().training.samples[0].clone();
+    // One undo brings back the first correction and its sample.
+    h.state_mut().apply(Command::Undo);
+    h.run();
+    assert_eq!(h.state().doc().training.len(), 1);
+    assert_ne!(h.state().doc().training.samples[0], second);
+    // Corrected again after a Reset: still one sample, the newest.
+    h.state_mut().apply(Command::Reset);
+    h.state_mut().apply(Command::StepN(5));
+    correct_and_keep_one_sample(&mut h, moved);
 }
 
 #[test]
@@ -923,18 +910,24 @@ fn boundary_edits_on_the_canvas_are_validated_live() {
     assert!(h.state().doc().problem.is_some());
 }
 
-#[test]
-fn dragging_pn_on_the_canvas_corrects_the_element() {
-    let mut h = harness(example());
+/// The annulus stepped five times: the last element's Pn (world) and the
+/// screen positions of its Pn and P0.
+fn five_steps_pn_and_p0(h: &mut Harness<'static, App>) -> (quadex::Point, Pos2, Pos2) {
     h.run();
     h.state_mut().apply(Command::StepN(5));
     h.run();
     let last = h.state().doc().last().cloned().unwrap();
     let m = h.state().doc().mesher().unwrap().mesh().clone();
     let pn = m.nodes[last.pn_node().unwrap() as usize];
-    let s = screen(&h, pn);
+    let p0 = m.nodes[last.reference.unwrap() as usize];
+    (pn, screen(h, pn), screen(h, p0))
+}
+
+#[test]
+fn dragging_pn_on_the_canvas_corrects_the_element() {
+    let mut h = harness(example());
+    let (pn, s, t) = five_steps_pn_and_p0(&mut h);
     // Drag the handle a few pixels towards P0 and let go.
-    let t = screen(&h, m.nodes[last.reference.unwrap() as usize]);
     let to = s + (t - s) * 0.15;
     drag(&mut h, s, to);
     let st = h.state();
@@ -956,13 +949,7 @@ fn dragging_pn_on_the_canvas_corrects_the_element() {
 #[test]
 fn dragging_pn_shows_how_good_the_element_would_be() {
     let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(5));
-    h.run();
-    let last = h.state().doc().last().cloned().unwrap();
-    let m = h.state().doc().mesher().unwrap().mesh().clone();
-    let s = screen(&h, m.nodes[last.pn_node().unwrap() as usize]);
-    let t = screen(&h, m.nodes[last.reference.unwrap() as usize]);
+    let (_, s, t) = five_steps_pn_and_p0(&mut h);
     h.hover_at(s);
     h.run();
     h.drag_at(s);

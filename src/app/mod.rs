@@ -2115,15 +2115,8 @@ impl App {
             if let Some(f) = &self.background.fit {
                 ui.spinner();
                 ui.label(&f.what);
-                ui.label(format!("{:.1} s", f.started.elapsed().as_secs_f64()));
-                if ui
-                    .button("Cancel")
-                    .on_hover_text("Stop waiting (Esc): the refit is not taken")
-                    .clicked()
-                {
-                    cmds.push(Command::Cancel);
-                }
-                ui.separator();
+                let secs = f.started.elapsed().as_secs_f64();
+                cancel_button(ui, secs, "Stop waiting (Esc): the refit is not taken", cmds);
             }
             if let Some(j) = &self.background.job {
                 let (steps, front, frac) = j.progress();
@@ -2144,15 +2137,12 @@ impl App {
                     ui.spinner();
                     ui.label(j.what);
                 }
-                ui.label(format!("{:.1} s", j.elapsed()));
-                if ui
-                    .button("Cancel")
-                    .on_hover_text("Stop (Esc): a run is dropped, the mesh stays as before it")
-                    .clicked()
-                {
-                    cmds.push(Command::Cancel);
-                }
-                ui.separator();
+                cancel_button(
+                    ui,
+                    j.elapsed(),
+                    "Stop (Esc): a run is dropped, the mesh stays as before it",
+                    cmds,
+                );
             }
             if let Some(p) = self.view.hover {
                 ui.monospace(format!("x {:.4}  y {:.4}", p.x, p.y));
@@ -2331,6 +2321,16 @@ impl App {
             ctx.request_repaint();
         }
     }
+}
+
+/// The seconds a background job has taken and its Cancel button, in the
+/// status bar.
+fn cancel_button(ui: &mut egui::Ui, secs: f64, tip: &str, cmds: &mut Vec<Command>) {
+    ui.label(format!("{secs:.1} s"));
+    if ui.button("Cancel").on_hover_text(tip).clicked() {
+        cmds.push(Command::Cancel);
+    }
+    ui.separator();
 }
 
 /// Saves a screenshot as PNG.
