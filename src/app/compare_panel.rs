@@ -175,38 +175,59 @@ impl super::View for ComparePanel {
                 "for an earlier boundary: compare again",
             );
         }
-        egui::Grid::new("compare_table")
-            .striped(true)
-            .num_columns(compare::COLUMNS.len() + 1)
-            .show(ui, |ui| {
-                ui.strong("model");
-                for col in compare::COLUMNS {
-                    ui.strong(col);
-                }
-                ui.end_row();
-                for o in &c.outcomes {
-                    ui.label(&o.model);
-                    ui.label(o.finished_label())
-                        .on_hover_text(o.error.as_deref().unwrap_or("finished"));
-                    if let Some(f) = o.figures() {
-                        for v in f {
-                            ui.label(v);
-                        }
-                    }
-                    ui.end_row();
+        // The table scrolls on its own, its scroll bar right under it: it
+        // is wider than the panel.
+        ui.scope(|ui| {
+            ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
+            egui::ScrollArea::horizontal()
+                .id_salt("compare table scroll")
+                .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
+                .show(ui, |ui| table(ui, c));
+        });
+        ui.label("accepted: the model's element as predicted; rescaled: its element with Pn drawn to the size field; replaced: a remedy's element. Shares of the element steps.");
+        // As many pictures a row as the panel's width takes (a child of a
+        // wrapping row does not move to the next one when it overflows).
+        let gap = ui.spacing().item_spacing.x;
+        let per_row = (((ui.available_width() + gap) / (PICTURE + gap)).floor() as usize).max(1);
+        for row in c.outcomes.chunks(per_row) {
+            ui.horizontal_top(|ui| {
+                for o in row {
+                    ui.vertical(|ui| {
+                        // The name wraps at the picture's width (by words).
+                        ui.set_width(PICTURE);
+                        ui.add(egui::Label::new(&o.model).wrap());
+                        picture(ui, o.mesh.as_ref());
+                    });
                 }
             });
-        ui.label("accepted: the model's element as predicted; rescaled: its element with Pn drawn to the size field; replaced: a remedy's element. Shares of the element steps.");
-        ui.horizontal_wrapped(|ui| {
-            for o in &c.outcomes {
-                ui.vertical(|ui| {
-                    ui.label(&o.model);
-                    picture(ui, o.mesh.as_ref());
-                });
-            }
-        });
+        }
         out
     }
+}
+
+/// The comparison's table: a row per model, a column per figure.
+fn table(ui: &mut Ui, c: &Comparison) {
+    egui::Grid::new("compare_table")
+        .striped(true)
+        .num_columns(compare::COLUMNS.len() + 1)
+        .show(ui, |ui| {
+            ui.strong("model");
+            for col in compare::COLUMNS {
+                ui.strong(col);
+            }
+            ui.end_row();
+            for o in &c.outcomes {
+                ui.label(&o.model);
+                ui.label(o.finished_label())
+                    .on_hover_text(o.error.as_deref().unwrap_or("finished"));
+                if let Some(f) = o.figures() {
+                    for v in f {
+                        ui.label(v);
+                    }
+                }
+                ui.end_row();
+            }
+        });
 }
 
 /// A small picture of `mesh`, its quads coloured by scaled Jacobian (an
