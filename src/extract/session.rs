@@ -547,7 +547,6 @@ impl Mesher {
                 return Some(r);
             }
         }
-        self.keep_standing(&mut r);
         if r.quads.is_empty() {
             self.fill_retry_at = step + (step / 4).max(50);
             if r.removed == 0 {
@@ -557,6 +556,7 @@ impl Mesher {
             // rip-up it was.
             r.kind = StepKind::RipUp;
         }
+        self.keep_standing(&mut r);
         Some(r)
     }
 
