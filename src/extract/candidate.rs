@@ -650,22 +650,19 @@ impl Mesher {
                     leading,
                 }));
             }
-        }
-        // A needle takes the kite it forces, or nothing.
-        if let Some(pn) = self
-            .needle_kite(s)
-            .filter(|_| !self.params.pure_model || rules)
-        {
-            let cand = Cand::New { s, pn };
-            self.evaluated = self.extent(s, &[self.model_candidate(s, pred, &frame).0]);
-            return Ok(self.check(cand, limits).map(|score| Chosen {
-                cand,
-                remedy: Remedy::CorrectedPn,
-                score,
-                prediction: pred,
-                frame,
-                leading,
-            }));
+            // A needle takes the kite it forces, or nothing.
+            if let Some(pn) = self.needle_kite(s) {
+                let cand = Cand::New { s, pn };
+                self.evaluated = self.extent(s, &[c]);
+                return Ok(self.check(cand, limits).map(|score| Chosen {
+                    cand,
+                    remedy: Remedy::CorrectedPn,
+                    score,
+                    prediction: pred,
+                    frame,
+                    leading,
+                }));
+            }
         }
         let mut best: Option<Chosen> = None;
         let mut model: Option<Chosen> = None;
