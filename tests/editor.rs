@@ -1208,7 +1208,7 @@ fn issue17_clicking_a_front_node_closes_the_element_onto_it() {
             steps += 1;
             h.run();
             let targets = h.state().targets().to_vec();
-            let valid: Vec<_> = targets.iter().filter(|t| t.valid).copied().collect();
+            let valid: Vec<_> = targets.iter().filter(|t| t.valid()).copied().collect();
             if !valid.is_empty() && targets.len() > valid.len() {
                 break (targets, valid);
             }
@@ -1227,10 +1227,11 @@ fn issue17_clicking_a_front_node_closes_the_element_onto_it() {
         // The valid targets are ringed in the colour of their element's
         // score: green good, amber fair, orange poor.
         let p = quadex::MeshParams::DEFAULT;
-        let good = valid.iter().filter(|t| t.score >= p.accept_score).count();
-        let poor = valid.iter().filter(|t| t.score < p.defer_score).count();
-        assert!(valid.iter().all(|t| t.score > 0.0 && t.score <= 1.0));
-        assert!(targets.iter().all(|t| t.valid || t.score == 0.0));
+        let score = |t: &&quadex::app::Target| t.score.unwrap();
+        let good = valid.iter().filter(|t| score(t) >= p.accept_score).count();
+        let poor = valid.iter().filter(|t| score(t) < p.defer_score).count();
+        assert!(valid.iter().all(|t| score(&t) > 0.0 && score(&t) <= 1.0));
+        assert!(targets.iter().all(|t| t.valid() == t.score.is_some()));
         assert!(strokes_of(&h, egui::Color32::from_rgb(90, 230, 110)) >= good);
         assert!(strokes_of(&h, egui::Color32::from_rgb(240, 200, 60)) >= valid.len() - good - poor);
         assert!(strokes_of(&h, egui::Color32::from_rgb(255, 140, 40)) >= poor);
@@ -1264,7 +1265,7 @@ fn issue17_clicking_a_front_node_closes_the_element_onto_it() {
             h.run();
         }
         // An invalid one says why and changes nothing.
-        if let Some(t) = targets.iter().find(|t| !t.valid) {
+        if let Some(t) = targets.iter().find(|t| !t.valid()) {
             let before = h.state().doc().mesher().unwrap().mesh().clone();
             let s = screen(&h, t.at);
             click_at(&mut h, s);

@@ -292,13 +292,17 @@ pub struct Target {
     pub at: Point,
     /// Type 1 for P_r2, type 2 for P_l2, else type 0 closed onto the node.
     pub element_type: ElementType,
-    pub valid: bool,
-    /// The guard's score of the element (`[0, 1]`, 0 when not valid): a
-    /// valid element may still be a poor one.
-    pub score: f64,
+    /// The guard's score of the element (`[0, 1]`; `None`: not a valid
+    /// element): a valid element may still be a poor one.
+    pub score: Option<f64>,
 }
 
 impl Target {
+    /// True when closing onto this node gives a valid element.
+    pub fn valid(&self) -> bool {
+        self.score.is_some()
+    }
+
     /// The correction that closes the element onto this node.
     pub fn command(&self) -> super::Command {
         super::Command::CorrectLast {
@@ -636,8 +640,9 @@ impl Document {
     /// node `snap_to` when given): the step is undone, the correction
     /// committed at the same reference point, and its sample appended (in
     /// place of any earlier correction of the same input: the step
-    /// corrected again, or corrected before a Reset). `before` is the mesher before the last step when the caller has it
-    /// (else it is replayed). If the correction is not a valid element,
+    /// corrected again, or corrected before a Reset). `before` is the
+    /// mesher before the last step when the caller has it (else it is
+    /// replayed). If the correction is not a valid element,
     /// nothing changes.
     pub fn correct_last(
         &mut self,
@@ -728,13 +733,11 @@ impl Document {
                     pn: Some(p),
                     snap_to: (element_type == ElementType::New).then_some(v),
                 };
-                let score = before.check_correction(&c);
                 Target {
                     node: v,
                     at: p,
                     element_type,
-                    valid: score.is_ok(),
-                    score: score.unwrap_or(0.0),
+                    score: before.check_correction(&c).ok(),
                 }
             })
             .collect()
@@ -760,9 +763,10 @@ impl Document {
             k += 1;
         }
         let (own, from_meshes) = fit::split_added(&self.training);
+        let memory = fit::correction_memory(base.points, &own, model::memory::DEFAULT_RADIUS)?;
         let mut global = global_fit(&base, &from_meshes, form, &REFIT_PARAMS)?;
         global.name = refit_name(form, k);
-        let file = fit::layer_corrections(global, &own, model::memory::DEFAULT_RADIUS)?;
+        let file = fit::with_memory(global, memory);
         let model = file.model();
         let finishing = self.settings.finishing();
         let old = self.meshing_mut()?.mesher.model().clone();
@@ -831,7 +835,8 @@ impl Document {
     pub fn pending_fit(&self, form: Form) -> Result<Option<FitTask>, EditorError> {
         let base = reference_samples(self.training.points)?;
         let (_, from_meshes) = fit::split_added(&self.training);
-        Ok(cached_or_shipped(&base, &from_meshes, form, &REFIT_PARAMS)
+        let key = fit_key(&base, &from_meshes, form, &REFIT_PARAMS);
+        Ok(cached_or_shipped(&key, &from_meshes, form, &REFIT_PARAMS)
             .is_none()
             .then_some(FitTask {
                 base,
@@ -978,7 +983,6 @@ fn boundary_doc_numbered(b: &Boundary, name: &str) -> BoundaryDoc {
     }
 }
 
-/// The name of the `k`-th refitted model of `form`.
 /// The reference samples and the user's `training`, as a refit sees them
 /// ([`Document::refit_set`]).
 pub fn refit_set_of(training: TrainingSet) -> Result<TrainingSet, EditorError> {
@@ -1021,8 +1025,9 @@ impl FitTask {
 type FitKey = (usize, &'static str, String, u64);
 static FITS: OnceLock<Mutex<BTreeMap<FitKey, ModelFile>>> = OnceLock::new();
 
-/// What a global fit depends on: the input points, the form, the
-/// parameters and the samples.
+/// What a global fit depends on: the input points (which give the
+/// reference samples), the form, the parameters and the samples from
+/// meshes.
 fn fit_key(
     base: &TrainingSet,
     from_meshes: &TrainingSet,
@@ -1034,7 +1039,7 @@ fn fit_key(
         base.points,
         form.name(),
         format!("{params:?}"),
-        fingerprint(&samples) ^ fingerprint(&base.len().to_string()),
+        fingerprint(&samples),
     )
 }
 
@@ -1045,14 +1050,13 @@ fn fit_key(
 /// `the_shipped_*_model_is_the_fit_of_the_reference_meshes` refit them and
 /// compare).
 fn cached_or_shipped(
-    base: &TrainingSet,
+    key: &FitKey,
     from_meshes: &TrainingSet,
     form: Form,
     params: &FitParams,
 ) -> Option<ModelFile> {
-    let key = fit_key(base, from_meshes, form, params);
     let fits = FITS.get_or_init(Default::default);
-    if let Some(f) = fits.lock().ok().and_then(|c| c.get(&key).cloned()) {
+    if let Some(f) = fits.lock().ok().and_then(|c| c.get(key).cloned()) {
         return Some(f);
     }
     let shipped_params = FitParams {
@@ -1063,7 +1067,7 @@ fn cached_or_shipped(
         .into_iter()
         .filter(|_| from_meshes.is_empty() && shipped_params)
         .filter_map(|json| ModelFile::from_json(json).ok())
-        .find(|f| f.points == base.points && f.coefficients.form() == form)
+        .find(|f| f.points == key.0 && f.coefficients.form() == form)
 }
 
 /// The global fit of a refit ([`fit::refit_global`]): `form` on the
@@ -1076,12 +1080,13 @@ fn global_fit(
     form: Form,
     params: &FitParams,
 ) -> Result<ModelFile, EditorError> {
-    if let Some(f) = cached_or_shipped(base, from_meshes, form, params) {
+    let key = fit_key(base, from_meshes, form, params);
+    if let Some(f) = cached_or_shipped(&key, from_meshes, form, params) {
         return Ok(f);
     }
     let file = fit::refit_global(base, from_meshes, form, "global", params)?;
     if let Ok(mut c) = FITS.get_or_init(Default::default).lock() {
-        c.insert(fit_key(base, from_meshes, form, params), file.clone());
+        c.insert(key, file.clone());
     }
     Ok(file)
 }
@@ -1093,6 +1098,7 @@ fn fingerprint(text: &str) -> u64 {
     })
 }
 
+/// The name of the `k`-th refitted model of `form`.
 fn refit_name(form: Form, k: usize) -> String {
     format!("fitted ({}) {k}", form.name())
 }

@@ -375,7 +375,7 @@ impl Tools {
             else {
                 return;
             };
-            for t in at.targets.iter().filter(|t| t.valid) {
+            for t in at.targets.iter().filter(|t| t.valid()) {
                 painter.circle_stroke(to(t.at), 5.0, Stroke::new(2.0, target_colour(t)));
             }
             // The candidate element: while dragging, or for the hovered
@@ -407,13 +407,12 @@ impl Tools {
             match self.hover {
                 Some(Hover::Target(t)) => {
                     painter.circle_stroke(to(t.at), 8.0, Stroke::new(2.5, target_colour(&t)));
-                    let text = if t.valid {
+                    let text = if let Some(score) = t.score {
                         format!(
-                            "click: close the element onto node {} (type {}); element score {:.2}, {}",
+                            "click: close the element onto node {} (type {}); element score {score:.2}, {}",
                             t.node,
                             t.element_type.number(),
-                            t.score,
-                            score_word(t.score)
+                            grade(score).0
                         )
                     } else {
                         format!("node {}: not a valid element there", t.node)
@@ -441,7 +440,7 @@ impl Tools {
                 Some(Hover::Handle) => match at.drag {
                     Some(Some(score)) => tip(
                         ui,
-                        &format!("let go: element score {score:.2}, {}", score_word(score)),
+                        &format!("let go: element score {score:.2}, {}", grade(score).0),
                     ),
                     Some(None) => tip(ui, "not a valid element here: letting go changes nothing"),
                     None => {}
@@ -594,7 +593,7 @@ impl Tools {
                 Tool::Correct
                     if doc.last_element().is_some() && kind == MeshKind::Stepped =>
                 {
-                    let valid = targets.iter().filter(|t| t.valid).count();
+                    let valid = targets.iter().filter(|t| t.valid()).count();
                     note(
                         ui,
                         if valid == 0 {
@@ -726,37 +725,32 @@ impl super::View for Tools {
 }
 
 /// The colour a front node the element could be closed onto is ringed
-/// in: by the guard's score of that element (the extraction's own
-/// thresholds: taken at once from [`MeshParams::accept_score`], made to
-/// wait below [`MeshParams::defer_score`]), red when it is no valid
-/// element.
-///
-/// [`MeshParams::accept_score`]: crate::extract::MeshParams::accept_score
-/// [`MeshParams::defer_score`]: crate::extract::MeshParams::defer_score
+/// in: by the guard's score of that element ([`grade`]), red when it is no
+/// valid element.
 fn target_colour(t: &Target) -> Color32 {
-    score_colour(t.valid.then_some(t.score))
+    score_colour(t.score)
 }
 
 /// The colour of an element by the guard's score (`None`: no valid
-/// element), as [`target_colour`].
+/// element, red), as [`target_colour`].
 fn score_colour(score: Option<f64>) -> Color32 {
-    let p = crate::extract::MeshParams::DEFAULT;
-    match score {
-        None => Color32::from_rgb(255, 70, 70),
-        Some(s) if s >= p.accept_score => Color32::from_rgb(90, 230, 110),
-        Some(s) if s >= p.defer_score => Color32::from_rgb(240, 200, 60),
-        Some(_) => Color32::from_rgb(255, 140, 40),
-    }
+    score.map_or(Color32::from_rgb(255, 70, 70), |s| grade(s).1)
 }
 
-/// A word for the guard's score of an element (as [`target_colour`]).
-fn score_word(score: f64) -> &'static str {
+/// The word and colour of the guard's score of an element, by the
+/// extraction's own thresholds: taken at once from
+/// [`MeshParams::accept_score`] (good, green), made to wait below
+/// [`MeshParams::defer_score`] (poor, orange), fair (amber) between.
+///
+/// [`MeshParams::accept_score`]: crate::extract::MeshParams::accept_score
+/// [`MeshParams::defer_score`]: crate::extract::MeshParams::defer_score
+fn grade(score: f64) -> (&'static str, Color32) {
     let p = crate::extract::MeshParams::DEFAULT;
     if score >= p.accept_score {
-        "good"
+        ("good", Color32::from_rgb(90, 230, 110))
     } else if score >= p.defer_score {
-        "fair"
+        ("fair", Color32::from_rgb(240, 200, 60))
     } else {
-        "poor"
+        ("poor", Color32::from_rgb(255, 140, 40))
     }
 }

@@ -423,14 +423,15 @@ pub fn fit_with_corrections(
     params: &FitParams,
     radius: f64,
 ) -> Result<(ModelFile, Vec<FitReport>), FitError> {
-    correction_memory(set.points, corrections, radius)?;
+    let memory = correction_memory(set.points, corrections, radius)?;
     let (file, reports) = fit_model(set, form, name, params)?;
-    Ok((layer_corrections(file, corrections, radius)?, reports))
+    Ok((with_memory(file, memory), reports))
 }
 
 /// The [`CorrectionMemory`] of `corrections` over a model of `points`
-/// input points, or why they cannot be layered over it.
-fn correction_memory(
+/// input points, or why they cannot be layered over it: checked before a
+/// global fit is made, which takes seconds.
+pub fn correction_memory(
     points: usize,
     corrections: &TrainingSet,
     radius: f64,
@@ -451,16 +452,11 @@ fn correction_memory(
     Ok(memory)
 }
 
-/// `file`, a global fit, with `corrections` layered over it
-/// ([`CorrectionMemory`] with `radius`, as [`fit_with_corrections`] does).
-pub fn layer_corrections(
-    mut file: ModelFile,
-    corrections: &TrainingSet,
-    radius: f64,
-) -> Result<ModelFile, FitError> {
-    let memory = correction_memory(file.points, corrections, radius)?;
-    file.training.corrections = corrections.len();
-    Ok(file.with_corrections(memory))
+/// `file`, a global fit, with the corrections of `memory` layered over it
+/// ([`correction_memory`]), counted in its training summary.
+pub fn with_memory(mut file: ModelFile, memory: CorrectionMemory) -> ModelFile {
+    file.training.corrections = memory.len();
+    file.with_corrections(memory)
 }
 
 /// A refit as the editor makes it: the global form fitted on `base` (the
@@ -479,8 +475,13 @@ pub fn refit(
     params: &FitParams,
 ) -> Result<ModelFile, FitError> {
     let (corrections, from_meshes) = split_added(added);
+    let memory = correction_memory(
+        base.points,
+        &corrections,
+        crate::model::memory::DEFAULT_RADIUS,
+    )?;
     let global = refit_global(base, &from_meshes, form, name, params)?;
-    layer_corrections(global, &corrections, crate::model::memory::DEFAULT_RADIUS)
+    Ok(with_memory(global, memory))
 }
 
 /// The samples of `added` in two sets: the user's own elements
