@@ -1331,6 +1331,10 @@ fn issue17_replacing_the_document_asks_before_losing_work() {
     );
     h.get_by_label("Unsaved changes");
     h.get_by_label_contains("1 training sample");
+    // With no project yet, Save makes one: the question says so.
+    h.get_by_label_contains(
+        "Save the changes to annulus.poly as a project (annulus.quadex.json) before opening square.poly?",
+    );
     h.get_by_label("Cancel").click();
     h.run();
     assert_eq!(h.state().window.ask, None);
@@ -1854,6 +1858,39 @@ fn issue17_menus_ticks_tooltips_and_export_path() {
     h.run();
     let p = PathBuf::from(&h.state().panels.export_path);
     assert_eq!(p.file_name().unwrap(), "lshape.msh");
+    // A built-in example has no folder of its own: its Export box (and so
+    // its dialogs) start where the last file was written, not in the
+    // working directory.
+    let written = dir.path().join("lshape.msh");
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    h.state_mut().apply(Command::Export(written.clone()));
+    settle(&mut h);
+    assert!(written.exists(), "{}", h.state().window.status);
+    h.state_mut().apply(Command::OpenExample("square.poly"));
+    h.run();
+    let p = PathBuf::from(&h.state().panels.export_path);
+    assert_eq!(p, dir.path().join("square.msh"));
+}
+
+#[test]
+fn the_file_prompt_takes_the_keyboard() {
+    // The prompt in the window (no desktop dialog): its path field has the
+    // keyboard from the start, so typing a name needs no click.
+    let mut h = harness(open(&boundary("plate_hole.poly")));
+    h.state_mut().window.native_dialogs = false;
+    h.run();
+    h.state_mut()
+        .apply(Command::Dialog(quadex::app::command::Dialog::ImportSamples));
+    h.run();
+    let start = format!("{}/", boundary("x").parent().unwrap().display());
+    assert!(h.query_all_by_value(&start).count() > 0, "{start}");
+    h.input_mut()
+        .events
+        .push(egui::Event::Text("mine.csv".into()));
+    h.run();
+    let typed = boundary("mine.csv").display().to_string();
+    assert!(h.query_all_by_value(&typed).count() > 0, "{typed}");
 }
 
 #[test]

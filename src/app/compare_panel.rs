@@ -177,13 +177,7 @@ impl super::View for ComparePanel {
         }
         // The table scrolls on its own, its scroll bar right under it: it
         // is wider than the panel.
-        ui.scope(|ui| {
-            ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
-            egui::ScrollArea::horizontal()
-                .id_salt("compare table scroll")
-                .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
-                .show(ui, |ui| table(ui, c));
-        });
+        super::sideways_table(ui, "compare table scroll", |ui| table(ui, c));
         ui.label("accepted: the model's element as predicted; rescaled: its element with Pn drawn to the size field; replaced: a remedy's element. Shares of the element steps.");
         // As many pictures a row as the panel's width takes (a child of a
         // wrapping row does not move to the next one when it overflows).

@@ -361,6 +361,22 @@ pub struct App {
     pub window: Window,
 }
 
+/// A table wider than its panel: it scrolls sideways under a solid bar
+/// that is always shown (a floating bar, shown on hover only, leaves the
+/// clipped columns unannounced), and its rows are never wrapped.
+pub fn sideways_table(ui: &mut egui::Ui, id: &str, table: impl FnOnce(&mut egui::Ui)) {
+    ui.scope(|ui| {
+        ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
+        egui::ScrollArea::horizontal()
+            .id_salt(id)
+            .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
+            .show(ui, |ui| {
+                ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
+                table(ui)
+            });
+    });
+}
+
 /// "1 quad", "2 quads".
 pub fn plural(n: usize, what: &str) -> String {
     if n == 1 {
@@ -1349,13 +1365,17 @@ impl App {
         Ok(format!("saved {}", path.display()))
     }
 
-    /// The folder and file name a dialog starts from.
+    /// The folder and file name a dialog starts from: the document's
+    /// folder; for a document of no file (a built-in example, a new
+    /// drawing) the folder of the file last opened or written, and only
+    /// with none of those the working directory.
     fn dialog_start(&self, d: Dialog) -> (PathBuf, String) {
         let dir = self
             .document
             .project_path
             .as_ref()
             .or(self.document.doc.source.as_ref())
+            .or(self.window.recent.0.first())
             .and_then(|p| p.parent())
             .filter(|p| !p.as_os_str().is_empty())
             .map(Path::to_path_buf)
@@ -2204,7 +2224,16 @@ impl App {
         let Some(ask) = self.window.ask.clone() else {
             return;
         };
-        let title = self.title();
+        // Save writes a project file: with none yet, the question says so
+        // (the boundary file the document came from is left as it is).
+        let title = match &self.document.project_path {
+            Some(_) => self.title(),
+            None => format!(
+                "{} as a project ({})",
+                self.title(),
+                Dialog::SaveProjectAs.file_name(&stem(&self.title()))
+            ),
+        };
         let question = match &ask {
             Ask::Close => format!("Save the changes to {title} before closing?"),
             Ask::Discard(c) => {

@@ -104,7 +104,7 @@ impl super::View for SamplesPanel {
         });
         self.selected.retain(|&i| i < set.len());
         let rows = self.visible(doc);
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.label(format!(
                 "{} shown, {} selected",
                 rows.len(),
@@ -140,40 +140,43 @@ impl super::View for SamplesPanel {
         });
         let row_h = ui.text_style_height(&egui::TextStyle::Monospace) + 4.0;
         let header = format!(
-            "{:>6} {:>4} {:>8} {:>8}  {:<8} source",
+            "{:>6} {:>4} {:>8} {:>8}  {:<13} source",
             "#", "type", "Xn", "Yn", "l1"
         );
-        ui.monospace(header);
-        egui::ScrollArea::vertical()
-            .id_salt("samples_table")
-            .max_height(320.0)
-            .auto_shrink([false, true])
-            .show_rows(ui, row_h, rows.len(), |ui, range| {
-                for &i in &rows[range] {
-                    let s = &set.samples[i];
-                    let l1 = s.input.left.first().copied().unwrap_or_default();
-                    let text = format!(
-                        "{i:>6} {:>4} {:>8.4} {:>8.4}  ({:.2},{:.2}) {}",
-                        s.element_type.number(),
-                        s.pn.x,
-                        s.pn.y,
-                        l1.x,
-                        l1.y,
-                        source(s)
-                    );
-                    let mut on = self.selected.contains(&i);
-                    if ui
-                        .toggle_value(&mut on, egui::RichText::new(text).monospace())
-                        .changed()
-                    {
-                        if on {
-                            self.selected.insert(i);
-                        } else {
-                            self.selected.remove(&i);
+        // The rows are one line each however narrow the panel: the table
+        // scrolls sideways (header with it) rather than wrap a row's source.
+        super::sideways_table(ui, "samples_table_wide", |ui| {
+            ui.monospace(header);
+            egui::ScrollArea::vertical()
+                .id_salt("samples_table")
+                .max_height(320.0)
+                .auto_shrink([false, true])
+                .show_rows(ui, row_h, rows.len(), |ui, range| {
+                    for &i in &rows[range] {
+                        let s = &set.samples[i];
+                        let l1 = s.input.left.first().copied().unwrap_or_default();
+                        let text = format!(
+                            "{i:>6} {:>4} {:>8.4} {:>8.4}  {:<13} {}",
+                            s.element_type.number(),
+                            s.pn.x,
+                            s.pn.y,
+                            format!("({:.2},{:.2})", l1.x, l1.y),
+                            source(s)
+                        );
+                        let mut on = self.selected.contains(&i);
+                        if ui
+                            .toggle_value(&mut on, egui::RichText::new(text).monospace())
+                            .changed()
+                        {
+                            if on {
+                                self.selected.insert(i);
+                            } else {
+                                self.selected.remove(&i);
+                            }
                         }
                     }
-                }
-            });
+                });
+        });
         cmds
     }
 }

@@ -576,11 +576,10 @@ impl Tools {
     ) -> Vec<Command> {
         // One row whatever the tool says (a taller bar would shrink the
         // canvas and move the drawing under the pointer): long texts are
-        // cut, in full on hover.
+        // cut, in full on hover (egui's own tooltip of a cut label).
         let note = |ui: &mut Ui, text: String, weak: bool| {
-            let t = egui::RichText::new(text.clone());
-            ui.add(egui::Label::new(if weak { t.weak() } else { t }).truncate())
-                .on_hover_text(text);
+            let t = egui::RichText::new(text);
+            ui.add(egui::Label::new(if weak { t.weak() } else { t }).truncate());
         };
         ui.horizontal(|ui| {
             ui.label(egui::RichText::new("Tool").strong());
