@@ -72,7 +72,10 @@ def main():
         worst = f"{min(r['sj_min'] for r in ok):.4f}" if ok else "-"
         bad = sum(r["taper_max"] > 10 or r["aspect_max"] > 10 for r in ok)
         # The median share of a filled mesh's quads that the fill made.
-        shares = [r.get("fill_quads", 0) / max(1, r["quads"]) for r in ok if r.get("fill", 0) > 0]
+        # The fill's quads over the quads extraction and the fill left
+        # (before finishing changes the mesh).
+        shares = [r.get("fill_quads", 0) / max(1, r.get("standing") or r["quads"])
+                  for r in ok if r.get("fill", 0) > 0]
         share = f"{100 * statistics.median(shares):.0f} %" if shares else "-"
         print(f"{f:11} {len(rs):5d} {len(ok) - fill:7d} {fill:4d} {failed:6d} {to:4d} {pan:5d} "
               f"{med:>10} {worst:>11} {bad:12d} {share:>10}")

@@ -68,6 +68,7 @@ def run_case(poly, outdir, binary, extra, timeout):
         row["kinds"] = kinds
         row["fill"] = kinds.get("Fill", 0)
         row["fill_quads"] = r.get("steps", {}).get("quads_by_kind", {}).get("Fill", 0)
+        row["standing"] = r.get("steps", {}).get("standing", 0)
     return row
 
 

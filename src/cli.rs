@@ -532,9 +532,10 @@ fn run(c: Command) -> Result<()> {
             let made_by = match stats.count(StepKind::Fill) {
                 0 => format!("{} extraction steps", stats.steps),
                 _ => format!(
-                    "{} extraction steps and a region fill ({} quads)",
+                    "{} extraction steps and a region fill ({} of the {} quads before finishing)",
                     stats.steps - stats.count(StepKind::Fill),
-                    stats.quads_made(StepKind::Fill)
+                    stats.quads_made(StepKind::Fill),
+                    stats.standing
                 ),
             };
             outln!(

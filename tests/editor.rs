@@ -1592,6 +1592,7 @@ fn the_step_panel_names_the_region_fill_and_its_quads() {
     assert_eq!(stats.count(StepKind::Fill), 1);
     let mesh = h.state().doc().mesher().unwrap().mesh().clone();
     assert!(filled > 0 && filled < mesh.quads.len());
+    assert_eq!(stats.standing, mesh.quads.len());
     // The fill's report lists the quads it left in the mesh.
     let last = h.state().doc().last().cloned().unwrap();
     assert_eq!(last.kind, StepKind::Fill);

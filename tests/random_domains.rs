@@ -62,6 +62,14 @@ fn mesh_one(d: &Domain) -> Result<usize, String> {
     if sj.is_nan() || sj <= 0.0 {
         return Err(format!("scaled Jacobian {sj}"));
     }
+    // The fill's count is of the quads extraction and the fill left.
+    if stats.quads_made(StepKind::Fill) > stats.standing || stats.standing == 0 {
+        return Err(format!(
+            "fill quads {} of {} standing",
+            stats.quads_made(StepKind::Fill),
+            stats.standing
+        ));
+    }
     Ok(stats.by_kind.get(&StepKind::Fill).copied().unwrap_or(0))
 }
 

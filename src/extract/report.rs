@@ -155,6 +155,12 @@ pub struct StepStats {
     /// cleanup or remeshing): how much of a mesh the region fill made.
     #[serde(default)]
     pub quads_by_kind: BTreeMap<StepKind, usize>,
+    /// Quads in the mesh after the last step: what extraction (and a
+    /// region fill) left, before finishing (cleanup, remeshing of bad
+    /// spots) changes the mesh. A fill's share of the mesh is
+    /// `quads_made(Fill) / standing`.
+    #[serde(default)]
+    pub standing: usize,
     pub by_type: [usize; 3],
     /// Element steps by what the guard did to the model's element.
     pub by_remedy: BTreeMap<Remedy, usize>,
@@ -187,8 +193,10 @@ impl StepStats {
         self.quads_by_kind.get(&k).copied().unwrap_or(0)
     }
 
-    pub(super) fn record(&mut self, r: &StepReport) {
+    /// Counts step `r`, after which the mesh holds `standing` quads.
+    pub(super) fn record(&mut self, r: &StepReport, standing: usize) {
         self.steps += 1;
+        self.standing = standing;
         *self.by_kind.entry(r.kind).or_default() += 1;
         *self.quads_by_kind.entry(r.kind).or_default() += r.quads.len();
         if let Some(t) = r.element_type {
@@ -268,18 +276,20 @@ mod tests {
         .into_iter()
         .enumerate()
         {
-            stats.record(&step(k, kind, quads));
+            stats.record(&step(k, kind, quads), 40 + k);
         }
         assert_eq!(stats.count(StepKind::Element), 2);
         assert_eq!(stats.quads_made(StepKind::Element), 2);
         assert_eq!(stats.quads_made(StepKind::Transition), 4);
         assert_eq!(stats.quads_made(StepKind::Fill), 37);
         assert_eq!(stats.quads_made(StepKind::Seam), 0);
+        assert_eq!(stats.standing, 43);
         // Reports written before the count existed still read.
         let old = r#"{"steps":1,"by_kind":{"Fill":1},"by_type":[0,0,0],
             "by_remedy":{},"skipped_references":0,"rejected_predictions":0}"#;
         let read: StepStats = serde_json::from_str(old).unwrap();
         assert_eq!(read.count(StepKind::Fill), 1);
         assert_eq!(read.quads_made(StepKind::Fill), 0);
+        assert_eq!(read.standing, 0);
     }
 }

@@ -384,7 +384,7 @@ impl Mesher {
         }
         self.history.push(Action::Auto);
         self.undone.clear();
-        self.stats.record(&r);
+        self.stats.record(&r, self.mesh.quads.len());
         Ok(StepOutcome::Stepped(Box::new(r)))
     }
 
@@ -491,7 +491,7 @@ impl Mesher {
         let r = self.fill_rest()?;
         self.history.push(Action::Fill);
         self.undone.clear();
-        self.stats.record(&r);
+        self.stats.record(&r, self.mesh.quads.len());
         Some(r)
     }
 
@@ -639,7 +639,7 @@ impl Mesher {
         let r = self.apply_correction(c)?;
         self.history.push(Action::Correction(c.clone()));
         self.undone.clear();
-        self.stats.record(&r);
+        self.stats.record(&r, self.mesh.quads.len());
         Ok(r)
     }
 
