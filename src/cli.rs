@@ -565,6 +565,13 @@ fn run(c: Command) -> Result<()> {
                     .map_err(|e| InputError(anyhow!("{}: {e}", b.display())))?;
                 check_against(&m, &bd)
                     .map_err(|e| InputError(anyhow!("{}: {e}", mesh.display())))?;
+                // On stderr: stdout stays the JSON alone.
+                eprintln!(
+                    "{} meshes {}: the same {} boundary nodes and the same area",
+                    mesh.display(),
+                    b.display(),
+                    bd.node_count()
+                );
             }
             outln!("{}", serde_json::to_string_pretty(&MeshQuality::of(&m))?);
             Ok(())

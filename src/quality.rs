@@ -70,7 +70,6 @@ impl Shape {
         a.max(b).max(c).max(d) / a.min(b).min(c).min(d)
     }
 
-    /// The aspect ratio: the larger ratio of opposite edges.
     /// Longest over shortest side (covers the thesis's aspect and taper).
     pub fn side_ratio(&self) -> f64 {
         let (lo, hi) = self
@@ -82,6 +81,7 @@ impl Shape {
         hi / lo.max(f64::MIN_POSITIVE)
     }
 
+    /// The aspect ratio: the larger ratio of opposite edges.
     pub fn aspect(&self) -> f64 {
         let len = self.edges;
         (len[0] / len[2])

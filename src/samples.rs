@@ -427,6 +427,21 @@ impl TryFrom<UncheckedSet> for TrainingSet {
 /// Rounding of coordinates when comparing samples for duplicates.
 const DEDUP_QUANTUM: f64 = 1e-9;
 
+/// What two samples must share to be duplicates: their points, Pn and type,
+/// rounded to [`DEDUP_QUANTUM`].
+fn dedup_key(s: &Sample) -> Vec<i64> {
+    let mut key: Vec<i64> = s
+        .input
+        .thesis_order()
+        .iter()
+        .chain(std::iter::once(&s.pn))
+        .flat_map(|p| [p.x, p.y])
+        .map(|v| (v / DEDUP_QUANTUM).round() as i64)
+        .collect();
+    key.push(s.element_type as i64);
+    key
+}
+
 impl TrainingSet {
     /// An empty set of `points` input points.
     pub fn new(points: usize) -> TrainingSet {
@@ -518,19 +533,31 @@ impl TrainingSet {
     pub fn dedup(&mut self) -> usize {
         let before = self.samples.len();
         let mut seen = BTreeSet::new();
-        self.samples.retain(|s| {
-            let mut key: Vec<i64> = s
-                .input
-                .thesis_order()
-                .iter()
-                .chain(std::iter::once(&s.pn))
-                .flat_map(|p| [p.x, p.y])
-                .map(|v| (v / DEDUP_QUANTUM).round() as i64)
-                .collect();
-            key.push(s.element_type as i64);
-            seen.insert(key)
-        });
+        self.samples.retain(|s| seen.insert(dedup_key(s)));
         before - self.samples.len()
+    }
+
+    /// The samples of this set that are in `base` neither, nor earlier in
+    /// this set (as [`TrainingSet::dedup`] compares them), and how many
+    /// were left out: what this set adds to `base` (`base` followed by the
+    /// result and deduplicated is `base` followed by this set and
+    /// deduplicated, sample for sample).
+    pub fn beyond(&self, base: &TrainingSet) -> (TrainingSet, usize) {
+        let mut seen: BTreeSet<Vec<i64>> = base.samples.iter().map(dedup_key).collect();
+        let samples: Vec<Sample> = self
+            .samples
+            .iter()
+            .filter(|s| seen.insert(dedup_key(s)))
+            .cloned()
+            .collect();
+        let left_out = self.samples.len() - samples.len();
+        (
+            TrainingSet {
+                points: self.points,
+                samples,
+            },
+            left_out,
+        )
     }
 
     /// Counts of samples by type.
@@ -827,6 +854,28 @@ mod tests {
         assert_eq!(back, t);
         let back = TrainingSet::from_json(&t.to_json().unwrap()).unwrap();
         assert_eq!(back, t);
+    }
+
+    #[test]
+    fn beyond_keeps_what_a_set_adds_to_another() {
+        let mut t = TrainingSet::new(5);
+        t.samples = collect(&grid(4, 4), 2, &CollectParams::DEFAULT, "g");
+        t.dedup();
+        assert!(t.len() > 3);
+        let mut base = t.clone();
+        base.samples.truncate(2);
+        let mut more = t.clone();
+        more.samples.push(t.samples[0].clone());
+        let (fresh, left_out) = more.beyond(&base);
+        assert_eq!(fresh.samples, t.samples[2..].to_vec());
+        assert_eq!(left_out, 3);
+        let mut a = base.clone();
+        a.samples.extend(more.samples.clone());
+        a.dedup();
+        let mut b = base.clone();
+        b.samples.extend(fresh.samples);
+        b.dedup();
+        assert_eq!(a, b);
     }
 
     #[test]

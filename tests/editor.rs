@@ -421,10 +421,21 @@ fn correct_append_refit_and_finish() {
     assert_eq!(d.training.len(), 1);
     let new_node = d.last().unwrap().new_nodes[0];
     assert!((d.mesher().unwrap().mesh().nodes[new_node as usize] - moved).length() < 1e-12);
-    // Append the corrected element again from the panel (a counter shows it).
+    // The corrected element keeps its sample: appending it again is
+    // refused, so it does not weigh twice.
     h.get_by_label("Append as sample").click();
     h.run();
-    assert_eq!(h.state().doc().training.len(), 2);
+    assert_eq!(h.state().doc().training.len(), 1);
+    assert_eq!(
+        status(&h),
+        "error: the last element is in the training set already (sample 1)"
+    );
+    // The next element appended from the panel (a counter shows it).
+    h.state_mut().apply(Command::Step);
+    h.run();
+    h.get_by_label("Append as sample").click();
+    h.run();
+    assert_eq!(h.state().doc().training.len(), 2, "{}", status(&h));
     h.get_by_label("training set: 2 samples of yours");
     // Refit in one click: figures before and after, and the rest of the
     // mesh regenerated with the new model (in the background).
@@ -462,6 +473,45 @@ fn correct_append_refit_and_finish() {
     let out = dir.path().join("annulus.vtu");
     h.state_mut().apply(Command::Export(out.clone()));
     assert_judged_valid(&out);
+}
+
+/// Samples that repeat the reference set's (here collected from one of its
+/// own meshes) add nothing: the refit needs no new fit, is made at once and
+/// says why the figures did not move.
+#[test]
+fn a_refit_on_samples_the_reference_set_holds_says_they_add_nothing() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(3));
+    let lshape = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/reference/lshape.msh");
+    h.state_mut().apply(Command::CollectFromFile(lshape));
+    let n = h.state().doc().training.len();
+    assert!(n > 100, "{}", status(&h));
+    h.state_mut().apply(Command::Refit {
+        form: Form::Quadratic,
+        mesh_rest: false,
+    });
+    assert!(!h.state().busy(), "{}", status(&h));
+    let f = h
+        .state()
+        .doc()
+        .last_refit
+        .clone()
+        .expect("the refit, at once");
+    assert_eq!(f.repeated, n);
+    let base = quadex::app::document::reference_samples(7).unwrap().len();
+    assert_eq!(f.samples, base);
+    assert!(
+        status(&h).ends_with(&format!(
+            "; {n} samples of yours repeat samples already in the set and add nothing"
+        )),
+        "{}",
+        status(&h)
+    );
+    h.run();
+    h.get_by_label(&format!(
+        "{n} samples of yours repeated samples already in the set: the fit dropped them"
+    ));
 }
 
 /// A refit on samples collected from a mesh needs a new global fit (many
@@ -1352,6 +1402,7 @@ fn issue17_replacing_the_document_asks_before_losing_work() {
     let dir = tempfile::tempdir().unwrap();
     let project = dir.path().join("plate.quadex.json");
     h.state_mut().apply(Command::SaveProject(project.clone()));
+    h.state_mut().apply(Command::StepN(1));
     h.state_mut().apply(Command::AppendLast);
     h.state_mut().apply(Command::Open(square.clone()));
     h.run();
@@ -1370,6 +1421,7 @@ fn issue17_replacing_the_document_asks_before_losing_work() {
     c.state_mut().apply(Command::StepN(5));
     c.state_mut().apply(Command::AppendLast);
     c.state_mut().apply(Command::SaveProject(project.clone()));
+    c.state_mut().apply(Command::StepN(1));
     c.state_mut().apply(Command::AppendLast);
     c.input_mut()
         .viewports

@@ -588,3 +588,44 @@ fn r06b_rewinding_keeps_the_better_fill() {
     let worst = m.worst_scaled_jacobian();
     assert!(worst > 0.005, "{worst}");
 }
+
+/// `quadex quality MESH --boundary B` says on stderr that the mesh meshes
+/// that boundary (stdout stays the figures' JSON), and refuses a mesh of
+/// another boundary.
+#[test]
+fn quality_against_a_boundary_says_it_matches_or_why_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples");
+    let (square, lshape) = (examples.join("square.poly"), examples.join("lshape.poly"));
+    let mesh = dir.path().join("square.msh");
+    assert_eq!(mesh_to(&square, &mesh).code, Some(0));
+    let o = Command::new(env!("CARGO_BIN_EXE_quadex"))
+        .args([
+            "quality".as_ref(),
+            mesh.as_os_str(),
+            "--boundary".as_ref(),
+            square.as_os_str(),
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{stderr}");
+    assert!(
+        stderr.contains("boundary nodes and the same area"),
+        "{stderr}"
+    );
+    let figures: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(figures["quads"].as_u64().unwrap() > 0);
+    let r = quadex(&[
+        "quality".as_ref(),
+        mesh.as_os_str(),
+        "--boundary".as_ref(),
+        lshape.as_os_str(),
+    ]);
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("boundary nodes") || r.stderr.contains("area"),
+        "{}",
+        r.stderr
+    );
+}

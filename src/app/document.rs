@@ -247,6 +247,9 @@ pub struct RefitFigures {
     pub samples: usize,
     /// The user's corrections layered over it.
     pub corrections: usize,
+    /// Samples collected from meshes or imported that the fit dropped as
+    /// repeats of samples already in the set (they add nothing).
+    pub repeated: usize,
     pub before: (TypeFigures, Figures, Figures),
     pub after: (TypeFigures, Figures, Figures),
     /// The refitted model's name.
@@ -619,6 +622,15 @@ impl Document {
         }
         let m = self.mesher().ok_or(EditorError::NoStep)?;
         let s = m.sample_of(r).ok_or(EditorError::NotAnElement("step"))?;
+        // The same input and element (whatever its source) would weigh
+        // twice in a refit and tell it nothing new.
+        if let Some(i) =
+            self.training.samples.iter().position(|o| {
+                o.input == s.input && o.element_type == s.element_type && o.pn == s.pn
+            })
+        {
+            return Err(EditorError::AlreadySampled(i + 1));
+        }
         self.push_sample(s)
     }
 
@@ -756,13 +768,13 @@ impl Document {
     /// the figures of the old and the new model: on those samples, at each
     /// correction, and meshing the boundary from the start.
     pub fn refit(&mut self, form: Form) -> Result<RefitFigures, EditorError> {
-        let base = reference_samples(self.training.points)?;
+        let (base, from_meshes, repeated) = self.global_part()?;
         let set = self.refit_set()?;
         let mut k = self.models.len() + 1;
         while self.models.iter().any(|f| f.name == refit_name(form, k)) {
             k += 1;
         }
-        let (own, from_meshes) = fit::split_added(&self.training);
+        let (own, _) = fit::split_added(&self.training);
         let memory = fit::correction_memory(base.points, &own, model::memory::DEFAULT_RADIUS)?;
         let mut global = global_fit(&base, &from_meshes, form, &REFIT_PARAMS)?;
         global.name = refit_name(form, k);
@@ -817,6 +829,7 @@ impl Document {
         let f = RefitFigures {
             samples: file.training.samples,
             corrections: file.training.corrections,
+            repeated,
             before,
             after,
             model: file.name.clone(),
@@ -829,12 +842,25 @@ impl Document {
         Ok(f)
     }
 
+    /// What a refit's global fit is made on: the reference samples, and
+    /// the user's samples from meshes (collected or imported) that add to
+    /// them; with how many of the user's repeat samples already there (a
+    /// refit that adds only repeats needs no new fit).
+    fn global_part(&self) -> Result<(Arc<TrainingSet>, TrainingSet, usize), EditorError> {
+        let base = reference_samples(self.training.points)?;
+        let (_, from_meshes) = fit::split_added(&self.training);
+        if from_meshes.is_empty() {
+            return Ok((base, from_meshes, 0));
+        }
+        let (fresh, repeated) = from_meshes.beyond(&base);
+        Ok((base, fresh, repeated))
+    }
+
     /// The global fit a refit in `form` would make now, when it is not made
     /// yet (it takes seconds: the editor makes it in a thread first);
     /// `None` when the refit needs no new fit.
     pub fn pending_fit(&self, form: Form) -> Result<Option<FitTask>, EditorError> {
-        let base = reference_samples(self.training.points)?;
-        let (_, from_meshes) = fit::split_added(&self.training);
+        let (base, from_meshes, _) = self.global_part()?;
         let key = fit_key(&base, &from_meshes, form, &REFIT_PARAMS);
         Ok(cached_or_shipped(&key, &from_meshes, form, &REFIT_PARAMS)
             .is_none()

@@ -61,6 +61,10 @@ pub enum EditorError {
     NoStep,
     #[error("the last step is a {0}, not an element: only an element can be corrected or kept as a sample")]
     NotAnElement(&'static str),
+    /// "Append as sample" on an element whose sample the set holds (a
+    /// corrected element keeps its sample when it is made).
+    #[error("the last element is in the training set already (sample {0})")]
+    AlreadySampled(usize),
     #[error("the mesh is not finished: run it to the end first")]
     NotFinished,
     #[error("a run is going: wait for it or cancel it (Esc)")]

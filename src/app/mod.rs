@@ -960,6 +960,14 @@ impl App {
                     figure(f.before.2.r, 3),
                     figure(f.after.2.r, 3),
                 );
+                if f.repeated > 0 {
+                    msg.push_str(&format!(
+                        "; {} of yours {} samples already in the set and {} nothing",
+                        plural(f.repeated, "sample"),
+                        if f.repeated == 1 { "repeats" } else { "repeat" },
+                        if f.repeated == 1 { "adds" } else { "add" },
+                    ));
+                }
                 if !f.worse.is_empty() {
                     msg.push_str(&format!(
                         "; it meshes this boundary worse: {}",

@@ -180,31 +180,55 @@ impl super::View for QualityPanel {
             .num_columns(2)
             .striped(true)
             .show(ui, |ui| {
-                let rows: [(&str, String); 12] = [
-                    ("quads", q.quads.to_string()),
-                    ("nodes", q.nodes.to_string()),
-                    ("scaled Jacobian min", format!("{:.3}", q.sj_min)),
-                    ("scaled Jacobian mean", format!("{:.3}", q.sj_mean)),
-                    ("smallest angle", format!("{:.1}°", q.min_angle)),
-                    ("largest angle", format!("{:.1}°", q.max_angle)),
+                // (figure, value, what it is: hover the figure's name)
+                let rows: [(&str, String, &str); 12] = [
+                    ("quads", q.quads.to_string(), "Quads in the finished mesh"),
+                    ("nodes", q.nodes.to_string(), "Nodes in the finished mesh"),
+                    (
+                        "scaled Jacobian min",
+                        format!("{:.3}", q.sj_min),
+                        "The sine of a quad's worst corner angle, with its sign: 1 for right angles, 0 for a flat corner, below 0 for a reflex one",
+                    ),
+                    (
+                        "scaled Jacobian mean",
+                        format!("{:.3}", q.sj_mean),
+                        "The mean over the quads of their scaled Jacobian",
+                    ),
+                    ("smallest angle", format!("{:.1}°", q.min_angle), "The smallest corner angle of any quad"),
+                    ("largest angle", format!("{:.1}°", q.max_angle), "The largest corner angle of any quad"),
                     (
                         "angles in [45°, 135°]",
                         format!("{:.1} %", 100.0 * q.frac_angles_45_135),
+                        "Share of the quads whose four angles are all between 45° and 135°",
                     ),
                     (
                         "thesis criteria met",
                         format!("{:.1} %", 100.0 * q.frac_thesis_good),
+                        "Share of the quads with every angle in [45°, 135°] and aspect and taper at most 10 (thesis §1.2)",
                     ),
-                    ("Rs ≥ 0.8", format!("{:.1} %", 100.0 * q.frac_rs_ge_0_8)),
-                    ("aspect max", format!("{:.2}", q.aspect_max)),
-                    ("taper max", format!("{:.2}", q.taper_max)),
+                    (
+                        "Rs ≥ 0.8",
+                        format!("{:.1} %", 100.0 * q.frac_rs_ge_0_8),
+                        "Share of the quads whose area over the square of their mean edge length is at least 0.8 (1 for a square)",
+                    ),
+                    (
+                        "aspect max",
+                        format!("{:.2}", q.aspect_max),
+                        "Aspect ratio: the larger ratio of a quad's opposite edges (1 for a parallelogram, 4 for a trapezoid with one parallel side 4 times the other)",
+                    ),
+                    (
+                        "taper max",
+                        format!("{:.2}", q.taper_max),
+                        "Taper (the thesis's sense): the largest ratio of a quad's adjacent edges (1 for a square, 4 for a 1 × 4 rectangle)",
+                    ),
                     (
                         "irregular interior nodes",
                         format!("{} of {}", q.irregular_interior, q.interior_nodes),
+                        "Interior nodes with other than four quads round them",
                     ),
                 ];
-                for (name, v) in rows {
-                    ui.label(name);
+                for (name, v, tip) in rows {
+                    ui.label(name).on_hover_text(tip);
                     ui.monospace(v);
                     ui.end_row();
                 }

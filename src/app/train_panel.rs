@@ -143,6 +143,15 @@ impl super::View for TrainPanel {
                 super::plural(f.samples, "sample"),
                 super::plural(f.corrections, "correction")
             ));
+            if f.repeated > 0 {
+                ui.colored_label(
+                    ui.visuals().warn_fg_color,
+                    format!(
+                        "{} of yours repeated samples already in the set: the fit dropped them",
+                        super::plural(f.repeated, "sample")
+                    ),
+                );
+            }
             refit_outcome(ui, f);
             egui::Grid::new("refit").num_columns(3).show(ui, |ui| {
                 ui.label("");
@@ -186,11 +195,7 @@ fn refit_outcome(ui: &mut Ui, f: &super::RefitFigures) {
         .on_hover_text("The refitted model's element at each correction's input: the corrected type, and Pn within 0.05 (normalised)");
         // A scroll area of its own: the table is wider than the panel, and
         // the panel's lines below wrap at the panel's width, not its.
-        egui::ScrollArea::horizontal()
-            .id_salt("corrections scroll")
-            .show(ui, |ui| {
-                corrections_grid(ui, f);
-            });
+        super::sideways_table(ui, "corrections scroll", |ui| corrections_grid(ui, f));
     }
     if let Some((before, after)) = &f.meshed {
         let line = |o: &crate::compare::Outcome| {
