@@ -475,6 +475,21 @@ fn correct_append_refit_and_finish() {
     assert_judged_valid(&out);
 }
 
+/// Steps undo one by one; the status says how many are left and that
+/// Reset goes back to the start (a run to the end is hundreds of steps).
+#[test]
+fn undoing_a_step_says_how_many_are_left_and_how_to_start_again() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(4));
+    h.state_mut().apply(Command::Undo);
+    assert_eq!(
+        status(&h),
+        "undone: step (3 steps left; Reset, Ctrl+R, starts the mesh again)"
+    );
+    assert_eq!(h.state().doc().steps(), 3);
+}
+
 /// Samples that repeat the reference set's (here collected from one of its
 /// own meshes) add nothing: the refit needs no new fit, is made at once and
 /// says why the figures did not move.

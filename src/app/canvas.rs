@@ -65,14 +65,23 @@ impl View {
         )
     }
 
-    /// Fits the box `lo..hi` into `rect` with a margin.
+    /// Fits the box `lo..hi` into `rect` with a margin, above the strip
+    /// the colour legend takes at the bottom (where the canvas is tall
+    /// enough to spare it).
     pub fn fit(&mut self, rect: Rect, lo: Point, hi: Point) {
+        let below = if rect.height() > 4.0 * LEGEND_ROOM {
+            LEGEND_ROOM
+        } else {
+            0.0
+        };
         let size = (hi - lo).max(Point::splat(1e-300));
-        self.center = (lo + hi) * 0.5;
-        self.zoom = 0.9 * (rect.width() as f64 / size.x).min(rect.height() as f64 / size.y);
+        self.zoom =
+            0.9 * (rect.width() as f64 / size.x).min((rect.height() - below) as f64 / size.y);
         if !(self.zoom.is_finite() && self.zoom > 0.0) {
             self.zoom = 1.0;
         }
+        // The box's centre drawn half the strip above the canvas's.
+        self.center = (lo + hi) * 0.5 - Point::new(0.0, 0.5 * below as f64 / self.zoom);
         self.fit_pending = false;
         self.fitted = true;
         self.fitted_box = Some((lo, hi));
@@ -253,6 +262,10 @@ pub fn quality_color(sj: f64) -> Color32 {
 
 /// The colour legend of the quads' metric: a bar from bad to ideal in the
 /// canvas's lower left corner, labelled with the metric's figures.
+/// Height of the strip at the canvas's bottom the colour legend takes
+/// ([`legend`]), in points.
+const LEGEND_ROOM: f32 = 80.0;
+
 pub fn legend(painter: &egui::Painter, rect: egui::Rect, metric: super::quality_panel::Metric) {
     const STOPS: [f64; 5] = [0.1, 0.25, 0.5, 0.75, 1.0];
     let (w, h) = (44.0, 14.0);

@@ -832,7 +832,16 @@ impl App {
                 if what.is_some() {
                     self.changed(mesh);
                 }
-                Ok(what.map_or("nothing to undo".into(), |w| format!("undone: {}", w.name)))
+                let left = self.document.doc.steps();
+                Ok(match what {
+                    None => "nothing to undo".into(),
+                    // Steps undo one by one (to go back to an element to
+                    // correct); the way back to the start is Reset.
+                    Some(w) if w.step && left > 1 => format!(
+                        "undone: step ({left} steps left; Reset, Ctrl+R, starts the mesh again)"
+                    ),
+                    Some(w) => format!("undone: {}", w.name),
+                })
             }
             Command::Redo => {
                 let before = self.document.doc.clone();

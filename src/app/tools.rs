@@ -408,8 +408,14 @@ impl Tools {
                 Some(Hover::Target(t)) => {
                     painter.circle_stroke(to(t.at), 8.0, Stroke::new(2.5, target_colour(&t)));
                     let text = if let Some(score) = t.score {
+                        // Named as the canvas labels the leading points.
+                        let label = match t.element_type {
+                            ElementType::Right => "r2, ",
+                            ElementType::Left => "l2, ",
+                            ElementType::New => "",
+                        };
                         format!(
-                            "click: close the element onto node {} (type {}); element score {score:.2}, {}",
+                            "click: close the element onto node {} ({label}type {}); element score {score:.2}, {}",
                             t.node,
                             t.element_type.number(),
                             grade(score).0
