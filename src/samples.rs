@@ -427,6 +427,10 @@ impl TryFrom<UncheckedSet> for TrainingSet {
 /// Rounding of coordinates when comparing samples for duplicates.
 const DEDUP_QUANTUM: f64 = 1e-9;
 
+/// The duplicate keys of a set's samples ([`TrainingSet::keys`]).
+#[derive(Clone, Debug, Default)]
+pub struct SampleKeys(BTreeSet<Vec<i64>>);
+
 /// What two samples must share to be duplicates: their points, Pn and type,
 /// rounded to [`DEDUP_QUANTUM`].
 fn dedup_key(s: &Sample) -> Vec<i64> {
@@ -537,17 +541,27 @@ impl TrainingSet {
         before - self.samples.len()
     }
 
-    /// The samples of this set that are in `base` neither, nor earlier in
-    /// this set (as [`TrainingSet::dedup`] compares them), and how many
-    /// were left out: what this set adds to `base` (`base` followed by the
-    /// result and deduplicated is `base` followed by this set and
-    /// deduplicated, sample for sample).
-    pub fn beyond(&self, base: &TrainingSet) -> (TrainingSet, usize) {
-        let mut seen: BTreeSet<Vec<i64>> = base.samples.iter().map(dedup_key).collect();
+    /// What its samples are compared by for duplicates, to test other
+    /// samples against the set ([`TrainingSet::beyond`]).
+    pub fn keys(&self) -> SampleKeys {
+        SampleKeys(self.samples.iter().map(dedup_key).collect())
+    }
+
+    /// The samples of this set that are in the set of keys `base` (a
+    /// [`TrainingSet::keys`]) neither, nor earlier in this set (as
+    /// [`TrainingSet::dedup`] compares them), and how many were left out:
+    /// what this set adds to `base` (`base` followed by the result and
+    /// deduplicated is `base` followed by this set and deduplicated,
+    /// sample for sample).
+    pub fn beyond(&self, base: &SampleKeys) -> (TrainingSet, usize) {
+        let mut seen = BTreeSet::new();
         let samples: Vec<Sample> = self
             .samples
             .iter()
-            .filter(|s| seen.insert(dedup_key(s)))
+            .filter(|s| {
+                let key = dedup_key(s);
+                !base.0.contains(&key) && seen.insert(key)
+            })
             .cloned()
             .collect();
         let left_out = self.samples.len() - samples.len();
@@ -858,15 +872,20 @@ mod tests {
 
     #[test]
     fn beyond_keeps_what_a_set_adds_to_another() {
+        // Five samples that differ in Pn.
+        let one = collect(&grid(4, 4), 2, &CollectParams::DEFAULT, "g")[0].clone();
         let mut t = TrainingSet::new(5);
-        t.samples = collect(&grid(4, 4), 2, &CollectParams::DEFAULT, "g");
-        t.dedup();
-        assert!(t.len() > 3);
+        t.samples = (0..5)
+            .map(|k| Sample {
+                pn: one.pn + Point::new(0.01 * k as f64, 0.0),
+                ..one.clone()
+            })
+            .collect();
         let mut base = t.clone();
         base.samples.truncate(2);
         let mut more = t.clone();
         more.samples.push(t.samples[0].clone());
-        let (fresh, left_out) = more.beyond(&base);
+        let (fresh, left_out) = more.beyond(&base.keys());
         assert_eq!(fresh.samples, t.samples[2..].to_vec());
         assert_eq!(left_out, 3);
         let mut a = base.clone();

@@ -23,7 +23,7 @@ use crate::model::fitted::FittedModel;
 use crate::model::{self, ElementType, Form, Model as _, ModelFile};
 use crate::pipeline::FinishParams;
 use crate::remesh::RemeshParams;
-use crate::samples::{Sample, TrainingSet};
+use crate::samples::{Sample, SampleKeys, TrainingSet};
 use crate::smooth::SmoothParams;
 use crate::Boundary;
 use serde::{Deserialize, Serialize};
@@ -847,13 +847,13 @@ impl Document {
     /// them; with how many of the user's repeat samples already there (a
     /// refit that adds only repeats needs no new fit).
     fn global_part(&self) -> Result<(Arc<TrainingSet>, TrainingSet, usize), EditorError> {
-        let base = reference_samples(self.training.points)?;
+        let base = reference(self.training.points)?;
         let (_, from_meshes) = fit::split_added(&self.training);
         if from_meshes.is_empty() {
-            return Ok((base, from_meshes, 0));
+            return Ok((base.set, from_meshes, 0));
         }
-        let (fresh, repeated) = from_meshes.beyond(&base);
-        Ok((base, fresh, repeated))
+        let (fresh, repeated) = from_meshes.beyond(base.keys.get_or_init(|| base.set.keys()));
+        Ok((base.set, fresh, repeated))
     }
 
     /// The global fit a refit in `form` would make now, when it is not made
@@ -1137,17 +1137,32 @@ pub const COMPARE_NODES: usize = 4000;
 /// for the shipped model ([`crate::reference::training_set`]), once per run
 /// of the program and shared.
 pub fn reference_samples(points: usize) -> Result<Arc<TrainingSet>, EditorError> {
-    static CACHE: OnceLock<Mutex<BTreeMap<usize, Arc<TrainingSet>>>> = OnceLock::new();
+    Ok(reference(points)?.set)
+}
+
+/// The reference samples at `points` input points, and their duplicate
+/// keys when a refit has needed them, kept for the session.
+#[derive(Clone)]
+struct Reference {
+    set: Arc<TrainingSet>,
+    keys: Arc<OnceLock<SampleKeys>>,
+}
+
+fn reference(points: usize) -> Result<Reference, EditorError> {
+    static CACHE: OnceLock<Mutex<BTreeMap<usize, Reference>>> = OnceLock::new();
     let cache = CACHE.get_or_init(Default::default);
-    if let Some(s) = cache.lock().ok().and_then(|c| c.get(&points).cloned()) {
-        return Ok(s);
+    if let Some(r) = cache.lock().ok().and_then(|c| c.get(&points).cloned()) {
+        return Ok(r);
     }
     let meshes = crate::reference::read_shipped()?;
-    let set = Arc::new(crate::reference::training_set(&meshes, points));
+    let r = Reference {
+        set: Arc::new(crate::reference::training_set(&meshes, points)),
+        keys: Arc::default(),
+    };
     if let Ok(mut c) = cache.lock() {
-        c.insert(points, set.clone());
+        c.insert(points, r.clone());
     }
-    Ok(set)
+    Ok(r)
 }
 
 /// A training-set edit from the editor's Training set panel.
