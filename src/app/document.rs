@@ -1033,7 +1033,8 @@ pub struct FitTask {
 }
 
 impl FitTask {
-    /// Samples it fits on (before duplicates are dropped).
+    /// Samples it fits on: the reference samples and those of yours that
+    /// add to them.
     pub fn samples(&self) -> usize {
         self.base.len() + self.from_meshes.len()
     }

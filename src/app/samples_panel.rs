@@ -145,11 +145,13 @@ impl super::View for SamplesPanel {
         );
         // The rows are one line each however narrow the panel: the table
         // scrolls sideways (header with it) rather than wrap a row's source.
+        // The rows take the panel's height left (less the bar below them).
+        let rows_height = (ui.available_height() - 40.0).max(160.0);
         super::sideways_table(ui, "samples_table_wide", |ui| {
             ui.monospace(header);
             egui::ScrollArea::vertical()
                 .id_salt("samples_table")
-                .max_height(320.0)
+                .max_height(rows_height)
                 .auto_shrink([false, true])
                 .show_rows(ui, row_h, rows.len(), |ui, range| {
                     for &i in &rows[range] {
