@@ -475,6 +475,24 @@ fn correct_append_refit_and_finish() {
     assert_judged_valid(&out);
 }
 
+/// A refitted model is the document's (a project keeps it) whatever the
+/// mesh does after: replacing the document asks first, and names it.
+#[test]
+fn a_refitted_model_is_work_to_save_after_a_reset() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(3));
+    h.state_mut().apply(Command::Refit {
+        form: Form::Quadratic,
+        mesh_rest: false,
+    });
+    h.state_mut().apply(Command::Reset);
+    h.state_mut().apply(Command::OpenExample("square.poly"));
+    h.run();
+    h.get_by_label("Unsaved changes");
+    h.get_by_label("They hold 1 refitted model.");
+}
+
 /// Steps undo one by one; the status says how many are left and that
 /// Reset goes back to the start (a run to the end is hundreds of steps).
 #[test]

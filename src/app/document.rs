@@ -512,7 +512,7 @@ impl Document {
     /// (automatic steps can be taken again).
     pub fn has_work(&self) -> bool {
         !self.training.is_empty()
-            || !self.refits().is_empty()
+            || !self.models.is_empty()
             || self.boundary_edited
             || self.mesher().is_some_and(|m| {
                 m.actions()

@@ -2269,8 +2269,8 @@ impl App {
             if !d.training.is_empty() {
                 w.push(plural(d.training.len(), "training sample"));
             }
-            if !d.refits().is_empty() {
-                w.push(plural(d.refits().len(), "refitted model"));
+            if !d.models.is_empty() {
+                w.push(plural(d.models.len(), "refitted model"));
             }
             if d.boundary_edited {
                 w.push("boundary edits".into());
