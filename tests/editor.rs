@@ -493,6 +493,33 @@ fn a_refitted_model_is_work_to_save_after_a_reset() {
     h.get_by_label("They hold 1 refitted model.");
 }
 
+/// A comparison that meshed a refitted model whose refit is then undone
+/// says so, rather than show it as one of the document's models.
+#[test]
+fn the_compare_panel_says_when_a_compared_model_is_gone() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::Refit {
+        form: Form::Quadratic,
+        mesh_rest: false,
+    });
+    let name = h.state().doc().models[0].name.clone();
+    h.get_by_label("Compare").click();
+    h.state_mut().apply(Command::Compare(vec![name.clone()]));
+    let t = Instant::now();
+    while h.state().comparing() {
+        assert!(t.elapsed().as_secs() < 300, "the comparison did not end");
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    h.run();
+    let gone = format!("{name} no longer in the document (its refit undone): compare again");
+    assert!(h.query_by_label(&gone).is_none());
+    h.state_mut().apply(Command::Undo);
+    h.run();
+    h.get_by_label(&gone);
+}
+
 /// Steps undo one by one; the status says how many are left and that
 /// Reset goes back to the start (a run to the end is hundreds of steps).
 #[test]

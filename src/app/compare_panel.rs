@@ -175,6 +175,21 @@ impl super::View for ComparePanel {
                 "for an earlier boundary: compare again",
             );
         }
+        let gone: Vec<&str> = c
+            .outcomes
+            .iter()
+            .map(|o| o.model.as_str())
+            .filter(|m| !names.iter().any(|n| n == m))
+            .collect();
+        if !gone.is_empty() {
+            ui.colored_label(
+                Color32::from_rgb(230, 170, 60),
+                format!(
+                    "{} no longer in the document (its refit undone): compare again",
+                    gone.join(", ")
+                ),
+            );
+        }
         // The table scrolls on its own, its scroll bar right under it: it
         // is wider than the panel.
         super::sideways_table(ui, "compare table scroll", |ui| table(ui, c));
