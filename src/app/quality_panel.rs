@@ -278,6 +278,7 @@ fn histogram(
     label: fn(f64) -> String,
 ) {
     let w = (hi - lo) / bins as f64;
+    let top = counts.iter().copied().max().unwrap_or(0) as f64;
     let bars: Vec<Bar> = counts
         .iter()
         .copied()
@@ -299,14 +300,49 @@ fn histogram(
         .include_x(hi)
         .include_y(0.0)
         .x_grid_spacer(egui_plot::uniform_grid_spacer(move |_| steps))
+        // Counts labelled at a round step that gives two or three lines
+        // (the default spacing can leave only the 0 labelled).
+        .y_grid_spacer(egui_plot::uniform_grid_spacer(move |_| {
+            let s = count_step(top);
+            [s / 10.0, s / 2.0, s]
+        }))
         .x_axis_formatter(move |m, _| label(m.value))
         .y_axis_label("quads")
         .show(ui, |p| p.bar_chart(BarChart::new("quads", bars)));
 }
 
+/// A round step (1, 2 or 5 times a power of ten, at least 1) that divides
+/// `0..=top` into two to five parts.
+fn count_step(top: f64) -> f64 {
+    let raw = (top / 2.5).max(1.0);
+    let p = 10f64.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * p)
+        .find(|&s| s >= raw)
+        .unwrap_or(10.0 * p)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn count_steps_are_round_and_few() {
+        for (top, step) in [
+            (0.0, 1.0),
+            (3.0, 2.0),
+            (80.0, 50.0),
+            (150.0, 100.0),
+            (1234.0, 500.0),
+        ] {
+            assert_eq!(count_step(top), step, "{top}");
+            assert!(
+                top / step <= 5.0 && (top < 2.0 || top / step >= 1.0),
+                "{top}"
+            );
+        }
+    }
 
     #[test]
     fn bins_hold_every_value() {
