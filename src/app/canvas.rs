@@ -781,6 +781,9 @@ impl Labels<'_> {
             let rect = Rect::from_center_size(p + d * reach, size);
             if !self.taken.iter().any(|t| t.intersects(rect)) {
                 self.taken.push(rect);
+                // A dark backing: the label reads over any tint of quad.
+                self.painter
+                    .rect_filled(rect.expand(1.5), 3.0, Color32::from_black_alpha(170));
                 self.painter.galley(rect.min, galley, color);
                 return true;
             }
