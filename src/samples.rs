@@ -541,6 +541,13 @@ impl TrainingSet {
         before - self.samples.len()
     }
 
+    /// The position of the first sample that `s` duplicates (as
+    /// [`TrainingSet::dedup`] compares them), if any.
+    pub fn position_of(&self, s: &Sample) -> Option<usize> {
+        let key = dedup_key(s);
+        self.samples.iter().position(|o| dedup_key(o) == key)
+    }
+
     /// What its samples are compared by for duplicates, to test other
     /// samples against the set ([`TrainingSet::beyond`]).
     pub fn keys(&self) -> SampleKeys {
@@ -887,6 +894,8 @@ mod tests {
         more.samples.push(t.samples[0].clone());
         let (fresh, left_out) = more.beyond(&base.keys());
         assert_eq!(fresh.samples, t.samples[2..].to_vec());
+        assert_eq!(more.position_of(&t.samples[0]), Some(0));
+        assert_eq!(base.position_of(&t.samples[3]), None);
         assert_eq!(left_out, 3);
         let mut a = base.clone();
         a.samples.extend(more.samples.clone());

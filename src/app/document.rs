@@ -624,11 +624,7 @@ impl Document {
         let s = m.sample_of(r).ok_or(EditorError::NotAnElement("step"))?;
         // The same input and element (whatever its source) would weigh
         // twice in a refit and tell it nothing new.
-        if let Some(i) =
-            self.training.samples.iter().position(|o| {
-                o.input == s.input && o.element_type == s.element_type && o.pn == s.pn
-            })
-        {
+        if let Some(i) = self.training.position_of(&s) {
             return Err(EditorError::AlreadySampled(i + 1));
         }
         self.push_sample(s)
