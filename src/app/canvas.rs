@@ -260,12 +260,12 @@ pub fn quality_color(sj: f64) -> Color32 {
     Color32::from_rgb(r, g, b)
 }
 
-/// The colour legend of the quads' metric: a bar from bad to ideal in the
-/// canvas's lower left corner, labelled with the metric's figures.
 /// Height of the strip at the canvas's bottom the colour legend takes
-/// ([`legend`]), in points.
+/// ([`legend`], whose box reaches 78 points up), in points.
 const LEGEND_ROOM: f32 = 80.0;
 
+/// The colour legend of the quads' metric: a bar from bad to ideal in the
+/// canvas's lower left corner, labelled with the metric's figures.
 pub fn legend(painter: &egui::Painter, rect: egui::Rect, metric: super::quality_panel::Metric) {
     const STOPS: [f64; 5] = [0.1, 0.25, 0.5, 0.75, 1.0];
     let (w, h) = (44.0, 14.0);

@@ -169,11 +169,15 @@ impl super::View for ComparePanel {
         let Some(c) = scene.comparison else {
             return out;
         };
-        if doc.boundary() != Some(&c.boundary) {
+        // What makes the comparison out of date, in amber.
+        let stale = |ui: &mut Ui, why: String| {
             ui.colored_label(
                 Color32::from_rgb(230, 170, 60),
-                "for an earlier boundary: compare again",
+                format!("{why}: compare again"),
             );
+        };
+        if doc.boundary() != Some(&c.boundary) {
+            stale(ui, "for an earlier boundary".into());
         }
         let gone: Vec<&str> = c
             .outcomes
@@ -182,10 +186,10 @@ impl super::View for ComparePanel {
             .filter(|m| !names.iter().any(|n| n == m))
             .collect();
         if !gone.is_empty() {
-            ui.colored_label(
-                Color32::from_rgb(230, 170, 60),
+            stale(
+                ui,
                 format!(
-                    "{} no longer in the document (its refit undone): compare again",
+                    "{} no longer in the document (its refit undone)",
                     gone.join(", ")
                 ),
             );

@@ -166,7 +166,7 @@ impl super::View for StepPanel {
         }
         ui.separator();
         let can_step = doc.meshing.is_some() && !doc.is_done();
-        super::step_panel::button_enabled(
+        button_enabled(
             ui,
             can_step,
             "Step",
