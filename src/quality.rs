@@ -64,12 +64,6 @@ impl Shape {
         (is_strictly_convex(p), is_measurably_convex(p))
     }
 
-    /// Longest over shortest edge.
-    pub fn stretch(&self) -> f64 {
-        let [a, b, c, d] = self.edges;
-        a.max(b).max(c).max(d) / a.min(b).min(c).min(d)
-    }
-
     /// Longest over shortest side (covers the thesis's aspect and taper).
     pub fn side_ratio(&self) -> f64 {
         let (lo, hi) = self

@@ -182,7 +182,7 @@ impl Work<'_> {
         // (MAX_STRETCH) or than the cavity already does.
         let stretch = |m: &QuadMesh, qs: &[[u32; 4]]| {
             qs.iter()
-                .map(|q| Shape::of(m.corners(q)).stretch())
+                .map(|q| Shape::of(m.corners(q)).side_ratio())
                 .fold(MAX_STRETCH, f64::max)
         };
         let max_stretch = stretch(self.mesh, &quads);

@@ -347,7 +347,7 @@ fn smooth_with(
             (
                 shape.scaled_jacobian,
                 measurable,
-                shape.stretch().max(MAX_STRETCH),
+                shape.side_ratio().max(MAX_STRETCH),
             ),
         )
     };
@@ -468,7 +468,7 @@ fn node_quality(
         if (f.convex && !q.convexity(p).1)
             || q.area < f.area
             || q.rs < f.rs
-            || q.stretch() > f.stretch
+            || q.side_ratio() > f.stretch
         {
             return None;
         }
@@ -777,7 +777,7 @@ fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usi
             area: pass.area_ratio * s.area,
             rs: s.rs.min(QuadQuality::THIN_RS),
             convex: is_measurably_convex(p),
-            stretch: s.stretch().max(MAX_STRETCH),
+            stretch: s.side_ratio().max(MAX_STRETCH),
         };
     }
     // Counting the worst quad only up to `keep` leaves the sum alone to
