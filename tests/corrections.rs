@@ -91,8 +91,11 @@ fn corrections_in(cases: &[&str], count: usize, seed: u64) -> Vec<Sample> {
                 pn: Some(pn + Point::new(angle.cos(), angle.sin()) * len),
                 snap_to: None,
             };
-            if m.check_correction(&c).is_ok() {
+            if let Ok(checked) = m.check_correction(&c) {
                 let rc = m.correct(&c).unwrap();
+                // The checked element is the one committed.
+                let quad = rc.quads[0].map(|v| m.mesh().nodes[v as usize]);
+                assert_eq!(checked.quad, quad);
                 let s = m.sample_of(&rc).unwrap();
                 // Corrections at distinct places: a draw whose input lies
                 // near an earlier one's (a regular grid repeats its

@@ -1074,6 +1074,9 @@ fn dragging_pn_shows_how_good_the_element_would_be() {
     let says =
         |h: &Harness<'static, App>, text: &str| painted(h).iter().any(|(t, _, _)| t.contains(text));
     assert!(says(&h, "let go: element score "));
+    // The tip names both measures: the guard's score and the thesis's
+    // criteria for the quad alone.
+    assert!(says(&h, "the thesis's criteria"));
     // Past P0 the quad folds: no valid element, and letting go there
     // changes nothing.
     let past = t + (t - s);
@@ -1337,11 +1340,11 @@ fn issue17_clicking_a_front_node_closes_the_element_onto_it() {
         // The valid targets are ringed in the colour of their element's
         // score: green good, amber fair, orange poor.
         let p = quadex::MeshParams::DEFAULT;
-        let score = |t: &&quadex::app::Target| t.score.unwrap();
+        let score = |t: &&quadex::app::Target| t.check.unwrap().score;
         let good = valid.iter().filter(|t| score(t) >= p.accept_score).count();
         let poor = valid.iter().filter(|t| score(t) < p.defer_score).count();
         assert!(valid.iter().all(|t| score(&t) > 0.0 && score(&t) <= 1.0));
-        assert!(targets.iter().all(|t| t.valid() == t.score.is_some()));
+        assert!(targets.iter().all(|t| t.valid() == t.check.is_some()));
         assert!(strokes_of(&h, egui::Color32::from_rgb(90, 230, 110)) >= good);
         assert!(strokes_of(&h, egui::Color32::from_rgb(240, 200, 60)) >= valid.len() - good - poor);
         assert!(strokes_of(&h, egui::Color32::from_rgb(255, 140, 40)) >= poor);
@@ -2060,4 +2063,25 @@ fn the_compare_panel_meshes_the_boundary_with_each_model() {
             );
         }
     }
+}
+
+#[test]
+fn the_title_marks_unsaved_work_not_steps_alone() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(4));
+    h.run();
+    // Steps alone are made again by the same model: nothing to save.
+    assert!(!h.state().unsaved());
+    assert!(!h.state().title_line().contains("(changed)"));
+    h.state_mut().apply(Command::AppendLast);
+    h.run();
+    assert!(h.state().unsaved());
+    assert!(h.state().title_line().ends_with(" (changed)"));
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("annulus.quadex.json");
+    h.state_mut().apply(Command::SaveProject(path));
+    h.run();
+    assert!(status(&h).starts_with("saved"), "{}", status(&h));
+    assert!(!h.state().title_line().contains("(changed)"));
 }

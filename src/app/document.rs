@@ -12,7 +12,8 @@ use crate::boundary_edit::Draft;
 use crate::cleanup::CleanupParams;
 use crate::compare;
 use crate::extract::{
-    Action, Correction, MeshParams, Mesher, StepKind, StepOutcome, StepReport, Strategy,
+    Action, CheckedElement, Correction, MeshParams, Mesher, StepKind, StepOutcome, StepReport,
+    Strategy,
 };
 use crate::fit::{self, Figures, FitParams, TypeFigures};
 use crate::geom::Point;
@@ -295,15 +296,16 @@ pub struct Target {
     pub at: Point,
     /// Type 1 for P_r2, type 2 for P_l2, else type 0 closed onto the node.
     pub element_type: ElementType,
-    /// The guard's score of the element (`[0, 1]`; `None`: not a valid
-    /// element): a valid element may still be a poor one.
-    pub score: Option<f64>,
+    /// The element closing onto the node gives (`None`: not a valid
+    /// element): its guard's score and corners. A valid element may still
+    /// be a poor one.
+    pub check: Option<CheckedElement>,
 }
 
 impl Target {
     /// True when closing onto this node gives a valid element.
     pub fn valid(&self) -> bool {
-        self.score.is_some()
+        self.check.is_some()
     }
 
     /// The correction that closes the element onto this node.
@@ -745,7 +747,7 @@ impl Document {
                     node: v,
                     at: p,
                     element_type,
-                    score: before.check_correction(&c).ok(),
+                    check: before.check_correction(&c).ok(),
                 }
             })
             .collect()

@@ -707,6 +707,20 @@ impl App {
         }
     }
 
+    /// Whether replacing or closing the document would lose work: it
+    /// changed since it was opened or saved, and holds something a rerun
+    /// does not give back (samples, refitted models, an edited boundary,
+    /// hand corrections; steps alone the model makes again).
+    pub fn unsaved(&self) -> bool {
+        self.document.dirty && self.document.doc.has_work()
+    }
+
+    /// The document's name, marked "(changed)" while it holds unsaved work.
+    pub fn title_line(&self) -> String {
+        let mark = if self.unsaved() { " (changed)" } else { "" };
+        format!("{}{mark}", self.title())
+    }
+
     /// Remembers a file opened from a path the user gave.
     fn note_opened(&mut self, path: &Path) {
         self.document.project_path = document::is_project(path).then(|| path.to_path_buf());
@@ -752,7 +766,7 @@ impl App {
             self.window.status = format!("error: {}", EditorError::Busy);
             return;
         }
-        if cmd.replaces_document() && self.document.dirty && self.document.doc.has_work() {
+        if cmd.replaces_document() && self.unsaved() {
             self.window.status = format!("unsaved changes in {}", self.title());
             self.window.ask = Some(Ask::Discard(cmd));
             return;
@@ -1654,15 +1668,7 @@ impl App {
         self.refresh_finished(ctx);
         self.refresh_preview();
         self.refresh_targets();
-        let title = format!(
-            "quadex: {}{}",
-            self.title(),
-            if self.document.dirty {
-                " (changed)"
-            } else {
-                ""
-            }
-        );
+        let title = format!("quadex: {}", self.title_line());
         if title != self.window.title {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
             self.window.title = title;
@@ -2136,15 +2142,7 @@ impl App {
             }
         });
         ui.separator();
-        ui.label(format!(
-            "{}{}",
-            self.title(),
-            if self.document.dirty {
-                " (changed)"
-            } else {
-                ""
-            }
-        ));
+        ui.label(self.title_line());
     }
 
     fn status_bar(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
@@ -2223,11 +2221,7 @@ impl App {
         if std::mem::take(&mut self.window.close_now) {
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
-        if wants_close
-            && self.document.dirty
-            && self.document.doc.has_work()
-            && !self.window.close_allowed
-        {
+        if wants_close && self.unsaved() && !self.window.close_allowed {
             ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
             self.window.ask = Some(Ask::Close);
         }

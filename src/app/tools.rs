@@ -10,8 +10,10 @@ use super::command::Command;
 use super::document::{Document, Target};
 use super::MeshKind;
 use crate::boundary_edit::{At, Draft};
+use crate::extract::CheckedElement;
 use crate::geom::Point;
 use crate::model::ElementType;
+use crate::quality::GOOD_ANGLE;
 use egui::{Color32, Pos2, Shape, Stroke, Ui};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -133,9 +135,9 @@ pub struct OnCanvas<'a> {
     pub targets: &'a [Target],
     /// What mesh is on the canvas (nothing to correct on a finished one).
     pub kind: MeshKind,
-    /// While Pn is dragged: the guard's score of the element it would
-    /// give (`None` inside: no valid element there).
-    pub drag: Option<Option<f64>>,
+    /// While Pn is dragged: the element it would give (`None` inside: no
+    /// valid element there).
+    pub drag: Option<Option<CheckedElement>>,
 }
 
 /// The draft's median segment, the default target of a resample.
@@ -384,7 +386,7 @@ impl Tools {
                 (Some(pn), _) => Some((
                     pn,
                     match at.drag {
-                        Some(score) => score_colour(score),
+                        Some(check) => check_colour(check.as_ref()),
                         None => yellow,
                     },
                 )),
@@ -407,7 +409,7 @@ impl Tools {
             match self.hover {
                 Some(Hover::Target(t)) => {
                     painter.circle_stroke(to(t.at), 8.0, Stroke::new(2.5, target_colour(&t)));
-                    let text = if let Some(score) = t.score {
+                    let text = if let Some(check) = &t.check {
                         // Named as the canvas labels the leading points.
                         let label = match t.element_type {
                             ElementType::Right => "r2, ",
@@ -415,10 +417,10 @@ impl Tools {
                             ElementType::New => "",
                         };
                         format!(
-                            "click: close the element onto node {} ({label}type {}); element score {score:.2}, {}",
+                            "click: close the element onto node {} ({label}type {})\n{}",
                             t.node,
                             t.element_type.number(),
-                            grade(score).0
+                            verdict(check)
                         )
                     } else {
                         format!("node {}: not a valid element there", t.node)
@@ -444,10 +446,7 @@ impl Tools {
                     tip(ui, "drag Pn and let go to correct the element");
                 }
                 Some(Hover::Handle) => match at.drag {
-                    Some(Some(score)) => tip(
-                        ui,
-                        &format!("let go: element score {score:.2}, {}", grade(score).0),
-                    ),
+                    Some(Some(check)) => tip(ui, &format!("let go: {}", verdict(&check))),
                     Some(None) => tip(ui, "not a valid element here: letting go changes nothing"),
                     None => {}
                 },
@@ -733,13 +732,52 @@ impl super::View for Tools {
 /// in: by the guard's score of that element ([`grade`]), red when it is no
 /// valid element.
 fn target_colour(t: &Target) -> Color32 {
-    score_colour(t.score)
+    check_colour(t.check.as_ref())
 }
 
 /// The colour of an element by the guard's score (`None`: no valid
 /// element, red), as [`target_colour`].
-fn score_colour(score: Option<f64>) -> Color32 {
-    score.map_or(Color32::from_rgb(255, 70, 70), |s| grade(s).1)
+fn check_colour(check: Option<&CheckedElement>) -> Color32 {
+    check.map_or(Color32::from_rgb(255, 70, 70), |c| grade(c.score).1)
+}
+
+/// What an element a correction would give is worth, in two measures that
+/// can disagree: the guard's score, which extraction ranks its candidates
+/// by (the quad and the front it leaves), and the thesis's criteria for
+/// the quad alone (§1.2: corners in [45°, 135°], aspect and taper at most
+/// 10), with the first figure that misses them.
+pub fn verdict(check: &CheckedElement) -> String {
+    let q = check.quality();
+    let (lo, hi) = (q.min_angle(), q.max_angle());
+    let thesis = if q.meets_thesis() {
+        "meets the thesis's criteria".to_owned()
+    } else if hi > GOOD_ANGLE.1 {
+        format!(
+            "misses the thesis's criteria: a {hi:.1}° corner (over {:.0}°)",
+            GOOD_ANGLE.1
+        )
+    } else if lo < GOOD_ANGLE.0 {
+        format!(
+            "misses the thesis's criteria: a {lo:.1}° corner (under {:.0}°)",
+            GOOD_ANGLE.0
+        )
+    } else if q.aspect > 10.0 {
+        format!(
+            "misses the thesis's criteria: aspect {:.1} (over 10)",
+            q.aspect
+        )
+    } else {
+        format!(
+            "misses the thesis's criteria: taper {:.1} (over 10)",
+            q.taper
+        )
+    };
+    format!(
+        "element score {:.2}, {} (the quad and the front it leaves, as extraction ranks its elements)\ncorners {lo:.0}°–{hi:.0}°, scaled Jacobian {:.2}: {thesis}",
+        check.score,
+        grade(check.score).0,
+        q.scaled_jacobian
+    )
 }
 
 /// The word and colour of the guard's score of an element, by the
@@ -757,5 +795,48 @@ fn grade(score: f64) -> (&'static str, Color32) {
         ("fair", Color32::from_rgb(240, 200, 60))
     } else {
         ("poor", Color32::from_rgb(255, 140, 40))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn checked(score: f64, quad: [Point; 4]) -> CheckedElement {
+        CheckedElement { score, quad }
+    }
+
+    #[test]
+    fn the_verdict_keeps_the_score_and_the_thesis_criteria_apart() {
+        let square = [
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 0.0),
+            Point::new(1.0, 1.0),
+            Point::new(0.0, 1.0),
+        ];
+        let v = verdict(&checked(0.95, square));
+        assert!(v.starts_with("element score 0.95, good"), "{v}");
+        assert!(v.contains("corners 90°–90°"), "{v}");
+        assert!(v.ends_with("meets the thesis's criteria"), "{v}");
+        // A quad opened to 137.5° at one corner: the guard may still call
+        // it good, the thesis's criteria do not.
+        let turn = (180.0f64 - 137.5).to_radians();
+        let kite = [
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 0.0),
+            Point::new(1.0 + turn.cos(), turn.sin()),
+            Point::new(0.0, 1.0),
+        ];
+        let q = checked(0.9, kite).quality();
+        assert!((q.max_angle() - 137.5).abs() < 1e-9 && !q.meets_thesis());
+        let v = verdict(&checked(0.9, kite));
+        assert!(v.starts_with("element score 0.90, good"), "{v}");
+        assert!(
+            v.ends_with("misses the thesis's criteria: a 137.5° corner (over 135°)"),
+            "{v}"
+        );
+        // No valid element is red; a poor one orange.
+        assert_eq!(check_colour(None), Color32::from_rgb(255, 70, 70));
+        assert_eq!(check_colour(Some(&checked(0.0, square))), grade(0.0).1);
     }
 }

@@ -7,7 +7,7 @@ use super::guard::{self, Corner, Limits};
 use super::report::MeshError;
 use super::report::{Remedy, StepKind, StepReport, RESCALED_BEYOND};
 use super::session::Mesher;
-use crate::front::SlotId;
+use crate::front::{Front, SlotId};
 use crate::geom::{ccw_angle, Aabb, Point};
 use crate::model::{rules, ElementType, Model, Prediction};
 use crate::normalize::{Frame, LeadingPoints};
@@ -27,6 +27,20 @@ impl Cand {
     pub(super) fn slot(self) -> SlotId {
         match self {
             Cand::New { s, .. } | Cand::Snap { s, .. } | Cand::Right { s } | Cand::Left { s } => s,
+        }
+    }
+
+    /// The corners of the quad the candidate would commit, in the order
+    /// [`Mesher::commit`] writes them.
+    pub(super) fn corners(self, f: &Front, nodes: &[Point]) -> [Point; 4] {
+        let at = |x: SlotId| nodes[f.node(x) as usize];
+        let s = self.slot();
+        let (l, r) = (f.prev(s), f.next(s));
+        match self {
+            Cand::New { pn, .. } => [at(s), at(r), pn, at(l)],
+            Cand::Snap { q, .. } => [at(s), at(r), at(q), at(l)],
+            Cand::Right { .. } => [at(s), at(r), at(f.next(r)), at(l)],
+            Cand::Left { .. } => [at(s), at(r), at(f.prev(l)), at(l)],
         }
     }
 }

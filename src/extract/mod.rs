@@ -32,7 +32,7 @@ mod transition;
 pub use candidate::CandidateReport;
 pub use params::{MeshParams, Strategy};
 pub use report::{
-    Action, Correction, MeshError, Remedy, RunProgress, StepKind, StepOutcome, StepReport,
-    StepStats, RESCALED_BEYOND,
+    Action, CheckedElement, Correction, MeshError, Remedy, RunProgress, StepKind, StepOutcome,
+    StepReport, StepStats, RESCALED_BEYOND,
 };
 pub use session::{Mesher, CHECKPOINT_BEHIND};

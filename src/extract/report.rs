@@ -4,6 +4,7 @@
 
 use crate::geom::Point;
 use crate::model::{ElementType, Prediction};
+use crate::quality::QuadQuality;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use thiserror::Error;
@@ -220,6 +221,28 @@ pub struct Correction {
     pub pn: Option<Point>,
     /// Close type 0 onto this front node instead of a new one.
     pub snap_to: Option<u32>,
+}
+
+/// What [`super::Mesher::check_correction`] finds of a correction that the
+/// mesher would commit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CheckedElement {
+    /// The guard's score of the element, in `[0, 1]`: the quality of the
+    /// quad and of the front it leaves, as extraction weighs its own
+    /// candidates. It is not the thesis's criteria (§1.2; see
+    /// [`CheckedElement::quality`]).
+    pub score: f64,
+    /// The element's corners (P0, P_r1, the fourth corner, P_l1 for type
+    /// 0; in the quad's node order for types 1 and 2).
+    pub quad: [Point; 4],
+}
+
+impl CheckedElement {
+    /// The element's own figures: angles, aspect, taper and whether it
+    /// meets the thesis's criteria ([`QuadQuality::meets_thesis`]).
+    pub fn quality(&self) -> QuadQuality {
+        QuadQuality::of(self.quad)
+    }
 }
 
 /// How far a run has got, after each of its steps ([`super::Mesher::run_with`]).

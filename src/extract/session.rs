@@ -10,7 +10,8 @@ use super::guard::{Limits, Scratch};
 use super::params::MeshParams;
 use super::queue::Entry;
 use super::report::{
-    Action, Correction, MeshError, RunProgress, StepKind, StepOutcome, StepReport, StepStats,
+    Action, CheckedElement, Correction, MeshError, RunProgress, StepKind, StepOutcome, StepReport,
+    StepStats,
 };
 use super::size::SizeField;
 use crate::boundary::Boundary;
@@ -644,12 +645,16 @@ impl Mesher {
     }
 
     /// Checks that [`Mesher::correct`] would commit `c` now, without
-    /// committing it, and gives the guard's score of its element (in
-    /// `[0, 1]`: the quality of the quad and of the front it leaves; the
-    /// editor marks the front nodes an element can be closed onto, and how
-    /// good that element would be).
-    pub fn check_correction(&mut self, c: &Correction) -> Result<f64, MeshError> {
-        self.correction_cand(c).map(|(_, _, score)| score)
+    /// committing it, and gives its element: the guard's score (in
+    /// `[0, 1]`: the quality of the quad and of the front it leaves) and
+    /// the quad's corners. The editor marks the front nodes an element can
+    /// be closed onto, and how good that element would be.
+    pub fn check_correction(&mut self, c: &Correction) -> Result<CheckedElement, MeshError> {
+        let (_, cand, score) = self.correction_cand(c)?;
+        Ok(CheckedElement {
+            score,
+            quad: cand.corners(&self.front, &self.mesh.nodes),
+        })
     }
 
     /// The element of a correction, checked with relaxed limits.
