@@ -1,6 +1,8 @@
 //! Local remeshing of bad regions: a quad of a finished mesh whose scaled
-//! Jacobian stays below [`RemeshParams::below`] after cleanup and smoothing
-//! is cut out with the quads around it (a cavity of two to
+//! Jacobian stays below [`RemeshParams::below`] after cleanup and smoothing,
+//! or whose longest side is over ten times its shortest (thesis §1.2's
+//! bound on aspect and taper, which the scaled Jacobian does not see), is
+//! cut out with the quads around it (a cavity of two to
 //! [`RemeshParams::rings`] rings of neighbours), and the cavity is meshed
 //! again by element extraction (thesis §5.1, method §2), with the same
 //! model, and cleaned up and smoothed with the cavity's nodes fixed as its
@@ -74,27 +76,99 @@ impl Default for RemeshParams {
     }
 }
 
-/// Scaled Jacobian of quad `q` of `mesh`.
-fn sj(mesh: &QuadMesh, q: &[u32; 4]) -> f64 {
-    Shape::of(mesh.corners(q)).scaled_jacobian
+/// Longest over shortest side a quad may have before it counts as bad:
+/// the thesis's bound on aspect and taper (§1.2).
+const STRETCH_LIMIT: f64 = 10.0;
+
+/// The order bad quads are taken in: flattened ones (scaled Jacobian
+/// below the bound) first, then the ones only stretched, each worst first.
+/// A stretch the input forces (a boundary segment far longer than its
+/// neighbours) cannot be remeshed away, and taken first it would spend the
+/// work budget before the flattened quads had their turn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Priority {
+    stretched_only: bool,
+    fitness: f64,
 }
 
-/// How many of `sjs` are below `bound`, and the worst of them: smaller is
-/// better (fewer bad quads first, then a higher worst one).
-fn badness(sjs: impl Iterator<Item = f64>, bound: f64) -> (usize, f64) {
-    sjs.fold((0, f64::INFINITY), |(n, m), s| {
-        (n + usize::from(s < bound), m.min(s))
-    })
+impl Eq for Priority {}
+
+impl PartialOrd for Priority {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
 }
 
-fn better(a: (usize, f64), b: (usize, f64)) -> bool {
-    a.0 < b.0 || (a.0 == b.0 && a.1 > b.1)
+impl Ord for Priority {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.stretched_only
+            .cmp(&other.stretched_only)
+            .then(self.fitness.total_cmp(&other.fitness))
+    }
 }
 
-/// A patch with `new` badness may replace a cavity with `old`: better, and
-/// its worst quad no worse.
-fn improves(new: (usize, f64), old: (usize, f64)) -> bool {
-    better(new, old) && new.1 >= old.1
+fn priority(mesh: &QuadMesh, q: &[u32; 4], bound: f64) -> Priority {
+    let shape = Shape::of(mesh.corners(q));
+    Priority {
+        stretched_only: shape.scaled_jacobian >= bound,
+        fitness: fitness_of(&shape, bound),
+    }
+}
+
+/// How good a quad of `shape` is, measured against the remeshing `bound`:
+/// its scaled Jacobian, but no more than `bound · STRETCH_LIMIT / stretch`.
+/// The scaled Jacobian does not see an edge shrinking to nothing (a quad
+/// whose two corners nearly meet is a triangle with fair angles), so a quad
+/// stretched past [`STRETCH_LIMIT`] counts as bad too, the more so the more
+/// it is stretched.
+fn fitness_of(shape: &Shape, bound: f64) -> f64 {
+    shape
+        .scaled_jacobian
+        .min(bound * STRETCH_LIMIT / shape.side_ratio())
+}
+
+/// How bad a set of quads is: smaller is better (fewer bad quads first,
+/// then a higher worst [`fitness_of`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Badness {
+    /// Quads whose fitness is below the bound.
+    bad: usize,
+    /// The worst fitness.
+    worst: f64,
+    /// The worst scaled Jacobian.
+    worst_sj: f64,
+}
+
+fn badness<'q>(mesh: &QuadMesh, quads: impl Iterator<Item = &'q [u32; 4]>, bound: f64) -> Badness {
+    quads.fold(
+        Badness {
+            bad: 0,
+            worst: f64::INFINITY,
+            worst_sj: f64::INFINITY,
+        },
+        |b, q| {
+            let shape = Shape::of(mesh.corners(q));
+            let f = fitness_of(&shape, bound);
+            Badness {
+                bad: b.bad + usize::from(f < bound),
+                worst: b.worst.min(f),
+                worst_sj: b.worst_sj.min(shape.scaled_jacobian),
+            }
+        },
+    )
+}
+
+fn better(a: Badness, b: Badness) -> bool {
+    a.bad < b.bad || (a.bad == b.bad && a.worst > b.worst)
+}
+
+/// A patch with `new` badness may replace a cavity with `old`: better, its
+/// worst quad no worse, and its worst scaled Jacobian no lower than the
+/// cavity's or than the bound (a stretched quad is not traded for a
+/// flattened one; a patch may give up corner angle only while its corners
+/// stay within the bound's).
+fn improves(new: Badness, old: Badness, bound: f64) -> bool {
+    better(new, old) && new.worst >= old.worst && new.worst_sj >= old.worst_sj.min(bound)
 }
 
 /// The mesh being patched: live quads and each node's quads.
@@ -111,7 +185,7 @@ struct Patch {
     /// Quads over the cavity's boundary nodes (by mesh id) and the new
     /// nodes (`u32::MAX - i` for new node `i`).
     quads: Vec<[u32; 4]>,
-    badness: (usize, f64),
+    badness: Badness,
 }
 
 const NEW: u32 = u32::MAX;
@@ -147,14 +221,15 @@ impl Work<'_> {
     }
 
     /// Meshes the cavity again with each candidate setting and returns the
-    /// best patch, if the cavity's boundary makes a valid boundary.
+    /// best patch that [`improves`] on `old` (the cavity's badness against
+    /// `bound`), if the cavity's boundary makes a valid boundary.
     fn patch(
         &self,
         cavity: Vec<u32>,
         model: &Arc<dyn Model>,
         candidates: &[MeshParams],
         finish: &FinishParams,
-        bound: f64,
+        (bound, old): (f64, Badness),
         work: &mut usize,
     ) -> Option<Patch> {
         let quads: Vec<[u32; 4]> = cavity
@@ -219,8 +294,8 @@ impl Work<'_> {
             if sub.check_finished().is_err() || stretch(&sub, &sub.quads) > max_stretch {
                 continue;
             }
-            let b = badness(sub.quads.iter().map(|q| sj(&sub, q)), bound);
-            if best.as_ref().is_some_and(|p| !better(b, p.badness)) {
+            let b = badness(&sub, sub.quads.iter(), bound);
+            if !improves(b, old, bound) || best.as_ref().is_some_and(|p| !better(b, p.badness)) {
                 continue;
             }
             let nb = ids.len();
@@ -238,7 +313,7 @@ impl Work<'_> {
                 quads: sub.quads.iter().map(|q| q.map(map)).collect(),
                 badness: b,
             });
-            if b.0 == 0 {
+            if b.bad == 0 {
                 break;
             }
         }
@@ -354,11 +429,11 @@ pub fn remesh_bad(
     let mut replaced = 0;
     let mut tried = 0;
     let mut work = WORK_PER_QUAD * old + WORK_BASE;
-    let mut bad: Vec<(f64, u32)> = (0..w.mesh.quads.len() as u32)
-        .map(|k| (sj(w.mesh, &w.mesh.quads[k as usize]), k))
-        .filter(|&(s, _)| s < bound)
+    let mut bad: Vec<(Priority, u32)> = (0..w.mesh.quads.len() as u32)
+        .map(|k| (priority(w.mesh, &w.mesh.quads[k as usize], bound), k))
+        .filter(|&(p, _)| p.fitness < bound)
         .collect();
-    bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    bad.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
     while let Some((_, k)) = (!bad.is_empty()).then(|| bad.remove(0)) {
         if !w.alive[k as usize] || tried >= rp.max_regions || work == 0 {
             continue;
@@ -368,18 +443,21 @@ pub fn remesh_bad(
         for rings in 2..=rp.rings.max(2) {
             let cavity = w.cavity(k, rings);
             let old = badness(
-                cavity
-                    .iter()
-                    .map(|&j| sj(w.mesh, &w.mesh.quads[j as usize])),
+                w.mesh,
+                cavity.iter().map(|&j| &w.mesh.quads[j as usize]),
                 bound,
             );
-            let Some(p) = w.patch(cavity, model, &cands, &patch_finish, bound, &mut work) else {
+            let Some(p) = w.patch(
+                cavity,
+                model,
+                &cands,
+                &patch_finish,
+                (bound, old),
+                &mut work,
+            ) else {
                 continue;
             };
-            if !improves(p.badness, old) {
-                continue;
-            }
-            let clean = p.badness.0 == 0;
+            let clean = p.badness.bad == 0;
             if chosen.as_ref().is_none_or(|c| better(p.badness, c.badness)) {
                 chosen = Some(p);
             }
@@ -395,10 +473,10 @@ pub fn remesh_bad(
         replaced += 1;
         // Bad quads the patch made are taken in their turn.
         for j in first_new..w.mesh.quads.len() as u32 {
-            let s = sj(w.mesh, &w.mesh.quads[j as usize]);
-            if s < bound {
-                let at = bad.partition_point(|&(t, i)| t < s || (t == s && i < j));
-                bad.insert(at, (s, j));
+            let p = priority(w.mesh, &w.mesh.quads[j as usize], bound);
+            if p.fitness < bound {
+                let at = bad.partition_point(|&(t, i)| t.cmp(&p).then(i.cmp(&j)).is_lt());
+                bad.insert(at, (p, j));
             }
         }
     }
@@ -453,6 +531,78 @@ mod tests {
             0
         );
         assert_eq!(m, before);
+    }
+
+    /// Longest over shortest side, worst over the mesh.
+    fn worst_stretch(m: &QuadMesh) -> f64 {
+        m.quads
+            .iter()
+            .map(|q| Shape::of(m.corners(q)).side_ratio())
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn remeshes_a_stretched_region_the_scaled_jacobian_does_not_see() {
+        // The interior nodes of column x = 3 of a 6 × 6 grid pushed to
+        // x = 2.05: the quads between the two columns are thin rectangles,
+        // 20 times as long as wide, with right angles.
+        let mut m = grid(6);
+        for v in 0..m.nodes.len() {
+            let p = m.nodes[v];
+            if p.x == 3.0 && p.y > 0.0 && p.y < 6.0 {
+                m.nodes[v] = Point::new(2.05, p.y);
+            }
+        }
+        m.check_invariants(true).unwrap();
+        assert!(worst_stretch(&m) > 19.0);
+        let thin = |m: &QuadMesh| {
+            m.quads
+                .iter()
+                .filter(|q| {
+                    let s = Shape::of(m.corners(q));
+                    s.scaled_jacobian > 0.99 && s.side_ratio() > STRETCH_LIMIT
+                })
+                .count()
+        };
+        assert_eq!(thin(&m), 4);
+        let boundary: Vec<Point> = m.nodes[..m.n_boundary()].to_vec();
+        let n = remesh_bad(
+            &mut m,
+            &model(),
+            &MeshParams::DEFAULT,
+            &FinishParams::DEFAULT,
+        );
+        assert!(n >= 1);
+        m.check_finished().unwrap();
+        assert_eq!(&m.nodes[..m.n_boundary()], &boundary[..]);
+        assert_eq!(thin(&m), 0);
+        assert!(worst_stretch(&m) <= STRETCH_LIMIT, "{}", worst_stretch(&m));
+        let area: f64 = m
+            .quads
+            .iter()
+            .map(|q| crate::geom::polygon_area(m.corners(q)))
+            .sum();
+        assert!((area - 36.0).abs() < 1e-9, "{area}");
+    }
+
+    #[test]
+    fn flattened_quads_are_taken_before_stretched_ones() {
+        let shape = |p: [(f64, f64); 4]| Shape::of(p.map(|(x, y)| Point::new(x, y)));
+        // A right-angled strip 20 long (fitness 0.35) and a flattened quad
+        // (scaled Jacobian about 0.1, a higher fitness).
+        let strip = shape([(0.0, 0.0), (20.0, 0.0), (20.0, 1.0), (0.0, 1.0)]);
+        let flat = shape([(0.0, 0.0), (1.0, 0.0), (2.0, 0.1), (1.0, 0.1)]);
+        let bound = 0.7;
+        assert!((fitness_of(&strip, bound) - 0.35).abs() < 1e-12);
+        assert!(fitness_of(&flat, bound) < 0.2);
+        let p = |s: &Shape| Priority {
+            stretched_only: s.scaled_jacobian >= bound,
+            fitness: fitness_of(s, bound),
+        };
+        assert!(p(&flat) < p(&strip));
+        // A square is no worse than its scaled Jacobian says.
+        let square = shape([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]);
+        assert_eq!(fitness_of(&square, bound), 1.0);
     }
 
     #[test]

@@ -414,13 +414,13 @@ fn smooth_with(
     accepted
 }
 
-/// Smoothing never makes a quad's [`Shape::stretch`] exceed this, or its
+/// Smoothing never makes a quad's [`Shape::side_ratio`] exceed this, or its
 /// own if larger: the scaled Jacobian does not see an edge shrinking to
 /// nothing.
 pub const MAX_STRETCH: f64 = 4.0;
 
 /// What optimisation may not go past, per quad: its area, Rs and
-/// [`Shape::stretch`] bounds, and whether it must stay measurably convex.
+/// [`Shape::side_ratio`] bounds, and whether it must stay measurably convex.
 #[derive(Clone)]
 struct Floor {
     area: f64,
