@@ -2085,3 +2085,37 @@ fn the_title_marks_unsaved_work_not_steps_alone() {
     assert!(status(&h).starts_with("saved"), "{}", status(&h));
     assert!(!h.state().title_line().contains("(changed)"));
 }
+
+/// A quad's tip opens towards the middle of the canvas: near the canvas's
+/// right edge it stays off the right panel's figures.
+#[test]
+fn a_quads_tip_stays_over_the_canvas() {
+    let mut h = harness(example());
+    h.run();
+    h.get_by_label_contains("Run to end").click();
+    h.step();
+    settle(&mut h);
+    assert!(h.state().doc().is_done());
+    let r = h.state().view.canvas_rect;
+    let b = h.state().doc().boundary().unwrap().clone();
+    let xs = b.points.iter().map(|&p| screen(&h, p).x);
+    let (left, right) = xs.fold((f32::INFINITY, 0.0f32), |(l, r), x| (l.min(x), r.max(x)));
+    let y = screen(&h, quadex::Point::new(0.0, 0.0)).y;
+    for (at, towards_left) in [(right - 8.0, true), (left + 8.0, false)] {
+        let pointer = Pos2::new(at, y);
+        h.hover_at(pointer);
+        h.run();
+        h.run();
+        let tip = painted(&h)
+            .into_iter()
+            .find(|(t, _, _)| t == "thesis criteria")
+            .map(|(_, rect, _)| rect)
+            .expect("the quad's tip");
+        assert!(r.contains_rect(tip), "{tip:?} off the canvas {r:?}");
+        if towards_left {
+            assert!(tip.right() < pointer.x, "{tip:?} {pointer:?}");
+        } else {
+            assert!(tip.left() > pointer.x, "{tip:?} {pointer:?}");
+        }
+    }
+}

@@ -624,12 +624,66 @@ fn poor_outlines(poor: &[u32], mesh: &QuadMesh, view: &View, rect: Rect) -> Vec<
     dashed
 }
 
-/// The quad tooltip while hovering quad `k` of the mesh.
-pub fn quad_hover(r: &Response, k: usize, qualities: &[QuadQuality]) {
+/// The quad tooltip while hovering quad `k` of the mesh on the canvas `r`.
+pub fn quad_hover(ui: &Ui, r: &Response, k: usize, qualities: &[QuadQuality]) {
     if let Some(q) = qualities.get(k) {
-        r.clone()
-            .on_hover_ui_at_pointer(|ui| quad_tooltip(ui, k, q));
+        if r.hovered() {
+            canvas_tip(ui, r.rect, r.id, |ui| quad_tooltip(ui, k, q));
+        }
     }
+}
+
+/// A tooltip at the pointer on the canvas `rect` that opens towards the
+/// canvas's middle, so it stays over the canvas (egui opens a tooltip
+/// towards the window's free side, which near the canvas's right edge is
+/// over the right panel, whose figures it would hide). `id` names the
+/// widget the tip belongs to.
+pub fn canvas_tip<R>(ui: &Ui, rect: Rect, id: egui::Id, content: impl FnOnce(&mut Ui) -> R) {
+    use egui::RectAlign;
+    /// Below right, below left, above right, above left of the pointer:
+    /// each with the others, nearest first, where it does not fit.
+    const ALIGNS: [[RectAlign; 4]; 4] = [
+        [
+            RectAlign::BOTTOM_START,
+            RectAlign::TOP_START,
+            RectAlign::BOTTOM_END,
+            RectAlign::TOP_END,
+        ],
+        [
+            RectAlign::BOTTOM_END,
+            RectAlign::TOP_END,
+            RectAlign::BOTTOM_START,
+            RectAlign::TOP_START,
+        ],
+        [
+            RectAlign::TOP_START,
+            RectAlign::BOTTOM_START,
+            RectAlign::TOP_END,
+            RectAlign::BOTTOM_END,
+        ],
+        [
+            RectAlign::TOP_END,
+            RectAlign::BOTTOM_END,
+            RectAlign::TOP_START,
+            RectAlign::BOTTOM_START,
+        ],
+    ];
+    let Some(p) = ui.ctx().pointer_hover_pos() else {
+        return;
+    };
+    let side = usize::from(p.x > rect.center().x) + 2 * usize::from(p.y > rect.center().y);
+    let mut tip = egui::Tooltip::always_open(
+        ui.ctx().clone(),
+        ui.layer_id(),
+        id,
+        egui::PopupAnchor::Pointer,
+    )
+    .gap(12.0);
+    tip.popup = tip
+        .popup
+        .align(ALIGNS[side][0])
+        .align_alternatives(&ALIGNS[side][1..]);
+    tip.show(content);
 }
 
 /// The quads of a mesh filed in a uniform grid by their bounding boxes, to

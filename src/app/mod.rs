@@ -1922,7 +1922,7 @@ impl App {
             );
         }
         if let (Some(k), None) = (hovered_quad, self.panels.tools.hover) {
-            canvas::quad_hover(&resp, k, &stats.per_quad);
+            canvas::quad_hover(ui, &resp, k, &stats.per_quad);
         }
     }
 

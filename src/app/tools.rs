@@ -532,14 +532,7 @@ impl Tools {
 
 /// A tooltip at the pointer.
 fn tip(ui: &Ui, text: &str) {
-    egui::Tooltip::always_open(
-        ui.ctx().clone(),
-        ui.layer_id(),
-        egui::Id::new("canvas_tip"),
-        egui::PopupAnchor::Pointer,
-    )
-    .gap(12.0)
-    .show(|ui| {
+    super::canvas::canvas_tip(ui, ui.clip_rect(), egui::Id::new("canvas_tip"), |ui| {
         ui.label(text);
     });
 }
