@@ -398,7 +398,7 @@ fn try_fill(
             }
         }
     }
-    untangle(&mut b, nodes, min_area)?;
+    untangle(&mut b, nodes, front_nodes(loops), min_area)?;
     check_quads(&b, nodes, min_area)?;
     if !ring_is_clear(loops, &inner, nodes, &b) {
         return Err(FillError::RingCrossing);
@@ -439,7 +439,7 @@ fn try_direct(
     quadrangulate(&coarse, nodes, &mut b, size, true, |_, u, w, _, _| {
         skipped.get(&(u, w)).copied()
     })?;
-    untangle(&mut b, nodes, min_area)?;
+    untangle(&mut b, nodes, front_nodes(loops), min_area)?;
     check_quads(&b, nodes, min_area)?;
     check_edges(loops, &b.quads)?;
     Ok(b)
@@ -476,6 +476,18 @@ const UNTANGLE_SWEEPS: usize = 12;
 /// (the run then closes the region another way, or rewinds).
 const UNTANGLE_SJ: f64 = 0.1;
 
+/// A fill with more folded quads than its front has nodes is not
+/// untangled: untangling moves every node of every folded quad, sweep
+/// after sweep, and a fill folded that widely (tens of thousands of quads
+/// where a dense front meets a single long edge) is not mended by moving
+/// nodes; the run closes the region another way.
+const UNTANGLE_MAX_FOLDED_PER_FRONT_NODE: usize = 1;
+
+/// The nodes of a region's loops.
+fn front_nodes(loops: &[Vec<u32>]) -> usize {
+    loops.iter().map(Vec::len).sum()
+}
+
 /// Whether a new quad passes [`check_quads`].
 fn quad_ok(p: [Point; 4], min_area: f64) -> bool {
     crate::geom::is_measurably_convex(p) && crate::geom::polygon_area(p) >= min_area
@@ -488,8 +500,15 @@ fn quad_ok(p: [Point; 4], min_area: f64) -> bool {
 /// sweep after sweep while a sweep still mends a quad. The quads' topology
 /// is kept, so a fill that is valid but for a few folded quads becomes
 /// valid; the smoothing after the fill evens the sizes out. Fails when a
-/// quad at a moved node stays under [`UNTANGLE_SJ`].
-fn untangle(b: &mut RegionFill, nodes: &[Point], min_area: f64) -> Result<(), FillError> {
+/// quad at a moved node stays under [`UNTANGLE_SJ`], and at once when the
+/// folded quads outnumber the `front` nodes the region's loops have
+/// ([`UNTANGLE_MAX_FOLDED_PER_FRONT_NODE`]).
+fn untangle(
+    b: &mut RegionFill,
+    nodes: &[Point],
+    front: usize,
+    min_area: f64,
+) -> Result<(), FillError> {
     let at = |b: &RegionFill, q: [u32; 4]| q.map(|v| b.at(v, nodes));
     let bad = |b: &RegionFill| -> Vec<usize> {
         (0..b.quads.len())
@@ -499,6 +518,11 @@ fn untangle(b: &mut RegionFill, nodes: &[Point], min_area: f64) -> Result<(), Fi
     let mut worse = bad(b);
     if worse.is_empty() {
         return Ok(());
+    }
+    if worse.len() > UNTANGLE_MAX_FOLDED_PER_FRONT_NODE * front {
+        return Err(FillError::NotConvex {
+            node: b.quads[worse[0]][0],
+        });
     }
     let mut incident: Vec<Vec<usize>> = vec![Vec::new(); b.points.len()];
     for (k, q) in b.quads.iter().enumerate() {
@@ -912,7 +936,12 @@ mod tests {
         b.points[2] = Point::new(0.3, 0.55);
         let min_area = 1e-7 / 9.0;
         assert!(check_quads(&b, &nodes, min_area).is_err());
-        untangle(&mut b, &nodes, min_area).expect("untangled");
+        // Folded more widely than a front of two nodes could be mended
+        // from: refused at once, nothing moved.
+        let folded = b.clone();
+        assert!(untangle(&mut b, &nodes, 2, min_area).is_err());
+        assert_eq!(b.points, folded.points);
+        untangle(&mut b, &nodes, 12, min_area).expect("untangled");
         check_quads(&b, &nodes, min_area).expect("untangled");
         check_edges(&[(0..12).collect()], &b.quads).expect("same tiling");
         for (k, &p) in b.points.iter().enumerate() {
