@@ -14,6 +14,9 @@ use serde::{Deserialize, Serialize};
 /// The thesis's angle window for a good quad corner, in degrees.
 pub const GOOD_ANGLE: (f64, f64) = (45.0, 135.0);
 
+/// The thesis's bound on a good quad's aspect and taper (§1.2).
+pub const GOOD_RATIO: f64 = 10.0;
+
 /// The figures of one quad that mesh improvement evaluates many times
 /// over, without trigonometry: [`QuadQuality`]'s scaled Jacobian, Rs and
 /// area, and the edge lengths.
@@ -152,7 +155,7 @@ impl QuadQuality {
 
     /// The thesis's criteria: angles in [45°, 135°], aspect and taper ≤ 10.
     pub fn meets_thesis(&self) -> bool {
-        self.angles_ok() && self.aspect <= 10.0 && self.taper <= 10.0
+        self.angles_ok() && self.aspect <= GOOD_RATIO && self.taper <= GOOD_RATIO
     }
 }
 

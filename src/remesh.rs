@@ -37,7 +37,7 @@ use crate::geom::Point;
 use crate::mesh::{boundary_loops, QuadMesh};
 use crate::model::Model;
 use crate::pipeline::FinishParams;
-use crate::quality::Shape;
+use crate::quality::{Shape, GOOD_RATIO};
 use crate::smooth::{after_change, smooth_and_optimize, unflatten, MAX_STRETCH};
 
 /// Local remeshing parameters.
@@ -78,7 +78,7 @@ impl Default for RemeshParams {
 
 /// Longest over shortest side a quad may have before it counts as bad:
 /// the thesis's bound on aspect and taper (§1.2).
-const STRETCH_LIMIT: f64 = 10.0;
+const STRETCH_LIMIT: f64 = GOOD_RATIO;
 
 /// The order bad quads are taken in: flattened ones (scaled Jacobian
 /// below the bound) first, then the ones only stretched, each worst first.

@@ -13,7 +13,7 @@ use crate::boundary_edit::{At, Draft};
 use crate::extract::CheckedElement;
 use crate::geom::Point;
 use crate::model::ElementType;
-use crate::quality::GOOD_ANGLE;
+use crate::quality::{GOOD_ANGLE, GOOD_RATIO};
 use egui::{Color32, Pos2, Shape, Stroke, Ui};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -530,7 +530,8 @@ impl Tools {
     }
 }
 
-/// A tooltip at the pointer.
+/// A tooltip at the pointer, opening towards the canvas's middle
+/// ([`super::canvas::canvas_tip`]).
 fn tip(ui: &Ui, text: &str) {
     super::canvas::canvas_tip(ui, ui.clip_rect(), egui::Id::new("canvas_tip"), |ui| {
         ui.label(text);
@@ -739,7 +740,7 @@ fn check_colour(check: Option<&CheckedElement>) -> Color32 {
 /// by (the quad and the front it leaves), and the thesis's criteria for
 /// the quad alone (§1.2: corners in [45°, 135°], aspect and taper at most
 /// 10), with the first figure that misses them.
-pub fn verdict(check: &CheckedElement) -> String {
+fn verdict(check: &CheckedElement) -> String {
     let q = check.quality();
     let (lo, hi) = (q.min_angle(), q.max_angle());
     let thesis = if q.meets_thesis() {
@@ -754,14 +755,14 @@ pub fn verdict(check: &CheckedElement) -> String {
             "misses the thesis's criteria: a {lo:.1}° corner (under {:.0}°)",
             GOOD_ANGLE.0
         )
-    } else if q.aspect > 10.0 {
+    } else if q.aspect > GOOD_RATIO {
         format!(
-            "misses the thesis's criteria: aspect {:.1} (over 10)",
+            "misses the thesis's criteria: aspect {:.1} (over {GOOD_RATIO})",
             q.aspect
         )
     } else {
         format!(
-            "misses the thesis's criteria: taper {:.1} (over 10)",
+            "misses the thesis's criteria: taper {:.1} (over {GOOD_RATIO})",
             q.taper
         )
     };
