@@ -63,6 +63,26 @@ fn settle(h: &mut Harness<'static, App>) {
     h.run();
 }
 
+/// Waits for a comparison running in the background to end, then lets the
+/// window take it in.
+fn wait_for_comparison(h: &mut Harness<'static, App>) {
+    let t = Instant::now();
+    while h.state().comparing() {
+        assert!(t.elapsed().as_secs() < 300, "the comparison did not end");
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    h.run();
+}
+
+/// The example open in a harness, `steps` steps taken.
+fn stepped_example(steps: usize) -> Harness<'static, App> {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(steps));
+    h
+}
+
 fn example() -> App {
     example_named("annulus.poly")
 }
@@ -314,9 +334,7 @@ fn a_mesh_file_opens_as_its_boundary_with_the_mesh_shown() {
 
 #[test]
 fn changing_the_model_restarts_the_mesh() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(3));
+    let mut h = stepped_example(3);
     let s = Settings {
         model: "rules".into(),
         ..Settings::default()
@@ -479,9 +497,7 @@ fn correct_append_refit_and_finish() {
 /// mesh does after: replacing the document asks first, and names it.
 #[test]
 fn a_refitted_model_is_work_to_save_after_a_reset() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(3));
+    let mut h = stepped_example(3);
     h.state_mut().apply(Command::Refit {
         form: Form::Quadratic,
         mesh_rest: false,
@@ -506,13 +522,7 @@ fn the_compare_panel_says_when_a_compared_model_is_gone() {
     let name = h.state().doc().models[0].name.clone();
     h.get_by_label("Compare").click();
     h.state_mut().apply(Command::Compare(vec![name.clone()]));
-    let t = Instant::now();
-    while h.state().comparing() {
-        assert!(t.elapsed().as_secs() < 300, "the comparison did not end");
-        std::thread::sleep(Duration::from_millis(20));
-        h.step();
-    }
-    h.run();
+    wait_for_comparison(&mut h);
     let gone = format!("{name} no longer in the document (its refit undone): compare again");
     assert!(h.query_by_label(&gone).is_none());
     h.state_mut().apply(Command::Undo);
@@ -524,9 +534,7 @@ fn the_compare_panel_says_when_a_compared_model_is_gone() {
 /// Reset goes back to the start (a run to the end is hundreds of steps).
 #[test]
 fn undoing_a_step_says_how_many_are_left_and_how_to_start_again() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(4));
+    let mut h = stepped_example(4);
     h.state_mut().apply(Command::Undo);
     assert_eq!(
         status(&h),
@@ -540,9 +548,7 @@ fn undoing_a_step_says_how_many_are_left_and_how_to_start_again() {
 /// says why the figures did not move.
 #[test]
 fn a_refit_on_samples_the_reference_set_holds_says_they_add_nothing() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(3));
+    let mut h = stepped_example(3);
     let lshape = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/reference/lshape.msh");
     h.state_mut().apply(Command::CollectFromFile(lshape));
     let n = h.state().doc().training.len();
@@ -753,9 +759,7 @@ fn a_correction_sticks_through_refit_and_reset_and_the_model_saves() {
 
 #[test]
 fn an_invalid_correction_changes_nothing() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(3));
+    let mut h = stepped_example(3);
     let before = h.state().doc().mesher().unwrap().mesh().clone();
     let last = h.state().doc().last().cloned();
     // Pn far outside the domain: not a valid element.
@@ -775,9 +779,7 @@ fn an_invalid_correction_changes_nothing() {
 
 #[test]
 fn undo_and_redo_every_edit() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(4));
+    let mut h = stepped_example(4);
     let stepped = h.state().doc().mesher().unwrap().mesh().clone();
     // A correction (an edit) on top of steps.
     let last = h.state().doc().last().cloned().unwrap();
@@ -846,9 +848,7 @@ fn undo_and_redo_every_edit() {
 
 #[test]
 fn a_project_saves_and_opens_whole() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(6));
+    let mut h = stepped_example(6);
     h.state_mut().apply(Command::AppendLast);
     h.state_mut().apply(Command::Refit {
         form: Form::Quadratic,
@@ -904,9 +904,7 @@ fn a_project_saves_and_opens_whole() {
 
 #[test]
 fn panels_show_the_model_samples_quality_and_smoothing() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(5));
+    let mut h = stepped_example(5);
     h.state_mut().apply(Command::AppendLast);
     h.run();
     // Quality: the figures of the mesh so far.
@@ -977,9 +975,7 @@ fn panels_show_the_model_samples_quality_and_smoothing() {
 
 #[test]
 fn boundary_edits_on_the_canvas_are_validated_live() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(3));
+    let mut h = stepped_example(3);
     h.run();
     let nodes = h.state().doc().draft.node_count();
     h.get_by_label("split").click();
@@ -1180,9 +1176,7 @@ fn issue17_the_move_tool_drags_a_boundary_node() {
 ///     (and its refits), before undoing the opening itself.
 #[test]
 fn issue17_undo_carries_on_after_reopening_a_project() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(6));
+    let mut h = stepped_example(6);
     h.state_mut().apply(Command::AppendLast);
     h.state_mut().apply(Command::Refit {
         form: Form::Quadratic,
@@ -1237,9 +1231,7 @@ fn issue17_undo_carries_on_after_reopening_a_project() {
 ///     refit and every step its run took, one Ctrl+Y brings them again.
 #[test]
 fn issue17_one_undo_takes_back_a_refit_and_the_rest_it_meshed() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(5));
+    let mut h = stepped_example(5);
     h.state_mut().apply(Command::AppendLast);
     h.run();
     h.get_by_label("Refit").click();
@@ -1273,9 +1265,7 @@ fn issue17_one_undo_takes_back_a_refit_and_the_rest_it_meshed() {
 ///    its Pn on the canvas.
 #[test]
 fn issue17_after_undo_the_last_step_can_be_corrected() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(5));
+    let mut h = stepped_example(5);
     h.run();
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
     h.run();
@@ -1430,9 +1420,7 @@ fn issue17_clicking_r2_or_l2_on_the_annulus_corrects_the_element() {
 ///    question names the project file after Save as.
 #[test]
 fn issue17_replacing_the_document_asks_before_losing_work() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(3));
+    let mut h = stepped_example(3);
     h.state_mut().apply(Command::AppendLast);
     h.run();
     let square = boundary("square.poly");
@@ -1830,9 +1818,7 @@ fn issue17_step_labels_do_not_overlap() {
 ///      as English; fit figures are never printed as infinities.
 #[test]
 fn issue17_every_glyph_exists_and_counts_read_as_english() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(5));
+    let mut h = stepped_example(5);
     h.state_mut().apply(Command::AppendLast);
     h.state_mut().apply(Command::Refit {
         form: Form::Quadratic,
@@ -2024,13 +2010,7 @@ fn the_compare_panel_meshes_the_boundary_with_each_model() {
     h.get_by_label("Compare models").click();
     h.step();
     assert!(h.state().comparing());
-    let t = Instant::now();
-    while h.state().comparing() {
-        assert!(t.elapsed().as_secs() < 300, "the comparison did not end");
-        std::thread::sleep(Duration::from_millis(20));
-        h.step();
-    }
-    h.run();
+    wait_for_comparison(&mut h);
     // The status line says it is done (not "comparing" any more).
     assert_eq!(
         status(&h),
@@ -2067,9 +2047,7 @@ fn the_compare_panel_meshes_the_boundary_with_each_model() {
 
 #[test]
 fn the_title_marks_unsaved_work_not_steps_alone() {
-    let mut h = harness(example());
-    h.run();
-    h.state_mut().apply(Command::StepN(4));
+    let mut h = stepped_example(4);
     h.run();
     // Steps alone are made again by the same model: nothing to save.
     assert!(!h.state().unsaved());
