@@ -22,6 +22,7 @@ fn repro(name: &str) -> PathBuf {
 
 struct Run {
     code: Option<i32>,
+    stdout: Vec<u8>,
     stderr: String,
     seconds: f64,
 }
@@ -34,6 +35,7 @@ fn quadex<S: AsRef<OsStr>>(args: &[S]) -> Run {
         .unwrap();
     Run {
         code: o.status.code(),
+        stdout: o.stdout,
         stderr: String::from_utf8_lossy(&o.stderr).into_owned(),
         seconds: t.elapsed().as_secs_f64(),
     }
@@ -599,29 +601,24 @@ fn quality_against_a_boundary_says_it_matches_or_why_not() {
     let (square, lshape) = (examples.join("square.poly"), examples.join("lshape.poly"));
     let mesh = dir.path().join("square.msh");
     assert_eq!(mesh_to(&square, &mesh).code, Some(0));
-    let o = Command::new(env!("CARGO_BIN_EXE_quadex"))
-        .args([
+    let quality_against = |boundary: &Path| {
+        quadex(&[
             "quality".as_ref(),
             mesh.as_os_str(),
             "--boundary".as_ref(),
-            square.as_os_str(),
+            boundary.as_os_str(),
         ])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(0), "{stderr}");
+    };
+    let o = quality_against(&square);
+    assert_eq!(o.code, Some(0), "{}", o.stderr);
     assert!(
-        stderr.contains("boundary nodes and the same area"),
-        "{stderr}"
+        o.stderr.contains("boundary nodes and the same area"),
+        "{}",
+        o.stderr
     );
     let figures: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(figures["quads"].as_u64().unwrap() > 0);
-    let r = quadex(&[
-        "quality".as_ref(),
-        mesh.as_os_str(),
-        "--boundary".as_ref(),
-        lshape.as_os_str(),
-    ]);
+    let r = quality_against(&lshape);
     assert_eq!(r.code, Some(2), "{}", r.stderr);
     assert!(
         r.stderr.contains("boundary nodes") || r.stderr.contains("area"),
