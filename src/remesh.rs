@@ -137,6 +137,8 @@ struct Badness {
     worst: f64,
     /// The worst scaled Jacobian.
     worst_sj: f64,
+    /// The largest [`Shape::side_ratio`].
+    worst_stretch: f64,
 }
 
 fn badness<'q>(mesh: &QuadMesh, quads: impl Iterator<Item = &'q [u32; 4]>, bound: f64) -> Badness {
@@ -145,6 +147,7 @@ fn badness<'q>(mesh: &QuadMesh, quads: impl Iterator<Item = &'q [u32; 4]>, bound
             bad: 0,
             worst: f64::INFINITY,
             worst_sj: f64::INFINITY,
+            worst_stretch: 0.0,
         },
         |b, q| {
             let shape = Shape::of(mesh.corners(q));
@@ -153,6 +156,7 @@ fn badness<'q>(mesh: &QuadMesh, quads: impl Iterator<Item = &'q [u32; 4]>, bound
                 bad: b.bad + usize::from(f < bound),
                 worst: b.worst.min(f),
                 worst_sj: b.worst_sj.min(shape.scaled_jacobian),
+                worst_stretch: b.worst_stretch.max(shape.side_ratio()),
             }
         },
     )
@@ -255,12 +259,7 @@ impl Work<'_> {
         let points: Vec<Point> = ids.iter().map(|&v| self.mesh.nodes[v as usize]).collect();
         // A patch may not stretch a quad more than smoothing would
         // (MAX_STRETCH) or than the cavity already does.
-        let stretch = |m: &QuadMesh, qs: &[[u32; 4]]| {
-            qs.iter()
-                .map(|q| Shape::of(m.corners(q)).side_ratio())
-                .fold(MAX_STRETCH, f64::max)
-        };
-        let max_stretch = stretch(self.mesh, &quads);
+        let max_stretch = old.worst_stretch.max(MAX_STRETCH);
         let boundary = Boundary::new(points, sub_loops, None).ok()?;
         let mut best: Option<Patch> = None;
         // A patch of many more quads than the cavity is not wanted, and an
@@ -291,11 +290,14 @@ impl Work<'_> {
             sub.compact();
             improve(&mut sub, true, &finish.cleanup, &finish.smooth);
             unflatten(&mut sub);
-            if sub.check_finished().is_err() || stretch(&sub, &sub.quads) > max_stretch {
+            if sub.check_finished().is_err() {
                 continue;
             }
             let b = badness(&sub, sub.quads.iter(), bound);
-            if !improves(b, old, bound) || best.as_ref().is_some_and(|p| !better(b, p.badness)) {
+            if b.worst_stretch > max_stretch
+                || !improves(b, old, bound)
+                || best.as_ref().is_some_and(|p| !better(b, p.badness))
+            {
                 continue;
             }
             let nb = ids.len();
