@@ -766,13 +766,17 @@ impl Document {
     /// the figures of the old and the new model: on those samples, at each
     /// correction, and meshing the boundary from the start.
     pub fn refit(&mut self, form: Form) -> Result<RefitFigures, EditorError> {
-        let (base, from_meshes, repeated) = self.global_part()?;
+        let RefitParts {
+            base,
+            own,
+            from_meshes,
+            repeated,
+        } = self.refit_parts()?;
         let set = self.refit_set()?;
         let mut k = self.models.len() + 1;
         while self.models.iter().any(|f| f.name == refit_name(form, k)) {
             k += 1;
         }
-        let (own, _) = fit::split_added(&self.training);
         let memory = fit::correction_memory(base.points, &own, model::memory::DEFAULT_RADIUS)?;
         let mut global = global_fit(&base, &from_meshes, form, &REFIT_PARAMS)?;
         global.name = refit_name(form, k);
@@ -840,25 +844,31 @@ impl Document {
         Ok(f)
     }
 
-    /// What a refit's global fit is made on: the reference samples, and
-    /// the user's samples from meshes (collected or imported) that add to
-    /// them; with how many of the user's repeat samples already there (a
-    /// refit that adds only repeats needs no new fit).
-    fn global_part(&self) -> Result<(Arc<TrainingSet>, TrainingSet, usize), EditorError> {
+    /// What a refit is made of ([`RefitParts`]), the user's samples split
+    /// once.
+    fn refit_parts(&self) -> Result<RefitParts, EditorError> {
         let base = reference(self.training.points)?;
-        let (_, from_meshes) = fit::split_added(&self.training);
-        if from_meshes.is_empty() {
-            return Ok((base.set, from_meshes, 0));
-        }
-        let (fresh, repeated) = from_meshes.beyond(base.keys.get_or_init(|| base.set.keys()));
-        Ok((base.set, fresh, repeated))
+        let (own, from_meshes) = fit::split_added(&self.training);
+        let (from_meshes, repeated) = if from_meshes.is_empty() {
+            (from_meshes, 0)
+        } else {
+            from_meshes.beyond(base.keys.get_or_init(|| base.set.keys()))
+        };
+        Ok(RefitParts {
+            base: base.set,
+            own,
+            from_meshes,
+            repeated,
+        })
     }
 
     /// The global fit a refit in `form` would make now, when it is not made
     /// yet (it takes seconds: the editor makes it in a thread first);
     /// `None` when the refit needs no new fit.
     pub fn pending_fit(&self, form: Form) -> Result<Option<FitTask>, EditorError> {
-        let (base, from_meshes, _) = self.global_part()?;
+        let RefitParts {
+            base, from_meshes, ..
+        } = self.refit_parts()?;
         let key = fit_key(&base, &from_meshes, form, &REFIT_PARAMS);
         Ok(cached_or_shipped(&key, &from_meshes, form, &REFIT_PARAMS)
             .is_none()
@@ -1137,6 +1147,19 @@ pub const COMPARE_NODES: usize = 4000;
 /// of the program and shared.
 pub fn reference_samples(points: usize) -> Result<Arc<TrainingSet>, EditorError> {
     Ok(reference(points)?.set)
+}
+
+/// What a refit is made of: its global fit's samples (the reference
+/// samples, and the user's samples from meshes, collected or imported,
+/// that add to them) and the user's own elements layered over it as
+/// corrections.
+struct RefitParts {
+    base: Arc<TrainingSet>,
+    own: TrainingSet,
+    from_meshes: TrainingSet,
+    /// The user's samples from meshes left out as repeats of samples
+    /// already there (a refit that adds only repeats needs no new fit).
+    repeated: usize,
 }
 
 /// The reference samples at `points` input points, and their duplicate
