@@ -109,3 +109,37 @@ fn small_random_domains_mesh_validly() {
         failures.join("\n")
     );
 }
+
+/// A channel domain (a rectangle with a thin slot) on which a loop
+/// relaxation once moved a front node clean across its loop's far side:
+/// no edge crossed, but the loop ran clockwise outside the domain from
+/// then on, extraction cut elements out of the domain until the step
+/// limit, and the run was rewound to nothing and filled. Stepped with the
+/// invariants (a clockwise loop lies inside a counter-clockwise one)
+/// checked after every step, it now finishes by extraction alone.
+#[test]
+fn a_relaxed_loop_never_turns_inside_out() {
+    use quadex::domains::{generate, Family};
+    use quadex::extract::{MeshParams, Mesher, StepOutcome};
+    let d = generate(Family::Channel, 0xb399_c8a2_6925_d996);
+    let model = Arc::new(quadex::model::default_model().expect("the shipped model loads"));
+    let mut m = Mesher::new(d.boundary, model, MeshParams::DEFAULT);
+    let mut relaxed = 0;
+    for k in 1.. {
+        match m.step().expect("a step") {
+            StepOutcome::Done => break,
+            StepOutcome::Stepped(r) => {
+                assert_ne!(r.kind, StepKind::Fill, "step {k} fills the region left");
+                relaxed += usize::from(r.kind == StepKind::Relax);
+            }
+        }
+        if let Err(e) = m.check_invariants() {
+            panic!("after step {k}: {e}");
+        }
+    }
+    assert!(
+        relaxed > 0,
+        "no loop was relaxed: the case no longer tests it"
+    );
+    assert!(m.is_done());
+}

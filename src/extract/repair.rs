@@ -337,7 +337,8 @@ impl Mesher {
     /// Moves each interior (non-boundary) node of loop `lid` half-way to
     /// the midpoint of its front neighbours when every quad around it stays
     /// strictly convex with a scaled Jacobian of at least
-    /// `min(former, 0.3)` and its front edges cross nothing.
+    /// `min(former, 0.3)`, and neither its front edges nor its path there
+    /// cross the front.
     pub(super) fn relax_loop(&mut self, lid: u32) -> Option<StepReport> {
         let nb = self.mesh.n_boundary() as u32;
         let slots = self.front.loop_slots(lid);
@@ -380,6 +381,13 @@ impl Mesher {
                     && s.scaled_jacobian >= sj.min(0.3)
                     && s.side_ratio() <= sides.max(MAX_SIDE_RATIO)
             });
+            // The node may not pass over the front on its way: front
+            // edges missed by its new edges but crossed by its path would
+            // lie on the other side of it, the loop turned inside out
+            // around them (a thin loop relaxed across its own far side).
+            if ok && self.crosses_front(old, new, &[v]) {
+                ok = false;
+            }
             if ok {
                 let prev_node = self.front.node(self.front.prev(s));
                 let next_node = self.front.node(self.front.next(s));

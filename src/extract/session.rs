@@ -329,6 +329,37 @@ impl Mesher {
                 .collect();
             covered.add_polygon(&p);
         }
+        // A clockwise loop (a hole's front) lies inside a counter-clockwise
+        // one. A loop turned inside out would go on cutting elements
+        // outwards, out of the domain, and the sum above would not see it:
+        // its negative area grows as its quads' does.
+        let loops: Vec<(u32, Vec<Point>, f64)> = self
+            .front
+            .live_loops()
+            .map(|l| {
+                let p: Vec<Point> = self
+                    .front
+                    .loop_nodes(l)
+                    .iter()
+                    .map(|&v| nodes[v as usize])
+                    .collect();
+                let a = crate::geom::polygon_area(p.iter().copied());
+                (l, p, a)
+            })
+            .collect();
+        for (l, p, a) in &loops {
+            let held = *a >= 0.0
+                || p.iter().any(|&x| {
+                    loops
+                        .iter()
+                        .any(|(_, q, b)| *b > 0.0 && crate::geom::point_in_polygon(x, q))
+                });
+            if !held {
+                return Err(crate::mesh::InvariantError::Front(format!(
+                    "loop {l} runs clockwise (area {a:.3e}) inside no counter-clockwise loop"
+                )));
+            }
+        }
         // The mesh's loops are the boundary's, its first nodes the
         // boundary's points.
         let domain = self.mesh.loops_area_sum();
