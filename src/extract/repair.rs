@@ -242,7 +242,8 @@ impl Mesher {
     /// Seam at sharp slot `s`: merges P_l1 and P_r1 (at their midpoint, or
     /// onto the one on the boundary) so the sharp corner closes. Kept only
     /// if every quad around the merged node stays strictly convex with a
-    /// scaled Jacobian of at least 0.2 and the new front edges cross nothing.
+    /// scaled Jacobian of at least 0.2, the new front edges cross nothing
+    /// and the loop left runs the way it ran.
     pub(super) fn try_seam(&mut self, s: SlotId) -> Option<StepReport> {
         let f = &self.front;
         if f.loop_len(s) < 6 {
@@ -316,6 +317,21 @@ impl Mesher {
                 return None;
             }
         }
+        // The loop left must run the way it ran: a short loop can turn
+        // inside out with no edge crossing (its last nodes on the wrong
+        // side of the merged one).
+        let lid = self.front.slot(s).loop_id;
+        let before = self.front.loop_area(lid, &self.mesh.nodes);
+        let after = crate::geom::polygon_area(
+            self.front
+                .loop_slots(lid)
+                .into_iter()
+                .filter(|&t| t != s && t != r)
+                .map(|t| if t == l { pos } else { self.world(t) }),
+        );
+        if before * after <= 0.0 {
+            return None;
+        }
         let mut rep = self.report(StepKind::Seam);
         rep.reference = Some(self.front.node(s));
         self.front.remove_pair(s, &self.mesh.nodes);
@@ -348,7 +364,8 @@ impl Mesher {
                 *count.entry(self.front.node(t)).or_default() += 1;
             }
         }
-        let mut moved = 0;
+        let area = self.front.loop_area(lid, &self.mesh.nodes);
+        let mut moved: Vec<(SlotId, u32, Point)> = Vec::new();
         for &s in &slots {
             let v = self.front.node(s);
             if v < nb || count[&v] > 1 {
@@ -402,11 +419,21 @@ impl Mesher {
             if !ok {
                 self.mesh.nodes[v as usize] = old;
             } else {
-                moved += 1;
+                moved.push((s, v, old));
             }
             self.front.refile_edges_at(s, v, &self.mesh.nodes);
         }
-        if moved == 0 {
+        // A short loop can turn inside out with no edge crossing (each
+        // move checked on its own): then every move is taken back.
+        if !moved.is_empty() && area * self.front.loop_area(lid, &self.mesh.nodes) <= 0.0 {
+            for &(s, v, old) in moved.iter().rev() {
+                self.front.unfile_edges_at(s);
+                self.mesh.nodes[v as usize] = old;
+                self.front.refile_edges_at(s, v, &self.mesh.nodes);
+            }
+            moved.clear();
+        }
+        if moved.is_empty() {
             return None;
         }
         for &s in &slots {
