@@ -242,6 +242,16 @@ impl Mesher {
         let (corners, consumed): ([Corner; 4], Vec<SlotId>) = match c {
             Cand::New { s, pn } => {
                 let (l, r) = (f.prev(s), f.next(s));
+                // On a four-node loop the element leaves another four-node
+                // loop (P0 moved to Pn), which must run the way it ran.
+                if n == 4 {
+                    let p = |t: SlotId| self.mesh.nodes[f.node(t) as usize];
+                    let before = crate::geom::polygon_area([p(l), p(s), p(r), p(f.next(r))]);
+                    let after = crate::geom::polygon_area([p(l), pn, p(r), p(f.next(r))]);
+                    if before * after <= 0.0 {
+                        return None;
+                    }
+                }
                 (
                     [
                         Corner::Full(s),

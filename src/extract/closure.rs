@@ -267,14 +267,15 @@ impl Mesher {
     /// movable nodes (made by extraction, on the front only once) are moved,
     /// each by a pattern search, to where the worst of their quads and of
     /// the loop's best closure ([`closure_quality`]) is best, keeping the
-    /// front free of crossings (paving's smoothing before closure). True
-    /// when a node moved.
+    /// front free of crossings and the loop running the way it ran
+    /// (paving's smoothing before closure). True when a node moved.
     pub(super) fn settle_small(&mut self, lid: u32) -> bool {
         let slots = self.front.loop_slots(lid);
         let nodes: Vec<u32> = slots.iter().map(|&s| self.front.node(s)).collect();
         if !matches!(nodes.len(), 4 | 6) {
             return false;
         }
+        let area = self.front.loop_area(lid, &self.mesh.nodes);
         let mut moved = false;
         for (k, &s) in slots.iter().enumerate() {
             let v = nodes[k];
@@ -324,8 +325,16 @@ impl Mesher {
                 self.front.node(self.front.prev(s)),
                 self.front.node(self.front.next(s)),
             );
+            // The loop must keep running the way it ran (a closure's
+            // quality need not see a loop turned inside out).
+            let turned = |m: &QuadMesh| {
+                let pts = nodes.iter().map(|&u| m.nodes[u as usize]);
+                area * crate::geom::polygon_area(pts) <= 0.0
+            };
             if at != old
-                && (self.crosses_front(at, pp, &[v, np]) || self.crosses_front(at, pn, &[v, nn]))
+                && (self.crosses_front(at, pp, &[v, np])
+                    || self.crosses_front(at, pn, &[v, nn])
+                    || turned(&self.mesh))
             {
                 self.mesh.nodes[v as usize] = old;
             } else if at != old {

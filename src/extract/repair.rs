@@ -242,8 +242,9 @@ impl Mesher {
     /// Seam at sharp slot `s`: merges P_l1 and P_r1 (at their midpoint, or
     /// onto the one on the boundary) so the sharp corner closes. Kept only
     /// if every quad around the merged node stays strictly convex with a
-    /// scaled Jacobian of at least 0.2, the new front edges cross nothing
-    /// and the loop left runs the way it ran.
+    /// scaled Jacobian of at least 0.2, the new front edges cross nothing,
+    /// the region the front gives up holds no front node, and the loop left
+    /// runs the way it ran.
     pub(super) fn try_seam(&mut self, s: SlotId) -> Option<StepReport> {
         let f = &self.front;
         if f.loop_len(s) < 6 {
@@ -316,6 +317,23 @@ impl Mesher {
             if self.crosses_front(pos, pw, &[w, nl, nr, tip]) {
                 return None;
             }
+        }
+        // And the region the front gives up (the corner, and what the edges
+        // beside it sweep as their ends move to the merged node) must hold
+        // no front: an island's loop there would be left outside the front
+        // around it.
+        let (nl2, nr2) = (self.front.node(l2), self.front.node(r2));
+        let cut = [self.world(l2), pl, self.world(s), pr, self.world(r2), pos];
+        let (lo, hi) = cut[1..]
+            .iter()
+            .fold((cut[0], cut[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        self.front.edges_near(lo, hi, &mut self.scratch.near);
+        if self.scratch.near.iter().any(|&e| {
+            let v = self.front.node(e);
+            ![nl2, nl, tip, nr, nr2].contains(&v)
+                && crate::geom::point_in_polygon(self.mesh.nodes[v as usize], &cut)
+        }) {
+            return None;
         }
         // The loop left must run the way it ran: a short loop can turn
         // inside out with no edge crossing (its last nodes on the wrong
