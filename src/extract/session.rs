@@ -316,23 +316,7 @@ impl Mesher {
                 }
             }
         }
-        // Quads and the region the front still bounds tile the domain, up
-        // to the sums' rounding bounds (`AreaSum`, as in the final check).
         let nodes = &self.mesh.nodes;
-        let mut covered = self.mesh.quads_area_sum();
-        for l in self.front.live_loops() {
-            let p: Vec<Point> = self
-                .front
-                .loop_nodes(l)
-                .iter()
-                .map(|&v| nodes[v as usize])
-                .collect();
-            covered.add_polygon(&p);
-        }
-        // A clockwise loop (a hole's front) lies inside a counter-clockwise
-        // one. A loop turned inside out would go on cutting elements
-        // outwards, out of the domain, and the sum above would not see it:
-        // its negative area grows as its quads' does.
         let loops: Vec<(u32, Vec<Point>, f64)> = self
             .front
             .live_loops()
@@ -347,6 +331,16 @@ impl Mesher {
                 (l, p, a)
             })
             .collect();
+        // Quads and the region the front still bounds tile the domain, up
+        // to the sums' rounding bounds (`AreaSum`, as in the final check).
+        let mut covered = self.mesh.quads_area_sum();
+        for (_, p, _) in &loops {
+            covered.add_polygon(p);
+        }
+        // A clockwise loop (a hole's front) lies inside a counter-clockwise
+        // one. A loop turned inside out would go on cutting elements
+        // outwards, out of the domain, and the sum above would not see it:
+        // its negative area grows as its quads' does.
         for (l, p, a) in &loops {
             let held = *a >= 0.0
                 || p.iter().any(|&x| {
