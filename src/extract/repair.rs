@@ -324,10 +324,9 @@ impl Mesher {
         // around it.
         let (nl2, nr2) = (self.front.node(l2), self.front.node(r2));
         let cut = [self.world(l2), pl, self.world(s), pr, self.world(r2), pos];
-        let (lo, hi) = cut[1..]
-            .iter()
-            .fold((cut[0], cut[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
-        self.front.edges_near(lo, hi, &mut self.scratch.near);
+        let bb = crate::geom::Aabb::of(cut)?;
+        self.front
+            .edges_near(bb.min, bb.max, &mut self.scratch.near);
         if self.scratch.near.iter().any(|&e| {
             let v = self.front.node(e);
             ![nl2, nl, tip, nr, nr2].contains(&v)
@@ -338,15 +337,16 @@ impl Mesher {
         // The loop left must run the way it ran: a short loop can turn
         // inside out with no edge crossing (its last nodes on the wrong
         // side of the merged one).
-        let lid = self.front.slot(s).loop_id;
-        let before = self.front.loop_area(lid, &self.mesh.nodes);
-        let after = crate::geom::polygon_area(
-            self.front
-                .loop_slots(lid)
-                .into_iter()
-                .filter(|&t| t != s && t != r)
-                .map(|t| if t == l { pos } else { self.world(t) }),
-        );
+        let slots = self.front.loop_slots(self.front.slot(s).loop_id);
+        let before = crate::geom::polygon_area(slots.iter().map(|&t| self.world(t)));
+        let after =
+            crate::geom::polygon_area(slots.iter().filter(|&&t| t != s && t != r).map(|&t| {
+                if t == l {
+                    pos
+                } else {
+                    self.world(t)
+                }
+            }));
         if before * after <= 0.0 {
             return None;
         }
