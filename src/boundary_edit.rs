@@ -7,6 +7,7 @@
 
 use crate::boundary::{Boundary, BoundaryError};
 use crate::geom::Point;
+use thiserror::Error;
 
 /// Loops of points being edited: `loops[0]` is the outer loop when the
 /// draft becomes a boundary (the largest loop is taken as outer whatever
@@ -173,11 +174,34 @@ impl Draft {
     /// into `max(1, round(len / h))` equal parts, so the loop's nodes (its
     /// corners) stay. Even-count rule: when the whole draft would then have
     /// an odd node count, the segment whose parts are longest gets one
-    /// part more.
-    pub fn resample(&mut self, li: usize, h: f64) {
-        if h.is_nan() || h <= 0.0 {
-            return;
+    /// part more. A target that is not a positive length, a loop that is
+    /// not there, or a target so short that the draft would pass
+    /// [`MAX_RESAMPLED_NODES`] is refused and the draft left as it was.
+    pub fn resample(&mut self, li: usize, h: f64) -> Result<(), ResampleError> {
+        let parts = self.resample_parts(li, h)?;
+        let l = &mut self.loops[li];
+        let n = l.len();
+        let mut out = Vec::with_capacity(parts.iter().sum());
+        for (k, &m) in parts.iter().enumerate() {
+            let (a, b) = (l[k], l[(k + 1) % n]);
+            for j in 0..m {
+                out.push(a + (b - a) * (j as f64 / m as f64));
+            }
         }
+        *l = out;
+        Ok(())
+    }
+
+    /// The parts each segment of loop `li` is cut into by
+    /// [`Draft::resample`], checked as it checks them.
+    pub fn resample_parts(&self, li: usize, h: f64) -> Result<Vec<usize>, ResampleError> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(ResampleError::Target(h));
+        }
+        let l = self.loops.get(li).ok_or(ResampleError::NoLoop {
+            loop_index: li,
+            loops: self.loops.len(),
+        })?;
         let others: usize = self
             .loops
             .iter()
@@ -185,17 +209,25 @@ impl Draft {
             .filter(|&(i, _)| i != li)
             .map(|(_, l)| l.len())
             .sum();
-        let Some(l) = self.loops.get_mut(li) else {
-            return;
-        };
         let n = l.len();
         let seg = |k: usize| (l[k], l[(k + 1) % n]);
-        let mut parts: Vec<usize> = (0..n)
+        // Counted in floating point first: a target far below the
+        // segments would overflow a count of parts.
+        let wanted: Vec<f64> = (0..n)
             .map(|k| {
                 let (a, b) = seg(k);
-                ((a.distance(b) / h).round() as usize).max(1)
+                (a.distance(b) / h).round().max(1.0)
             })
             .collect();
+        let total = others as f64 + wanted.iter().sum::<f64>() + 1.0;
+        if total > MAX_RESAMPLED_NODES as f64 {
+            return Err(ResampleError::TooManyNodes {
+                loop_index: li,
+                h,
+                nodes: total,
+            });
+        }
+        let mut parts: Vec<usize> = wanted.iter().map(|&w| w as usize).collect();
         if (others + parts.iter().sum::<usize>()) % 2 == 1 {
             let longest = (0..n).max_by(|&i, &j| {
                 let (a, b) = seg(i);
@@ -206,15 +238,28 @@ impl Draft {
                 parts[k] += 1;
             }
         }
-        let mut out = Vec::with_capacity(parts.iter().sum());
-        for (k, &m) in parts.iter().enumerate() {
-            let (a, b) = seg(k);
-            for j in 0..m {
-                out.push(a + (b - a) * (j as f64 / m as f64));
-            }
-        }
-        *l = out;
+        Ok(parts)
     }
+}
+
+/// The most nodes a draft may have after a resample: a boundary of a
+/// million nodes is already far past what a mesh of it could hold in
+/// memory (a disk of n nodes takes about n²/(4π) quads).
+pub const MAX_RESAMPLED_NODES: usize = 1_000_000;
+
+/// Why a resample was refused.
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum ResampleError {
+    #[error("resample target {0} is not a positive length")]
+    Target(f64),
+    #[error("there is no loop {loop_index} to resample (the draft has {loops})")]
+    NoLoop { loop_index: usize, loops: usize },
+    #[error("resampling loop {loop_index} to segments of {h} would give the boundary about {nodes:.0} nodes, more than {max}", max = MAX_RESAMPLED_NODES)]
+    TooManyNodes {
+        loop_index: usize,
+        h: f64,
+        nodes: f64,
+    },
 }
 
 #[cfg(test)]
@@ -254,7 +299,7 @@ mod tests {
     #[test]
     fn resampling_keeps_corners_and_makes_the_count_even() {
         let mut d = square();
-        d.resample(0, 0.3);
+        d.resample(0, 0.3).unwrap();
         // round(1 / 0.3) = 3 parts a side: 12 nodes, corners kept.
         assert_eq!(d.node_count(), 12);
         assert_eq!(d.loops[0][3], Point::new(1.0, 0.0));
@@ -265,9 +310,39 @@ mod tests {
                 Point::new(0.0, 1.0),
             ]],
         };
-        t.resample(0, 0.5);
+        t.resample(0, 0.5).unwrap();
         assert_eq!(t.node_count() % 2, 0);
         t.to_boundary().unwrap();
+    }
+
+    #[test]
+    fn a_resample_past_the_node_bound_is_refused_and_changes_nothing() {
+        let mut d = square();
+        let e = d.resample(0, 1e-9).unwrap_err();
+        assert!(
+            matches!(e, ResampleError::TooManyNodes { loop_index: 0, .. }),
+            "{e}"
+        );
+        assert_eq!(d, square());
+        // A target that overflows a count of parts is refused the same way.
+        assert!(matches!(
+            d.resample(0, 1e-300),
+            Err(ResampleError::TooManyNodes { .. })
+        ));
+        for h in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(d.resample(0, h), Err(ResampleError::Target(_))));
+        }
+        assert_eq!(
+            d.resample(3, 0.5),
+            Err(ResampleError::NoLoop {
+                loop_index: 3,
+                loops: 1
+            })
+        );
+        assert_eq!(d, square());
+        // Just under the bound is allowed: 4 sides of 249,999 parts.
+        d.resample(0, 1.0 / 249_999.0).unwrap();
+        assert_eq!(d.node_count(), 999_996);
     }
 
     #[test]

@@ -4,6 +4,8 @@
 use anyhow::{anyhow, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
+use quadex::boundary::Boundary;
+use quadex::boundary_edit::Draft;
 use quadex::cleanup::CleanupParams;
 use quadex::compare;
 use quadex::extract::{MeshParams, StepKind, StepStats, Strategy};
@@ -92,6 +94,13 @@ enum Command {
         /// a mapped grid (`off`: never) [default: 4].
         #[arg(long, value_parser = parse_mapped_rows)]
         mapped_rows: Option<MappedRows>,
+        /// Resample the boundary first: every segment cut into
+        /// round(length / H) equal parts (at least one; the given nodes
+        /// stay, one part more on the longest piece when the node count
+        /// would be odd). Without it the file's nodes are the mesh's
+        /// boundary nodes.
+        #[arg(long, value_name = "H")]
+        resample: Option<f64>,
         /// Write the quality figures and step counts as JSON.
         #[arg(long)]
         report: Option<PathBuf>,
@@ -285,6 +294,23 @@ fn off_or<T: std::str::FromStr>(
 #[derive(Clone, Copy, Debug)]
 struct MappedRows(Option<usize>);
 
+/// The boundary in `path`, resampled to segments of about `h` when given
+/// ([`Draft::resample`], every loop): the file is read as loops, so a file
+/// whose node count is odd can be meshed once resampling evens it.
+fn read_resampled(path: &Path, h: Option<f64>) -> Result<Boundary> {
+    let at = |e: &dyn std::fmt::Display| InputError(anyhow!("{}: {e}", path.display()));
+    let Some(h) = h else {
+        return io::read_boundary(path).map_err(|e| at(&e).into());
+    };
+    let mut draft = Draft {
+        loops: io::read_boundary_loops(path).map_err(|e| at(&e))?,
+    };
+    for li in 0..draft.loops.len() {
+        draft.resample(li, h).map_err(|e| at(&e))?;
+    }
+    draft.to_boundary().map_err(|e| at(&e).into())
+}
+
 fn parse_mapped_rows(s: &str) -> Result<MappedRows, String> {
     off_or(s, |n: &usize| *n >= 1, "a count of at least 1").map(MappedRows)
 }
@@ -446,6 +472,7 @@ fn run(c: Command) -> Result<()> {
             layers,
             transitions,
             mapped_rows,
+            resample,
             report,
         } => {
             let fmt = MeshFormat::from_path(&output)
@@ -454,8 +481,7 @@ fn run(c: Command) -> Result<()> {
             if let Some(r) = &report {
                 check_output(r)?;
             }
-            let boundary = io::read_boundary(&input)
-                .map_err(|e| InputError(anyhow!("{}: {e}", input.display())))?;
+            let boundary = read_resampled(&input, resample)?;
             let model = load_model(&model)?;
             let params = MeshParams {
                 strategy: match strategy {

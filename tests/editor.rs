@@ -1647,6 +1647,16 @@ fn issue17_new_draw_save_and_fix_a_broken_file() {
             "{name}: {got} for {want}"
         );
     }
+    // A target so fine the boundary would pass a million nodes cannot be
+    // applied: the button is disabled and the draft stays.
+    let before = h.state().doc().draft.clone();
+    h.state_mut().panels.tools.resample_h = 1e-9;
+    h.run();
+    let button = h.get_by_label("Resample");
+    assert!(button.accesskit_node().is_disabled());
+    button.click();
+    h.run();
+    assert_eq!(h.state().doc().draft, before);
 }
 
 /// 9. The panels say which mesh they count: the left panel the mesh as

@@ -677,17 +677,21 @@ impl super::View for Tools {
                         .range(1e-9 * scale..=f64::MAX),
                 )
                 .on_hover_text("Target segment length (starts at this file's median segment)");
-                if ui
-                    .button("Resample")
-                    .on_hover_text("Cut every segment of the loop into round(length / target) parts, keeping the corners; one part more on the longest piece when the total node count would be odd")
-                    .clicked()
-                {
+                let refused = d.resample_parts(self.resample_loop, self.resample_h).err();
+                let mut button = ui
+                    .add_enabled(refused.is_none(), egui::Button::new("Resample"))
+                    .on_hover_text("Cut every segment of the loop into round(length / target) parts, keeping the corners; one part more on the longest piece when the total node count would be odd");
+                if let Some(e) = &refused {
+                    button = button.on_disabled_hover_text(e.to_string());
+                }
+                if button.clicked() {
                     let mut d = d.clone();
-                    d.resample(self.resample_loop, self.resample_h);
-                    out.push(Command::SetDraft {
-                        draft: d,
-                        what: "resample loop",
-                    });
+                    if d.resample(self.resample_loop, self.resample_h).is_ok() {
+                        out.push(Command::SetDraft {
+                            draft: d,
+                            what: "resample loop",
+                        });
+                    }
                 }
             });
         }
