@@ -32,6 +32,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::boundary::Boundary;
 use crate::cleanup::{improve, CleanupParams};
+use crate::extract::size::SizeField;
 use crate::extract::{MeshParams, Mesher, StepKind, Strategy};
 use crate::geom::Point;
 use crate::mesh::{boundary_loops, QuadMesh};
@@ -262,6 +263,8 @@ impl Work<'_> {
         let max_stretch = old.worst_stretch.max(MAX_STRETCH);
         let boundary = Boundary::new(points, sub_loops, None).ok()?;
         let mut best: Option<Patch> = None;
+        // Every setting meshes the same cavity: one size field serves all.
+        let size = Arc::new(SizeField::of_boundary(&boundary));
         // A patch of many more quads than the cavity is not wanted, and an
         // extraction that would make one is cut short.
         let limit = MAX_QUADS * cavity.len() + 16;
@@ -273,7 +276,8 @@ impl Work<'_> {
             if *work == 0 {
                 break;
             }
-            let mut mesher = Mesher::new(boundary.clone(), model.clone(), params);
+            let mut mesher =
+                Mesher::with_size(boundary.clone(), model.clone(), params, size.clone());
             let run = mesher.run(|_| {});
             // A run that fails has tried its fills too: it costs its limit,
             // as does each fill of a run that finishes.

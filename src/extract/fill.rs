@@ -510,12 +510,16 @@ fn untangle(
     min_area: f64,
 ) -> Result<(), FillError> {
     let at = |b: &RegionFill, q: [u32; 4]| q.map(|v| b.at(v, nodes));
-    let bad = |b: &RegionFill| -> Vec<usize> {
-        (0..b.quads.len())
-            .filter(|&k| !quad_ok(at(b, b.quads[k]), min_area))
-            .collect()
-    };
-    let mut worse = bad(b);
+    // Whether each quad is folded; after a sweep only the quads at the
+    // nodes it moved are tested again.
+    let mut folded: Vec<bool> = b
+        .quads
+        .iter()
+        .map(|&q| !quad_ok(at(b, q), min_area))
+        .collect();
+    let listed =
+        |folded: &[bool]| -> Vec<usize> { (0..folded.len()).filter(|&k| folded[k]).collect() };
+    let mut worse = listed(&folded);
     if worse.is_empty() {
         return Ok(());
     }
@@ -550,7 +554,7 @@ fn untangle(
             .collect();
         movable.sort_unstable();
         movable.dedup();
-        for v in movable {
+        for &v in &movable {
             let start = b.points[v];
             let reach = incident[v]
                 .iter()
@@ -596,7 +600,12 @@ fn untangle(
             });
             b.points[v] = here;
         }
-        let left = bad(b);
+        for &v in &movable {
+            for &k in &incident[v] {
+                folded[k] = !quad_ok(at(b, b.quads[k]), min_area);
+            }
+        }
+        let left = listed(&folded);
         if left.is_empty() || left == worse {
             break;
         }

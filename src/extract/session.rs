@@ -179,8 +179,21 @@ pub const CHECKPOINT_BEHIND: usize = 512;
 impl Mesher {
     /// A mesher over `boundary` with `model` and `params`.
     pub fn new(boundary: Boundary, model: Arc<dyn Model>, params: MeshParams) -> Mesher {
-        let mesh = QuadMesh::from_boundary(&boundary);
         let size = Arc::new(SizeField::of_boundary(&boundary));
+        Mesher::with_size(boundary, model, params, size)
+    }
+
+    /// [`Mesher::new`] with the size field given: `size` must be
+    /// [`SizeField::of_boundary`] of `boundary`, built once and shared by
+    /// the meshers of one boundary (remeshing tries several settings on
+    /// one cavity; a replay starts again from the same boundary).
+    pub fn with_size(
+        boundary: Boundary,
+        model: Arc<dyn Model>,
+        params: MeshParams,
+        size: Arc<SizeField>,
+    ) -> Mesher {
+        let mesh = QuadMesh::from_boundary(&boundary);
         let front = Front::new(&mesh.loops, &mesh.nodes, grid_cell(&size));
         let mut min_seg = f64::INFINITY;
         for (a, b) in boundary.segments() {
@@ -885,10 +898,11 @@ impl Mesher {
         let (mut fresh, start) = match base {
             Some(c) => (Mesher::clone(c), c.history.len()),
             None => (
-                Mesher::new(
+                Mesher::with_size(
                     self.boundary.clone(),
                     self.initial_model.clone(),
                     self.params.clone(),
+                    self.size.clone(),
                 ),
                 0,
             ),
