@@ -552,7 +552,9 @@ const SEARCH_ROUNDS: usize = 60;
 /// A pattern search for the position of one node: from `start`, whose
 /// quality is `best`, each round tries a step in each of eight directions
 /// (`try_at` puts the node there and gives its quality, lexicographic, or
-/// `None` to refuse it; it is given the worst member of the best so far)
+/// `None` to refuse it; it is given the first member of the best so far,
+/// and may stop measuring and return any first member not over it by
+/// [`SEARCH_MARGIN`], which is then no improvement)
 /// and moves to the best that improves; the step grows by `steps.grow`
 /// after a move (up to `steps.cap`) and halves after a round without one,
 /// until it is under `steps.stop` or [`SEARCH_ROUNDS`] rounds are done.
@@ -601,8 +603,12 @@ fn edge_range(mesh: &QuadMesh, v: usize, nbs: &[u32]) -> (f64, f64) {
 /// Whether node quality `q` is better than `best` (lexicographic, by more
 /// than rounding).
 fn improves(q: (f64, f64), best: (f64, f64)) -> bool {
-    q.0 > best.0 + 1e-12 || (q.0 >= best.0 && q.1 > best.1 + 1e-12)
+    q.0 > best.0 + SEARCH_MARGIN || (q.0 >= best.0 && q.1 > best.1 + SEARCH_MARGIN)
 }
+
+/// By how much a quality must rise to count as better in a [`search`]
+/// (more than rounding).
+pub(crate) const SEARCH_MARGIN: f64 = 1e-12;
 
 /// Steps [`ascend`] takes up the slope at most.
 const ASCENT_STEPS: usize = 3;

@@ -51,7 +51,7 @@ use spade::{
 
 use crate::front::EdgeGrid;
 use crate::geom::{ccw_angle, is_strictly_convex, Aabb, Point};
-use crate::smooth::{search, SearchSteps};
+use crate::smooth::{search, SearchSteps, SEARCH_MARGIN};
 
 /// The quads that fill a region, over the existing nodes (ids below
 /// `first_new`) and the new nodes `points` (id `first_new + k`).
@@ -538,12 +538,20 @@ fn untangle(
     }
     // A node's quality: its worst quad's scaled Jacobian (signed: a
     // folded quad's reflex corner counts below a flat one).
-    let quality = |b: &RegionFill, v: usize| -> f64 {
-        incident[v]
-            .iter()
-            .map(|&k| crate::quality::Shape::of(at(b, b.quads[k])).scaled_jacobian)
-            .fold(f64::INFINITY, f64::min)
+    // With a floor it stops at the first quad at or under it plus the
+    // search's margin: such a place is no improvement whatever its other
+    // quads, and the search drops its figure.
+    let quality_over = |b: &RegionFill, v: usize, floor: f64| -> f64 {
+        let mut worst = f64::INFINITY;
+        for &k in &incident[v] {
+            worst = worst.min(crate::quality::Shape::of(at(b, b.quads[k])).scaled_jacobian);
+            if worst <= floor + SEARCH_MARGIN {
+                break;
+            }
+        }
+        worst
     };
+    let quality = |b: &RegionFill, v: usize| quality_over(b, v, f64::NEG_INFINITY);
     let moved_from = b.points.clone();
     for _ in 0..UNTANGLE_SWEEPS {
         let mut movable: Vec<usize> = worse
@@ -594,9 +602,9 @@ fn untangle(
                 cap: f64::INFINITY,
                 grow: 1.0,
             };
-            here = search(here, steps, (best, 0.0), |p, _| {
+            here = search(here, steps, (best, 0.0), |p, floor| {
                 b.points[v] = p;
-                Some((quality(b, v), 0.0))
+                Some((quality_over(b, v, floor), 0.0))
             });
             b.points[v] = here;
         }
