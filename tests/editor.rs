@@ -902,6 +902,28 @@ fn a_project_saves_and_opens_whole() {
     assert_eq!(other.state().doc().steps(), 9);
 }
 
+/// The Model panel of an empty document (no boundary, so no mesher)
+/// measures the chosen model once and shows its figures: it used to load
+/// the model afresh every frame and start a measurement each time (tens of
+/// threads and gigabytes, never done).
+#[test]
+fn the_model_panel_of_an_empty_document_measures_once() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::New);
+    h.run();
+    assert!(h.state().doc().draft.loops.is_empty());
+    h.get_by_label("Model").click();
+    h.step();
+    assert!(h.state().measuring());
+    settle(&mut h);
+    h.get_by_label_contains("type accuracy");
+    for _ in 0..5 {
+        h.step();
+        assert!(!h.state().measuring());
+    }
+}
+
 #[test]
 fn panels_show_the_model_samples_quality_and_smoothing() {
     let mut h = stepped_example(5);

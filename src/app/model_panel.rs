@@ -64,6 +64,11 @@ pub struct ModelPanel {
     pub window_start: usize,
     pub window_len: usize,
     key: Option<(usize, usize, usize, SampleChoice)>,
+    /// The model measured when the document has no mesher (no valid
+    /// boundary), loaded once per model name: the key above tells models
+    /// apart by address, and a model loaded afresh every frame would start
+    /// a measurement every frame.
+    loaded: Option<(String, std::sync::Arc<dyn crate::model::Model>)>,
     fit: Option<Result<ModelFit, String>>,
     /// The figures being measured in a thread (seconds on the reference
     /// samples), and the model's name.
@@ -80,6 +85,7 @@ impl Default for ModelPanel {
             window_start: 0,
             window_len: 150,
             key: None,
+            loaded: None,
             fit: None,
             measuring: None,
             plot_rects: Vec::new(),
@@ -95,12 +101,17 @@ impl ModelPanel {
     /// or the samples change: in a thread when `threads` (the panel shows a
     /// spinner meanwhile), else at once.
     pub fn refresh(&mut self, doc: &Document, threads: bool) -> Option<&ModelFit> {
-        let model = match doc.mesher() {
-            Some(m) => m.model().clone(),
-            None => match crate::model::load(&doc.settings.model) {
-                Ok(m) => std::sync::Arc::from(m),
+        let spec = &doc.settings.model;
+        let model = match (doc.mesher(), &self.loaded) {
+            (Some(m), _) => m.model().clone(),
+            (None, Some((name, m))) if name == spec => m.clone(),
+            (None, _) => match super::document::load_model(spec, &doc.models) {
+                Ok((m, _)) => {
+                    self.loaded = Some((spec.clone(), m.clone()));
+                    m
+                }
                 Err(e) => {
-                    self.fit = Some(Err(format!("{}: {e}", doc.settings.model)));
+                    self.fit = Some(Err(e.to_string()));
                     return None;
                 }
             },
