@@ -1002,6 +1002,10 @@ fn boundary_edits_on_the_canvas_are_validated_live() {
     let nodes = h.state().doc().draft.node_count();
     h.get_by_label("split").click();
     h.run();
+    // Three parts by default (two nodes more keep the count even); two
+    // here, to make the count odd.
+    assert_eq!(h.state().panels.tools.split_parts, 3);
+    h.state_mut().panels.tools.split_parts = 2;
     let mid = |h: &Harness<'static, App>, k: usize| {
         let l = &h.state().doc().draft.loops[0];
         screen(h, (l[k] + l[(k + 1) % l.len()]) * 0.5)
@@ -1645,6 +1649,8 @@ fn issue17_new_draw_save_and_fix_a_broken_file() {
     assert!(s.contains("as a draft to fix"), "{s}");
     assert!(h.state().doc().meshing.is_none());
     h.get_by_label_contains("not a valid boundary yet");
+    // The Move tool is chosen, so the draft is drawn with its nodes marked.
+    assert_eq!(h.state().panels.tools.tool, quadex::app::tools::Tool::Move);
     // Fix it with the pointer: insert a node on a segment (12 nodes).
     h.get_by_label("insert").click();
     h.run();
@@ -1662,6 +1668,11 @@ fn issue17_new_draw_save_and_fix_a_broken_file() {
             h.get_by_label("Don't save").click();
             h.run();
         }
+        // A valid file is to be meshed: the Correct tool.
+        assert_eq!(
+            h.state().panels.tools.tool,
+            quadex::app::tools::Tool::Correct
+        );
         let want = median(&boundary(name));
         let got = h.state().panels.tools.resample_h;
         assert!(
@@ -1782,6 +1793,54 @@ fn issue17_the_canvas_keeps_room_and_refits_on_resize() {
     h.set_size(egui::vec2(1100.0, 700.0));
     h.run();
     assert_eq!(h.state().view.canvas.zoom, zoomed);
+}
+
+/// The side panels get their width back when a window made narrow is made
+/// wide again (egui keeps the narrowed width, and persists it), and a
+/// width the user drags is what they get back.
+#[test]
+fn the_side_panels_widen_again_with_the_window() {
+    let width = |h: &Harness<'static, App>, id: &str| {
+        egui::containers::panel::PanelState::load(&h.ctx, egui::Id::new(id))
+            .expect("the panel was shown")
+            .rect
+            .width()
+    };
+    let mut h = harness(example());
+    h.run();
+    let (left, right) = (width(&h, "steps"), width(&h, "panels"));
+    assert!((left - 290.0).abs() < 1.0, "{left}");
+    h.set_size(egui::vec2(800.0, 500.0));
+    h.run();
+    assert!(width(&h, "steps") < left - 50.0);
+    assert!(width(&h, "panels") < right - 50.0);
+    h.set_size(egui::vec2(1400.0, 860.0));
+    h.run();
+    assert!((width(&h, "steps") - left).abs() < 1.0);
+    assert!((width(&h, "panels") - right).abs() < 1.0);
+    // The remembered widths come back in a new window too.
+    let prefs = h.state().prefs();
+    let mut app = example();
+    app.set_prefs(prefs);
+    let mut h = harness(app);
+    h.run();
+    assert!((width(&h, "steps") - left).abs() < 1.0);
+    // A narrower left panel, dragged by its edge, stays narrower.
+    let y = h.state().view.canvas_rect.center().y;
+    h.drag_at(egui::pos2(left - 1.0, y));
+    h.run();
+    h.hover_at(egui::pos2(230.0, y));
+    h.run();
+    h.drop_at(egui::pos2(230.0, y));
+    h.run();
+    let dragged = width(&h, "steps");
+    assert!(dragged < left - 30.0, "{dragged}");
+    assert!((h.state().prefs().widths[0] - dragged).abs() < 1.0);
+    h.set_size(egui::vec2(800.0, 500.0));
+    h.run();
+    h.set_size(egui::vec2(1400.0, 860.0));
+    h.run();
+    assert!((width(&h, "steps") - dragged).abs() < 1.0);
 }
 
 /// 10a'. The side panels keep their width while stepping, correcting and

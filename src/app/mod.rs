@@ -195,6 +195,8 @@ pub struct Prefs {
     pub tab: Tab,
     pub show_left: bool,
     pub show_right: bool,
+    /// The widths the user gave the left and right panels.
+    pub widths: [f32; 2],
 }
 
 impl Default for Prefs {
@@ -207,7 +209,41 @@ impl Default for Prefs {
             tab: Tab::default(),
             show_left: true,
             show_right: true,
+            widths: PANEL_WIDTHS,
         }
+    }
+}
+
+/// The side panels' widths at first (points): left, right.
+const PANEL_WIDTHS: [f32; 2] = [290.0, 400.0];
+
+/// The side panels' narrowest widths: left, right.
+const PANEL_MIN_WIDTHS: [f32; 2] = [170.0, 190.0];
+
+/// The share of the window a side panel may take at most: left, right.
+const PANEL_MAX_SHARES: [f32; 2] = [0.24, 0.28];
+
+/// Gives side panel `id` the width the user chose, `want`, as far as
+/// `max` allows. egui keeps (and persists) the width a narrower window
+/// forced on a panel, so a window made wide again would keep it narrow.
+fn restore_panel_width(ctx: &egui::Context, id: egui::Id, want: f32, max: f32) {
+    let w = want.min(max);
+    if let Some(mut state) = egui::containers::panel::PanelState::load(ctx, id) {
+        if state.rect.width() + 0.5 < w {
+            state.rect.set_width(w);
+            ctx.data_mut(|d| d.insert_persisted(id, state));
+        }
+    }
+}
+
+/// The width the user chose for a panel shown `shown` wide: any width
+/// under the window's bound `max` is a choice (a drag), as is a width over
+/// the last choice; at the bound the window may have forced it.
+fn chosen_panel_width(want: f32, shown: f32, max: f32) -> f32 {
+    if shown < max - 0.5 || shown > want {
+        shown
+    } else {
+        want
     }
 }
 
@@ -277,6 +313,9 @@ pub struct Panels {
     pub tab: Tab,
     pub show_left: bool,
     pub show_right: bool,
+    /// The widths the user gave the left and right panels (a narrow window
+    /// narrows them for the time being).
+    pub widths: [f32; 2],
     /// The path in the Export box.
     pub export_path: String,
     /// The Export box holds the default path (it follows the document).
@@ -533,6 +572,7 @@ impl App {
                 tab: Tab::default(),
                 show_left: true,
                 show_right: true,
+                widths: PANEL_WIDTHS,
                 export_path: String::new(),
                 export_default: None,
             },
@@ -612,6 +652,7 @@ impl App {
             tab: self.panels.tab,
             show_left: self.panels.show_left,
             show_right: self.panels.show_right,
+            widths: self.panels.widths,
         }
     }
 
@@ -625,6 +666,16 @@ impl App {
         self.panels.tab = p.tab;
         self.panels.show_left = p.show_left;
         self.panels.show_right = p.show_right;
+        // Widths no panel may have (a hand-edited or damaged store) are
+        // taken as the first ones.
+        for k in 0..2 {
+            let w = p.widths[k];
+            self.panels.widths[k] = if w.is_finite() && w >= PANEL_MIN_WIDTHS[k] {
+                w
+            } else {
+                PANEL_WIDTHS[k]
+            };
+        }
     }
 
     pub fn doc(&self) -> &Document {
@@ -1146,9 +1197,15 @@ impl App {
         self.view.canvas.fit_pending = true;
         self.background.animating = None;
         // A file opened is to be meshed: a click on it corrects, it does
-        // not start a loop (New chooses the drawing tool after this).
+        // not start a loop (New chooses the drawing tool after this). A
+        // file opened as a draft to fix gets the Move tool, which draws
+        // the draft with its nodes at fault marked.
         self.panels.tools.drop_drawing();
-        self.panels.tools.tool = Tool::Correct;
+        self.panels.tools.tool = if self.document.doc.problem.is_some() {
+            Tool::Move
+        } else {
+            Tool::Correct
+        };
     }
 
     fn opened_message(&self, name: &str) -> String {
@@ -1708,12 +1765,15 @@ impl App {
         }
         let width = ctx.content_rect().width();
         let busy = self.busy();
+        let max_widths = [0, 1].map(|k| (PANEL_MAX_SHARES[k] * width).max(PANEL_MIN_WIDTHS[k]));
         if self.panels.show_left {
-            egui::SidePanel::left("steps")
+            let id = egui::Id::new("steps");
+            restore_panel_width(ctx, id, self.panels.widths[0], max_widths[0]);
+            let shown = egui::SidePanel::left(id)
                 .resizable(true)
-                .default_width(290.0)
-                .min_width(170.0)
-                .max_width((0.24 * width).max(170.0))
+                .default_width(self.panels.widths[0])
+                .min_width(PANEL_MIN_WIDTHS[0])
+                .max_width(max_widths[0])
                 .show(ctx, |ui| {
                     // Both ways: content wider than the panel (a row that
                     // cannot wrap in a narrow window) scrolls instead of
@@ -1737,14 +1797,21 @@ impl App {
                         cmds.extend(out);
                     });
                 });
+            self.panels.widths[0] = chosen_panel_width(
+                self.panels.widths[0],
+                shown.response.rect.width(),
+                max_widths[0],
+            );
         }
         if self.panels.show_right {
             let threads = self.background.threads;
-            egui::SidePanel::right("panels")
+            let id = egui::Id::new("panels");
+            restore_panel_width(ctx, id, self.panels.widths[1], max_widths[1]);
+            let shown = egui::SidePanel::right(id)
                 .resizable(true)
-                .default_width(400.0)
-                .min_width(190.0)
-                .max_width((0.28 * width).max(190.0))
+                .default_width(self.panels.widths[1])
+                .min_width(PANEL_MIN_WIDTHS[1])
+                .max_width(max_widths[1])
                 .show(ctx, |ui| {
                     ui.horizontal_wrapped(|ui| {
                         for t in Tab::ALL {
@@ -1774,6 +1841,11 @@ impl App {
                             cmds.extend(out);
                         });
                 });
+            self.panels.widths[1] = chosen_panel_width(
+                self.panels.widths[1],
+                shown.response.rect.width(),
+                max_widths[1],
+            );
         }
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE)

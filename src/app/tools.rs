@@ -98,7 +98,8 @@ pub struct Tools {
     moving: Option<(At, Point)>,
     /// The Correct tool's drag of Pn: where it is now.
     pn_drag: Option<Point>,
-    /// Parts a split makes.
+    /// Parts a split makes (3 by default: two nodes more keep the node
+    /// count even).
     pub split_parts: usize,
     /// Target segment length of a resample, and the loop.
     pub resample_h: f64,
@@ -117,7 +118,7 @@ impl Default for Tools {
             drawing: Vec::new(),
             moving: None,
             pn_drag: None,
-            split_parts: 2,
+            split_parts: 3,
             resample_h: 0.0,
             resample_loop: 0,
             resample_for: None,
@@ -626,7 +627,7 @@ impl Tools {
                 Tool::Split => {
                     ui.label("parts");
                     ui.add(egui::DragValue::new(&mut self.split_parts).range(2..=100))
-                        .on_hover_text("A split cuts the segment clicked into this many equal parts");
+                        .on_hover_text("A split cuts the segment clicked into this many equal parts (an odd number keeps the boundary's node count even, as an all-quad mesh needs)");
                     note(ui, self.tool.hint().to_string(), true);
                 }
                 t => note(ui, t.hint().to_string(), true),
