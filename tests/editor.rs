@@ -304,6 +304,12 @@ fn a_mesh_file_opens_as_its_boundary_with_the_mesh_shown() {
     assert!(d.has_mesh() && !d.is_done());
     assert_eq!(h.state().shown_kind(), MeshKind::Imported);
     h.get_by_label_contains("showing the mesh read from plate.msh");
+    // The Export box does not start on the file opened: an export would
+    // overwrite it unasked.
+    assert_eq!(
+        Path::new(h.state().panels.export_path.trim()),
+        dir.path().join("plate_quadex.msh")
+    );
     // Its quality, its samples and an export, as for a finished mesh.
     h.get_by_label("Quality").click();
     h.run();

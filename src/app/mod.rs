@@ -1469,7 +1469,15 @@ impl App {
             .map(Path::to_path_buf)
             .or_else(|| std::env::current_dir().ok())
             .unwrap_or_default();
-        (dir, d.file_name(&stem(&self.title())))
+        let stem = stem(&self.title());
+        let mut name = d.file_name(&stem);
+        // An export never starts on the file the document was opened
+        // from (a mesh opened to look at would be overwritten unasked).
+        if d == Dialog::ExportMesh && self.document.doc.source.as_deref() == Some(&dir.join(&name))
+        {
+            name = format!("{stem}_quadex.msh");
+        }
+        (dir, name)
     }
 
     /// Asks for a file (the desktop's dialog, else the prompt in the

@@ -307,8 +307,31 @@ fn histogram(
             [s / 10.0, s / 2.0, s]
         }))
         .x_axis_formatter(move |m, _| label(m.value))
+        // Whole counts only (a step of 1 has lines at 0.1 and 0.5 too).
+        .y_axis_formatter(|m, _| {
+            if (m.value - m.value.round()).abs() < 1e-9 {
+                format!("{}", m.value.round() as i64)
+            } else {
+                String::new()
+            }
+        })
         .y_axis_label("quads")
-        .show(ui, |p| p.bar_chart(BarChart::new("quads", bars)));
+        // The pointer's own coordinates would read as fractional counts;
+        // a bar says its count and its bin.
+        .label_formatter(|_, _| String::new())
+        .show(ui, |p| {
+            p.bar_chart(
+                BarChart::new("quads", bars).element_formatter(Box::new(move |bar, _| {
+                    let half = 0.5 * w;
+                    format!(
+                        "{} from {} to {}",
+                        super::plural(bar.value.round() as usize, "quad"),
+                        label(bar.argument - half),
+                        label(bar.argument + half)
+                    )
+                })),
+            )
+        });
 }
 
 /// A round step (1, 2 or 5 times a power of ten, at least 1) that divides
