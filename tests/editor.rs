@@ -527,6 +527,9 @@ fn the_compare_panel_says_when_a_compared_model_is_gone() {
     });
     let name = h.state().doc().models[0].name.clone();
     h.get_by_label("Compare").click();
+    h.run();
+    // The refitted model comes ticked, beside the built-in ones.
+    assert!(h.state().panels.compare.chosen.contains(&name));
     h.state_mut().apply(Command::Compare(vec![name.clone()]));
     wait_for_comparison(&mut h);
     let gone = format!("{name} no longer in the document (its refit undone): compare again");

@@ -94,12 +94,17 @@ impl CompareJob {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ComparePanel {
     pub chosen: Vec<String>,
+    /// The models the list has offered: one new to it (a refit) comes
+    /// ticked, to be compared with the others.
+    offered: Vec<String>,
 }
 
 impl Default for ComparePanel {
     fn default() -> Self {
+        let builtin: Vec<String> = BUILTIN.iter().map(|s| s.to_string()).collect();
         ComparePanel {
-            chosen: BUILTIN.iter().map(|s| s.to_string()).collect(),
+            chosen: builtin.clone(),
+            offered: builtin,
         }
     }
 }
@@ -128,6 +133,13 @@ impl super::View for ComparePanel {
             .chain(doc.models.iter().map(|f| f.name.clone()))
             .collect();
         self.chosen.retain(|c| names.contains(c));
+        self.offered.retain(|c| names.contains(c));
+        for name in &names {
+            if !self.offered.contains(name) {
+                self.offered.push(name.clone());
+                self.chosen.push(name.clone());
+            }
+        }
         ui.horizontal_wrapped(|ui| {
             for name in &names {
                 let mut on = self.chosen.contains(name);

@@ -61,7 +61,7 @@ impl Tool {
     /// What the tool does, for its tooltip and the hint under the tools.
     pub fn hint(self) -> &'static str {
         match self {
-            Tool::Correct => "Drag the yellow Pn handle of the last element and let go, or click a ringed front node to close the element onto it (green good, amber fair, orange poor).",
+            Tool::Correct => "Drag Pn or click a ringed front node to correct the last element (Pn: the yellow handle; a ring closes the element onto its node: green good, amber fair, orange poor).",
             Tool::Draw => "Click to place nodes; click the first node to close the loop (the first loop is the outer one, later loops are holes). Right-click or Esc drops the loop being drawn.",
             Tool::Move => "Drag a boundary node.",
             Tool::Insert => "Click a segment to insert a node there.",
@@ -576,7 +576,8 @@ impl Tools {
     ) -> Vec<Command> {
         // One row whatever the tool says (a taller bar would shrink the
         // canvas and move the drawing under the pointer): long texts are
-        // cut, in full on hover (egui's own tooltip of a cut label).
+        // cut, in full on hover (egui's own tooltip of a cut label), so
+        // each starts with what to do.
         let note = |ui: &mut Ui, text: String, weak: bool| {
             let t = egui::RichText::new(text);
             ui.add(egui::Label::new(if weak { t.weak() } else { t }).truncate());
@@ -596,10 +597,10 @@ impl Tools {
                     note(
                         ui,
                         if valid == 0 {
-                            "No front node near P0 gives a valid element here (the quad would be flat or fold): drag Pn instead.".to_string()
+                            "Drag Pn: no front node near P0 gives a valid element here (the quad would be flat or fold).".to_string()
                         } else {
                             format!(
-                                "{} near P0 {} a valid element (ringed: green good, amber fair, orange poor): click one to close the element onto it, or drag Pn.",
+                                "Click a ringed node to close onto it, or drag Pn: {} near P0 {} a valid element (green good, amber fair, orange poor).",
                                 super::plural(valid, "front node"),
                                 if valid == 1 { "gives" } else { "give" }
                             )
