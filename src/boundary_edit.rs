@@ -227,6 +227,22 @@ impl Draft {
                 nodes: total,
             });
         }
+        // The domain's quads at that size, about: the largest loop's area
+        // over h² (a long boundary of few nodes can still enclose far more
+        // quads than a mesh can hold).
+        let area = self
+            .loops
+            .iter()
+            .map(|l| crate::geom::polygon_area(l.iter().copied()).abs())
+            .fold(0.0, f64::max);
+        let quads = area / (h * h);
+        if quads > MAX_RESAMPLED_QUADS as f64 {
+            return Err(ResampleError::TooManyQuads {
+                loop_index: li,
+                h,
+                quads,
+            });
+        }
         let mut parts: Vec<usize> = wanted.iter().map(|&w| w as usize).collect();
         if (others + parts.iter().sum::<usize>()) % 2 == 1 {
             let longest = (0..n).max_by(|&i, &j| {
@@ -247,6 +263,11 @@ impl Draft {
 /// memory (a disk of n nodes takes about n²/(4π) quads).
 pub const MAX_RESAMPLED_NODES: usize = 1_000_000;
 
+/// The most quads a resample may ask of the domain (its area over the
+/// target squared): 10 million, about four times the largest benchmark
+/// disk's mesh.
+pub const MAX_RESAMPLED_QUADS: usize = 10_000_000;
+
 /// Why a resample was refused.
 #[derive(Clone, Debug, PartialEq, Error)]
 pub enum ResampleError {
@@ -254,11 +275,17 @@ pub enum ResampleError {
     Target(f64),
     #[error("there is no loop {loop_index} to resample (the draft has {loops})")]
     NoLoop { loop_index: usize, loops: usize },
-    #[error("resampling loop {loop_index} to segments of {h} would give the boundary about {nodes:.0} nodes, more than {max}", max = MAX_RESAMPLED_NODES)]
+    #[error("resampling loop {loop_index} to segments of {h:.3e} would give the boundary about {nodes:.3e} nodes, more than {max}", max = MAX_RESAMPLED_NODES)]
     TooManyNodes {
         loop_index: usize,
         h: f64,
         nodes: f64,
+    },
+    #[error("resampling loop {loop_index} to segments of {h:.3e} would ask for about {quads:.3e} quads inside, more than {max}", max = MAX_RESAMPLED_QUADS)]
+    TooManyQuads {
+        loop_index: usize,
+        h: f64,
+        quads: f64,
     },
 }
 
@@ -340,9 +367,27 @@ mod tests {
             })
         );
         assert_eq!(d, square());
-        // Just under the bound is allowed: 4 sides of 249,999 parts.
-        d.resample(0, 1.0 / 249_999.0).unwrap();
-        assert_eq!(d.node_count(), 999_996);
+        // Few nodes around a large area: refused for the quads inside.
+        let e = d.resample(0, 1e-4).unwrap_err();
+        assert!(matches!(e, ResampleError::TooManyQuads { .. }), "{e}");
+        assert_eq!(d, square());
+        // A sliver 1e-9 high: just under the node bound is allowed (two
+        // sides of 499,998 parts and two of one, with room for the part
+        // an odd count would add).
+        let mut thin = Draft {
+            loops: vec![vec![
+                Point::new(0.0, 0.0),
+                Point::new(1.0, 0.0),
+                Point::new(1.0, 1e-9),
+                Point::new(0.0, 1e-9),
+            ]],
+        };
+        assert!(matches!(
+            thin.clone().resample(0, 1.0 / 500_001.0),
+            Err(ResampleError::TooManyNodes { .. })
+        ));
+        thin.resample(0, 1.0 / 499_998.0).unwrap();
+        assert_eq!(thin.node_count(), 2 * 499_998 + 2);
     }
 
     #[test]

@@ -72,9 +72,10 @@ enum Command {
         no_cleanup: bool,
         /// Remesh the regions around quads whose scaled Jacobian is still
         /// below this after cleanup and smoothing (0: no remeshing).
-        #[arg(long, default_value_t = RemeshParams::DEFAULT.below)]
+        #[arg(long, default_value_t = RemeshParams::DEFAULT.below, value_parser = parse_remesh_below)]
         remesh_below: f64,
-        /// Pure model: no remedies; a rejected prediction stops the run.
+        /// Pure model: no remedies; a rejected prediction is counted and
+        /// the step ladder's fallbacks (and the fill) finish the mesh.
         #[arg(long)]
         pure_model: bool,
         /// No region fill: a run extraction cannot finish stops with an error.
@@ -203,21 +204,24 @@ enum Command {
     /// side.
     Compare {
         input: PathBuf,
-        /// Comma-separated: `default`, `rules`, `thesis`, model files.
+        /// Comma-separated: `default`, `rules`, `thesis`, `ann`, model files.
         #[arg(long, value_delimiter = ',', default_value = "default,rules,thesis")]
         models: Vec<String>,
-        /// The SVG of the meshes side by side.
+        /// The SVG of the meshes side by side (.svg).
         #[arg(short, long)]
         output: Option<PathBuf>,
         /// Write the figures as JSON.
         #[arg(long)]
         report: Option<PathBuf>,
+        /// Resample the boundary first, as `mesh --resample H` does.
+        #[arg(long, value_name = "H")]
+        resample: Option<f64>,
     },
     /// A model's element for each row of inputs: writes `type,xn,yn` (the
     /// normalised frame) per row of ROWS (.csv with the leading points in
     /// the training-set layout; extra columns are ignored).
     Predict {
-        /// `default`, `rules`, `thesis` or a model file (.json).
+        /// `default`, `rules`, `thesis`, `ann` or a model file (.json).
         model: String,
         rows: PathBuf,
         #[arg(short, long)]
@@ -255,6 +259,15 @@ fn gui(o: quadex::app::GuiOptions) -> Result<()> {
 /// `--layers`: a count, or `all` for extraction to the end.
 #[derive(Clone, Copy, Debug)]
 struct Layers(Option<u32>);
+
+fn parse_remesh_below(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a scaled Jacobian from 0 (no remeshing) to 1"
+        )),
+    }
+}
 
 fn parse_layers(s: &str) -> Result<Layers, String> {
     if s == "all" {
@@ -398,15 +411,35 @@ fn check_output(path: &Path) -> Result<()> {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    if !dir.is_dir() {
-        return Err(InputError(anyhow!(
-            "{}: cannot write there: the folder {} does not exist",
-            path.display(),
-            dir.display()
-        ))
-        .into());
+    let refuse = |why: String| -> Result<()> {
+        Err(InputError(anyhow!("{}: cannot write there: {why}", path.display())).into())
+    };
+    if dir.exists() && !dir.is_dir() {
+        return refuse(format!("{} is not a folder", dir.display()));
     }
-    Ok(())
+    if !dir.is_dir() {
+        return refuse(format!("the folder {} does not exist", dir.display()));
+    }
+    if path.is_dir() {
+        return refuse("it is a folder".to_string());
+    }
+    // A file made and removed again: a folder that exists but cannot be
+    // written (read-only, or a system folder) is found before any work.
+    let probe = dir.join(format!(".quadex-probe-{}", std::process::id()));
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+    {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) => refuse(format!(
+            "the folder {} cannot be written: {e}",
+            dir.display()
+        )),
+    }
 }
 
 fn load_model(spec: &str) -> Result<Arc<dyn Model>> {
@@ -480,6 +513,13 @@ fn run(c: Command) -> Result<()> {
             check_output(&output)?;
             if let Some(r) = &report {
                 check_output(r)?;
+                if r == &output {
+                    return Err(InputError(anyhow!(
+                        "{}: the mesh and its --report would be the same file",
+                        r.display()
+                    ))
+                    .into());
+                }
             }
             let boundary = read_resampled(&input, resample)?;
             let model = load_model(&model)?;
@@ -770,12 +810,24 @@ fn run(c: Command) -> Result<()> {
             models,
             output,
             report,
+            resample,
         } => {
             for path in output.iter().chain(&report) {
                 check_output(path)?;
             }
-            let boundary = io::read_boundary(&input)
-                .map_err(|e| InputError(anyhow!("{}: {e}", input.display())))?;
+            if let Some(path) = &output {
+                if !path
+                    .extension()
+                    .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+                {
+                    return Err(InputError(anyhow!(
+                        "{}: the meshes side by side are written as SVG: name the file .svg",
+                        path.display()
+                    ))
+                    .into());
+                }
+            }
+            let boundary = read_resampled(&input, resample)?;
             let loaded = models
                 .iter()
                 .map(|spec| load_model(spec).map(|m| (spec, m)))

@@ -187,3 +187,58 @@ fn cli_refuses_bad_files() {
         assert!(!out.exists());
     }
 }
+
+/// Options and outputs the command line refuses before any work: exit 2,
+/// one line naming what is wrong, no output file.
+#[test]
+fn cli_refuses_bad_options_and_outputs() {
+    let exe = env!("CARGO_BIN_EXE_quadex");
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::bench().join("boundaries/square.poly");
+    let out = dir.path().join("out.msh");
+    let input_s = input.to_str().unwrap();
+    let out_s = out.to_str().unwrap();
+    let not_a_folder = format!("{input_s}/x.msh");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["mesh", input_s, "-o", out_s, "--report", out_s],
+            "would be the same file",
+        ),
+        (
+            vec!["mesh", input_s, "-o", &not_a_folder],
+            "is not a folder",
+        ),
+        (
+            vec!["mesh", input_s, "-o", out_s, "--model", "no-such-model"],
+            "not one of the names default, rules, thesis, ann",
+        ),
+        (
+            vec!["mesh", input_s, "-o", out_s, "--remesh-below", "1.5"],
+            "from 0 (no remeshing) to 1",
+        ),
+        (vec!["compare", input_s, "-o", out_s], "name the file .svg"),
+    ];
+    for (args, says) in cases {
+        let o = std::process::Command::new(exe)
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(!out.exists(), "{args:?}");
+    }
+    // A folder that exists but cannot be written is found before meshing
+    // (no file can be made in /proc, whoever runs the test).
+    #[cfg(target_os = "linux")]
+    {
+        let o = std::process::Command::new(exe)
+            .args(["mesh", input_s, "-o", "/proc/quadex-out.msh"])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("cannot be written"), "{err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    }
+}

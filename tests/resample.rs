@@ -59,7 +59,7 @@ fn a_resample_too_fine_to_hold_is_refused() {
     let input = common::bench().join("boundaries/square.poly");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.msh");
-    for h in ["1e-12", "0", "nan"] {
+    for h in ["1e-12", "1e-4", "0", "nan"] {
         let o = mesh(&input, &out, Some(h));
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{h}: {err}");

@@ -81,7 +81,7 @@ pub enum EditorError {
         cause: ScreenshotError,
     },
     /// The window could not be opened or ran into an error.
-    #[error("the window: {cause}")]
+    #[error("the window: {cause} (the editor needs a display; `quadex --help` lists the command line, which does not)")]
     Window { cause: eframe::Error },
     /// A document part that could not be put into JSON.
     #[error("{}: cannot write it as JSON: {cause}", path.display())]

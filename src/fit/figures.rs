@@ -171,14 +171,20 @@ impl FitReport {
     /// The figures as a text table in the layout of thesis Table 8.
     pub fn table(&self) -> String {
         let mut s = String::new();
+        // With no folds the held-out figures are the training figures
+        // again: they are left out.
+        let held_out = self.folds > 0;
         let _ = writeln!(
             s,
-            "form {}, {} input points, {} samples, {}-fold held-out (seed {})",
+            "form {}, {} input points, {} samples, {}",
             self.form.name(),
             self.points,
             self.samples,
-            self.folds,
-            self.seed
+            if held_out {
+                format!("{}-fold held-out (seed {})", self.folds, self.seed)
+            } else {
+                "no held-out figures".to_string()
+            }
         );
         let _ = writeln!(
             s,
@@ -205,16 +211,25 @@ impl FitReport {
             &self.type_.train.figures,
             Some(self.type_.train.accuracy),
         );
-        row(
-            "type",
-            "held-out",
-            &self.type_.holdout.figures,
-            Some(self.type_.holdout.accuracy),
-        );
+        if held_out {
+            row(
+                "type",
+                "held-out",
+                &self.type_.holdout.figures,
+                Some(self.type_.holdout.accuracy),
+            );
+        }
         row("Xn", "train", &self.xn.train, None);
-        row("Xn", "held-out", &self.xn.holdout, None);
+        if held_out {
+            row("Xn", "held-out", &self.xn.holdout, None);
+        }
         row("Yn", "train", &self.yn.train, None);
-        row("Yn", "held-out", &self.yn.holdout, None);
+        if held_out {
+            row("Yn", "held-out", &self.yn.holdout, None);
+        }
+        if !held_out {
+            return s;
+        }
         let c = &self.type_.holdout.confusion;
         let _ = writeln!(
             s,

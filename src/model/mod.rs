@@ -120,7 +120,12 @@ pub enum LoadError {
     Io(std::io::Error),
     #[error("{0}")]
     File(ModelFileError),
+    #[error("not a model: no such file, and not one of the names {}", BUILTIN_NAMES.join(", "))]
+    Unknown,
 }
+
+/// The models [`load`] knows by name.
+pub const BUILTIN_NAMES: [&str; 4] = ["default", "rules", "thesis", "ann"];
 
 // Causes are part of the message, not `source`s: printing the error with
 // its chain must not repeat them.
@@ -140,6 +145,10 @@ pub fn load(spec: &str) -> Result<Box<dyn Model>, LoadError> {
     if let Some(m) = builtin(spec) {
         return Ok(m);
     }
-    let text = crate::io::decode_text(&std::fs::read(spec)?);
+    let bytes = std::fs::read(spec).map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => LoadError::Unknown,
+        _ => LoadError::Io(e),
+    })?;
+    let text = crate::io::decode_text(&bytes);
     Ok(Box::new(ModelFile::from_json(&text)?.model()))
 }
