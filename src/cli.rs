@@ -59,9 +59,10 @@ enum Command {
         model: String,
         #[arg(long, value_enum, default_value = "b")]
         strategy: StrategyArg,
-        /// Input points: 5, 7, 9 or 11.
-        #[arg(long, default_value_t = 7, value_parser = parse_points)]
-        points: usize,
+        /// Input points: 5, 7, 9 or 11 [default: the model's own, else 7].
+        /// A model fitted on one count takes only that count.
+        #[arg(long, value_parser = parse_points)]
+        points: Option<usize>,
         /// Laplacian smoothing sweeps (0: no smoothing at all, neither
         /// Laplacian nor optimisation).
         #[arg(long, default_value_t = SmoothParams::DEFAULT.iterations)]
@@ -522,7 +523,18 @@ fn run(c: Command) -> Result<()> {
                 }
             }
             let boundary = read_resampled(&input, resample)?;
-            let model = load_model(&model)?;
+            let spec = model;
+            let model = load_model(&spec)?;
+            let own = model.leading_points().map(|n| 2 * n + 1);
+            if let (Some(asked), Some(own)) = (points, own) {
+                if asked != own {
+                    return Err(InputError(anyhow!(
+                        "{spec}: the model takes {own} input points, not the {asked} of --points"
+                    ))
+                    .into());
+                }
+            }
+            let points = points.or(own).unwrap_or(7);
             let params = MeshParams {
                 strategy: match strategy {
                     StrategyArg::A => Strategy::A,

@@ -217,6 +217,10 @@ fn cli_refuses_bad_options_and_outputs() {
             "from 0 (no remeshing) to 1",
         ),
         (vec!["compare", input_s, "-o", out_s], "name the file .svg"),
+        (
+            vec!["mesh", input_s, "-o", out_s, "--points", "5"],
+            "the model takes 7 input points, not the 5 of --points",
+        ),
     ];
     for (args, says) in cases {
         let o = std::process::Command::new(exe)
