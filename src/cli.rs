@@ -456,7 +456,25 @@ fn read_set(path: &Path) -> Result<TrainingSet> {
 
 /// Reads a quad mesh (.msh), the user's input.
 fn read_mesh(path: &Path) -> Result<quadex::QuadMesh> {
+    not_written_only(path)?;
     Ok(io::read_mesh(path).map_err(|e| InputError(anyhow!("{}: {e}", path.display())))?)
+}
+
+/// Refuses the mesh formats quadex writes but does not read (.vtk, .vtu,
+/// .inp, .svg), naming the one it reads.
+fn not_written_only(path: &Path) -> Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some(e @ ("vtk" | "vtu" | "inp" | "svg")) => Err(InputError(anyhow!(
+            "{}: .{e} is written, not read: meshes are read from Gmsh .msh files (MSH 2.2 or 4.1)",
+            path.display()
+        ))
+        .into()),
+        _ => Ok(()),
+    }
 }
 
 fn is_mesh(path: &Path) -> bool {
@@ -664,6 +682,12 @@ fn run(c: Command) -> Result<()> {
             let [lo, hi] = turn[..] else {
                 return Err(InputError(anyhow!("--turn takes two angles, LO,HI")).into());
             };
+            if !(lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo < hi && hi <= 360.0) {
+                return Err(InputError(anyhow!(
+                    "--turn {lo},{hi}: give two angles in degrees with 0 <= LO < HI <= 360"
+                ))
+                .into());
+            }
             check_output(&output)?;
             let params = CollectParams {
                 turn: [lo, hi],
@@ -916,6 +940,7 @@ fn run(c: Command) -> Result<()> {
                             &name,
                         ));
                     } else {
+                        not_written_only(path)?;
                         let full = read_set(path)?;
                         let cut = factors::truncated(&full, pts).ok_or_else(|| {
                             InputError(anyhow!(

@@ -199,6 +199,10 @@ fn cli_refuses_bad_options_and_outputs() {
     let input_s = input.to_str().unwrap();
     let out_s = out.to_str().unwrap();
     let not_a_folder = format!("{input_s}/x.msh");
+    let vtk = dir.path().join("mesh.vtk");
+    std::fs::write(&vtk, "# vtk DataFile Version 2.0\n").unwrap();
+    let vtk_s = vtk.display().to_string();
+    let msh_s = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/reference/lshape.msh").to_string();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (
             vec!["mesh", input_s, "-o", out_s, "--report", out_s],
@@ -220,6 +224,12 @@ fn cli_refuses_bad_options_and_outputs() {
         (
             vec!["mesh", input_s, "-o", out_s, "--points", "5"],
             "the model takes 7 input points, not the 5 of --points",
+        ),
+        (vec!["quality", &vtk_s], "is written, not read"),
+        (vec!["factors", &vtk_s], "is written, not read"),
+        (
+            vec!["samples", &msh_s, "--turn", "235,35", "-o", out_s],
+            "0 <= LO < HI <= 360",
         ),
     ];
     for (args, says) in cases {
