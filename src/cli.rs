@@ -357,7 +357,29 @@ macro_rules! out {
 struct InputError(anyhow::Error);
 
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // Help and version print as clap prints them; a wrong argument is
+        // one line, as every other bad input is.
+        Err(e) if !e.use_stderr() => e.exit(),
+        Err(e) => {
+            // The message is the first paragraph (a list of missing
+            // arguments runs over several lines); usage and tips follow.
+            let text = e.render().to_string();
+            let first: Vec<&str> = text
+                .lines()
+                .take_while(|l| !l.trim().is_empty())
+                .map(str::trim)
+                .collect();
+            let first = first.join(" ");
+            let first = first.strip_prefix("error: ").unwrap_or(&first);
+            eprintln!(
+                "quadex: {} (`quadex --help` lists the commands and options)",
+                io::one_line(first)
+            );
+            return ExitCode::from(2);
+        }
+    };
     let res = match cli.command {
         #[cfg(feature = "gui")]
         None => gui(quadex::app::GuiOptions::default()),

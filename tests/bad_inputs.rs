@@ -225,6 +225,11 @@ fn cli_refuses_bad_options_and_outputs() {
             vec!["mesh", input_s, "-o", out_s, "--points", "5"],
             "the model takes 7 input points, not the 5 of --points",
         ),
+        (
+            vec!["mesh", input_s, "-o", out_s, "--layers", "0"],
+            "invalid value '0' for '--layers",
+        ),
+        (vec!["mesh", input_s], "--output"),
         (vec!["quality", &vtk_s], "is written, not read"),
         (vec!["factors", &vtk_s], "is written, not read"),
         (
@@ -240,6 +245,7 @@ fn cli_refuses_bad_options_and_outputs() {
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
         assert!(err.contains(says), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
         assert!(!out.exists(), "{args:?}");
     }
     // A folder that exists but cannot be written is found before meshing
