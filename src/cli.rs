@@ -482,6 +482,29 @@ fn read_mesh(path: &Path) -> Result<quadex::QuadMesh> {
     Ok(io::read_mesh(path).map_err(|e| InputError(anyhow!("{}: {e}", path.display())))?)
 }
 
+/// Refuses an output named with none of the extensions `exts` (the first
+/// is what the file holds), so a `.json` is never a CSV.
+fn want_extension(path: &Path, exts: &[&str]) -> Result<()> {
+    let ok = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| exts.iter().any(|x| e.eq_ignore_ascii_case(x)));
+    if ok {
+        return Ok(());
+    }
+    let names: Vec<String> = exts.iter().map(|e| format!(".{e}")).collect();
+    Err(InputError(anyhow!(
+        "{}: written as {}: name the file {}",
+        path.display(),
+        exts.iter()
+            .map(|e| e.to_uppercase())
+            .collect::<Vec<_>>()
+            .join(" or "),
+        names.join(" or ")
+    ))
+    .into())
+}
+
 /// Refuses the mesh formats quadex writes but does not read (.vtk, .vtu,
 /// .inp, .svg), naming the one it reads.
 fn not_written_only(path: &Path) -> Result<()> {
@@ -704,6 +727,7 @@ fn run(c: Command) -> Result<()> {
             let [lo, hi] = turn[..] else {
                 return Err(InputError(anyhow!("--turn takes two angles, LO,HI")).into());
             };
+            want_extension(&output, &["csv", "json"])?;
             if !(lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo < hi && hi <= 360.0) {
                 return Err(InputError(anyhow!(
                     "--turn {lo},{hi}: give two angles in degrees with 0 <= LO < HI <= 360"
@@ -874,16 +898,7 @@ fn run(c: Command) -> Result<()> {
                 check_output(path)?;
             }
             if let Some(path) = &output {
-                if !path
-                    .extension()
-                    .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
-                {
-                    return Err(InputError(anyhow!(
-                        "{}: the meshes side by side are written as SVG: name the file .svg",
-                        path.display()
-                    ))
-                    .into());
-                }
+                want_extension(path, &["svg"])?;
             }
             let boundary = read_resampled(&input, resample)?;
             let loaded = models
@@ -925,6 +940,7 @@ fn run(c: Command) -> Result<()> {
             output,
         } => {
             check_output(&output)?;
+            want_extension(&output, &["csv"])?;
             let m = load_model(&model)?;
             let text =
                 std::fs::read(&rows).map_err(|e| InputError(anyhow!("{}: {e}", rows.display())))?;

@@ -199,6 +199,7 @@ fn cli_refuses_bad_options_and_outputs() {
     let input_s = input.to_str().unwrap();
     let out_s = out.to_str().unwrap();
     let not_a_folder = format!("{input_s}/x.msh");
+    let csv_s = dir.path().join("samples.csv").display().to_string();
     let vtk = dir.path().join("mesh.vtk");
     std::fs::write(&vtk, "# vtk DataFile Version 2.0\n").unwrap();
     let vtk_s = vtk.display().to_string();
@@ -222,6 +223,10 @@ fn cli_refuses_bad_options_and_outputs() {
         ),
         (vec!["compare", input_s, "-o", out_s], "name the file .svg"),
         (
+            vec!["samples", &msh_s, "-o", out_s],
+            "name the file .csv or .json",
+        ),
+        (
             vec!["mesh", input_s, "-o", out_s, "--points", "5"],
             "the model takes 7 input points, not the 5 of --points",
         ),
@@ -233,7 +238,7 @@ fn cli_refuses_bad_options_and_outputs() {
         (vec!["quality", &vtk_s], "is written, not read"),
         (vec!["factors", &vtk_s], "is written, not read"),
         (
-            vec!["samples", &msh_s, "--turn", "235,35", "-o", out_s],
+            vec!["samples", &msh_s, "--turn", "235,35", "-o", &csv_s],
             "0 <= LO < HI <= 360",
         ),
     ];
