@@ -505,14 +505,14 @@ fn outputs_in_missing_folders_leave_nothing_and_say_so_once() {
     let r = mesh_to(&square, &dir.path().join("missing/x.msh"));
     assert_ne!(r.code, Some(0));
     assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
-    // An OS error at writing (the target is a folder) is printed once.
+    // A target that is a folder is refused before any work, once.
     let folder = dir.path().join("folder.msh");
     std::fs::create_dir(&folder).unwrap();
     let report = dir.path().join("r.json");
     let r = mesh_reporting(&square, &folder, &report);
-    assert_ne!(r.code, Some(0));
+    assert_eq!(r.code, Some(2));
     assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
-    assert_eq!(r.stderr.matches("(os error").count(), 1, "{}", r.stderr);
+    assert!(r.stderr.contains("it is a folder"), "{}", r.stderr);
     assert!(!report.exists());
     let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
     assert_eq!(left.len(), 1, "{left:?}");
