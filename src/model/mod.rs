@@ -120,12 +120,9 @@ pub enum LoadError {
     Io(std::io::Error),
     #[error("{0}")]
     File(ModelFileError),
-    #[error("not a model: no such file, and not one of the names {}", BUILTIN_NAMES.join(", "))]
+    #[error("not a model: no such file, and not one of the names {}", BUILTIN.join(", "))]
     Unknown,
 }
-
-/// The models [`load`] knows by name.
-pub const BUILTIN_NAMES: [&str; 4] = ["default", "rules", "thesis", "ann"];
 
 // Causes are part of the message, not `source`s: printing the error with
 // its chain must not repeat them.
