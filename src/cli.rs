@@ -508,16 +508,15 @@ fn want_extension(path: &Path, exts: &[&str]) -> Result<()> {
 /// Refuses the mesh formats quadex writes but does not read (.vtk, .vtu,
 /// .inp, .svg), naming the one it reads.
 fn not_written_only(path: &Path) -> Result<()> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some(e @ ("vtk" | "vtu" | "inp" | "svg")) => Err(InputError(anyhow!(
-            "{}: .{e} is written, not read: meshes are read from Gmsh .msh files (MSH 2.2 or 4.1)",
-            path.display()
-        ))
-        .into()),
+    match MeshFormat::from_path(path) {
+        Ok(f @ (MeshFormat::Vtk | MeshFormat::Vtu | MeshFormat::Abaqus | MeshFormat::Svg)) => {
+            Err(InputError(anyhow!(
+                "{}: .{} is written, not read: meshes are read from Gmsh .msh files (MSH 2.2 or 4.1)",
+                path.display(),
+                f.extension()
+            ))
+            .into())
+        }
         _ => Ok(()),
     }
 }
