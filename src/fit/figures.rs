@@ -205,27 +205,21 @@ impl FitReport {
                     .unwrap_or_default()
             );
         };
-        row(
-            "type",
-            "train",
-            &self.type_.train.figures,
-            Some(self.type_.train.accuracy),
-        );
-        if held_out {
-            row(
+        let (tt, th) = (&self.type_.train, &self.type_.holdout);
+        let outputs = [
+            (
                 "type",
-                "held-out",
-                &self.type_.holdout.figures,
-                Some(self.type_.holdout.accuracy),
-            );
-        }
-        row("Xn", "train", &self.xn.train, None);
-        if held_out {
-            row("Xn", "held-out", &self.xn.holdout, None);
-        }
-        row("Yn", "train", &self.yn.train, None);
-        if held_out {
-            row("Yn", "held-out", &self.yn.holdout, None);
+                (&tt.figures, Some(tt.accuracy)),
+                (&th.figures, Some(th.accuracy)),
+            ),
+            ("Xn", (&self.xn.train, None), (&self.xn.holdout, None)),
+            ("Yn", (&self.yn.train, None), (&self.yn.holdout, None)),
+        ];
+        for (name, (train, train_acc), (holdout, holdout_acc)) in outputs {
+            row(name, "train", train, train_acc);
+            if held_out {
+                row(name, "held-out", holdout, holdout_acc);
+            }
         }
         if !held_out {
             return s;
