@@ -57,7 +57,14 @@ pub fn turns_left(a: Point, b: Point, c: Point) -> bool {
 /// finished mesh does not ([`is_measurably_convex`]).
 #[inline]
 pub fn is_strictly_convex(p: [Point; 4]) -> bool {
-    surely_convex(p) || (0..4).all(|k| orient(p[(k + 3) % 4], p[k], p[(k + 1) % 4]) > 0.0)
+    surely_convex(p) || reflex_corner(p).is_none()
+}
+
+/// The first corner of the quad `p` that does not turn left, exactly
+/// (`None`: the quad is strictly convex and counter-clockwise).
+#[inline]
+pub fn reflex_corner(p: [Point; 4]) -> Option<usize> {
+    (0..4).find(|&k| orient(p[(k + 3) % 4], p[k], p[(k + 1) % 4]) <= 0.0)
 }
 
 /// True when every corner of the quad `p` turns left by more than

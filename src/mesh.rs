@@ -4,7 +4,7 @@
 //! check, run by the tests after every extraction step.
 
 use crate::boundary::Boundary;
-use crate::geom::{orient, polygon_area, turns_left, AreaSum, Point};
+use crate::geom::{polygon_area, reflex_corner, turns_left, AreaSum, Point};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use thiserror::Error;
@@ -260,14 +260,11 @@ impl QuadMesh {
             if let Some(&v) = q.iter().find(|&&v| v >= n) {
                 return Err(InvariantError::BadNode { quad: k, node: v });
             }
-            let p = self.corners(q);
-            for i in 0..4 {
-                if orient(p[(i + 3) % 4], p[i], p[(i + 1) % 4]) <= 0.0 {
-                    return Err(InvariantError::NotConvex {
-                        quad: k,
-                        node: q[i],
-                    });
-                }
+            if let Some(i) = reflex_corner(self.corners(q)) {
+                return Err(InvariantError::NotConvex {
+                    quad: k,
+                    node: q[i],
+                });
             }
         }
         let directed = DirectedEdges::new(&self.quads);

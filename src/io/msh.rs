@@ -4,7 +4,7 @@
 
 use super::check::{self, MeshCheckError};
 use super::{fmt_f64, ReadError};
-use crate::geom::Point;
+use crate::geom::{reflex_corner, Point};
 use crate::mesh::{boundary_loops, InvariantError, QuadMesh};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -400,9 +400,18 @@ fn assemble(
     quads: Vec<[u32; 4]>,
 ) -> Result<(QuadMesh, Vec<u32>), InvariantError> {
     let mut qs = quads;
-    for q in &mut qs {
+    for (k, q) in qs.iter_mut().enumerate() {
         if quad_area(q.map(|i| points[i as usize])) < 0.0 {
             q.reverse();
+        }
+        // A quad that is not convex (a bow-tie above all) is named before
+        // the boundary is traced: its crossed sides would show there only
+        // as a node with two boundary edges leaving it.
+        if let Some(i) = reflex_corner(q.map(|i| points[i as usize])) {
+            return Err(InvariantError::NotConvex {
+                quad: k,
+                node: q[i],
+            });
         }
     }
     let mut loops = boundary_loops(points, &qs)?;
@@ -471,6 +480,21 @@ mod tests {
         // CRLF and a byte-order mark read the same.
         let e2 = read_msh(&format!("\u{feff}{}", t.replace('\n', "\r\n"))).unwrap_err();
         assert_eq!(e.to_string(), e2.to_string());
+    }
+
+    #[test]
+    fn a_bow_tie_is_named_by_its_tag() {
+        // Element 9's sides 12-13 and 15-16 cross: its nodes run 12, 13,
+        // 15, 16 where the square beside element 8 would be 12, 13, 16, 15.
+        let t = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n11 0 0 0\n12 1 0 0\n13 2 0 0\n14 0 1 0\n15 1 1 0\n16 2 1 0\n$EndNodes\n$Elements\n2\n8 3 2 0 1 11 12 15 14\n9 3 2 0 1 12 13 15 16\n$EndElements\n";
+        let e = read_msh(t).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                ReadError::InvalidMesh(MeshCheckError::NotConvex { quad: 9, .. })
+            ),
+            "{e:?}"
+        );
     }
 
     #[test]
