@@ -911,6 +911,35 @@ fn a_project_saves_and_opens_whole() {
     assert_eq!(other.state().doc().steps(), 9);
 }
 
+/// Undoing File ▸ New brings back the project the document was saved to:
+/// its title and the file Save writes (it used to come back untitled, and
+/// Save asked for a name).
+#[test]
+fn undoing_new_brings_back_the_project_file() {
+    let mut h = stepped_example(2);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("ring.quadex.json");
+    h.state_mut().apply(Command::SaveProject(path.clone()));
+    assert_eq!(h.state().title(), "ring.quadex.json");
+    h.state_mut().apply(Command::New);
+    h.run();
+    assert_eq!(h.state().title(), "untitled");
+    h.state_mut().apply(Command::Undo);
+    h.run();
+    assert_eq!(h.state().title(), "ring.quadex.json");
+    assert_eq!(
+        h.state().document.project_path.as_deref(),
+        Some(path.as_path())
+    );
+    assert_eq!(h.state().doc().steps(), 2);
+    h.state_mut().apply(Command::Redo);
+    assert_eq!(h.state().title(), "untitled");
+    assert_eq!(h.state().document.project_path, None);
+    h.state_mut().apply(Command::Undo);
+    h.state_mut().apply(Command::Save);
+    assert!(status(&h).starts_with("saved"), "{}", status(&h));
+}
+
 /// The Model panel of an empty document (no boundary, so no mesher)
 /// measures the chosen model once and shows its figures: it used to load
 /// the model afresh every frame and start a measurement each time (tens of

@@ -7,6 +7,7 @@
 
 use super::document::{Document, Replayed};
 use super::error::EditorError;
+use std::path::PathBuf;
 
 /// One undoable edit.
 enum Entry {
@@ -15,6 +16,10 @@ enum Entry {
     /// The document before (on the undo stack) or after (on the redo stack)
     /// an edit, with the edit's name.
     State(Box<Document>, &'static str),
+    /// An edit that replaced the whole document (New, Open): as `State`,
+    /// with the project file that titles it and Save writes to, which
+    /// the swap takes along.
+    Replaced(Box<Document>, &'static str, Option<PathBuf>),
 }
 
 /// The undo and redo stacks.
@@ -52,12 +57,20 @@ impl History {
         let states = self
             .undo
             .iter()
-            .filter(|e| matches!(e, Entry::State(..)))
+            .filter(|e| !matches!(e, Entry::Steps(_)))
             .count();
         if states > MAX_STATES {
-            if let Some(k) = self.undo.iter().position(|e| matches!(e, Entry::State(..))) {
+            if let Some(k) = self.undo.iter().position(|e| !matches!(e, Entry::Steps(_))) {
                 self.undo.drain(..=k);
             }
+        }
+    }
+
+    /// Marks the edit just recorded as one that replaced the whole
+    /// document, which had the project file `project`.
+    pub fn replaced(&mut self, project: Option<PathBuf>) {
+        if let Some(Entry::State(before, name)) = self.undo.pop() {
+            self.undo.push(Entry::Replaced(before, name, project));
         }
     }
 
@@ -81,8 +94,9 @@ impl History {
         !self.redo.is_empty()
     }
 
-    /// Undoes the last edit or step; returns what was undone.
-    pub fn undo(&mut self, doc: &mut Document) -> Option<Undone> {
+    /// Undoes the last edit or step; returns what was undone. `project` is
+    /// the document's project file, swapped back with a replaced document.
+    pub fn undo(&mut self, doc: &mut Document, project: &mut Option<PathBuf>) -> Option<Undone> {
         match self.undo.pop()? {
             Entry::Steps(n) => {
                 if n > 1 {
@@ -102,11 +116,23 @@ impl History {
                 self.redo.push(Entry::State(Box::new(after), name));
                 Some(Undone { name, step: false })
             }
+            Entry::Replaced(before, name, was) => {
+                let after = std::mem::replace(doc, *before);
+                let after_project = std::mem::replace(project, was);
+                self.redo
+                    .push(Entry::Replaced(Box::new(after), name, after_project));
+                Some(Undone { name, step: false })
+            }
         }
     }
 
-    /// Redoes the last undone edit or step; returns what was redone.
-    pub fn redo(&mut self, doc: &mut Document) -> Result<Option<Undone>, EditorError> {
+    /// Redoes the last undone edit or step; returns what was redone (see
+    /// [`History::undo`] for `project`).
+    pub fn redo(
+        &mut self,
+        doc: &mut Document,
+        project: &mut Option<PathBuf>,
+    ) -> Result<Option<Undone>, EditorError> {
         let Some(e) = self.redo.pop() else {
             return Ok(None);
         };
@@ -130,6 +156,13 @@ impl History {
                 self.undo.push(Entry::State(Box::new(before), name));
                 Ok(Some(Undone { name, step: false }))
             }
+            Entry::Replaced(after, name, then) => {
+                let before = std::mem::replace(doc, *after);
+                let before_project = std::mem::replace(project, then);
+                self.undo
+                    .push(Entry::Replaced(Box::new(before), name, before_project));
+                Ok(Some(Undone { name, step: false }))
+            }
         }
     }
 
@@ -147,7 +180,7 @@ impl History {
 fn name(e: Option<&Entry>) -> Option<&'static str> {
     e.map(|e| match e {
         Entry::Steps(_) => "step",
-        Entry::State(_, n) => n,
+        Entry::State(_, n) | Entry::Replaced(_, n, _) => n,
     })
 }
 

@@ -809,6 +809,19 @@ impl App {
         }
     }
 
+    /// [`App::edit`] for an edit that replaces the whole document (New,
+    /// Open): its undo brings back the project file too.
+    fn replace_document<T>(
+        &mut self,
+        name: &'static str,
+        f: impl FnOnce(&mut Document) -> Result<T, EditorError>,
+    ) -> Result<T, EditorError> {
+        let project = self.document.project_path.clone();
+        let v = self.edit(name, f)?;
+        self.document.history.replaced(project);
+        Ok(v)
+    }
+
     /// Applies one command; failures go to the status line and leave the
     /// document as it was. A command that would replace a document holding
     /// unsaved work asks first.
@@ -892,7 +905,10 @@ impl App {
             }
             Command::Undo => {
                 let before = self.document.doc.clone();
-                let what = self.document.history.undo(&mut self.document.doc);
+                let what = self
+                    .document
+                    .history
+                    .undo(&mut self.document.doc, &mut self.document.project_path);
                 let mesh = what.is_some_and(|w| w.step) || !same_mesh(&before, &self.document.doc);
                 if what.is_some() {
                     self.changed(mesh);
@@ -910,7 +926,10 @@ impl App {
             }
             Command::Redo => {
                 let before = self.document.doc.clone();
-                let what = self.document.history.redo(&mut self.document.doc)?;
+                let what = self
+                    .document
+                    .history
+                    .redo(&mut self.document.doc, &mut self.document.project_path)?;
                 let mesh = what.is_some_and(|w| w.step) || !same_mesh(&before, &self.document.doc);
                 if what.is_some() {
                     self.changed(mesh);
@@ -924,7 +943,7 @@ impl App {
             }
             Command::New => {
                 let settings = self.document.doc.portable_settings();
-                self.edit("new", |d| {
+                self.replace_document("new", |d| {
                     *d = Document::empty(settings);
                     Ok(())
                 })?;
@@ -934,7 +953,7 @@ impl App {
             }
             Command::Open(path) => {
                 let settings = self.document.doc.portable_settings();
-                let replayed = self.edit("open", |d| {
+                let replayed = self.replace_document("open", |d| {
                     let (doc, replayed) = Document::open(&path, settings)?;
                     *d = doc;
                     Ok(replayed)
@@ -945,7 +964,7 @@ impl App {
             }
             Command::OpenExample(name) => {
                 let settings = self.document.doc.portable_settings();
-                self.edit("open", |d| {
+                self.replace_document("open", |d| {
                     *d = Document::example(name, settings)?;
                     Ok(())
                 })?;
