@@ -475,6 +475,16 @@ impl Front {
     /// Returns the loop ids of `a` and `b` afterwards.
     pub fn exchange_successors(&mut self, a: SlotId, b: SlotId, nodes: &[Point]) -> (u32, u32) {
         debug_assert_eq!(self.node(a), self.node(b));
+        self.relink(a, b, nodes)
+    }
+
+    /// Re-links slots `a` and `b` so that `a` takes `b`'s successor and `b`
+    /// takes `a`'s: the edges from `a` and `b` are replaced by the edges
+    /// `a → next(b)` and `b → next(a)` (for slots of one node, see
+    /// [`Front::exchange_successors`]). One loop through both becomes two
+    /// loops; two loops become one. Returns the loop ids of `a` and `b`
+    /// afterwards.
+    pub fn relink(&mut self, a: SlotId, b: SlotId, nodes: &[Point]) -> (u32, u32) {
         let an = self.next(a);
         let bn = self.next(b);
         self.slots[a as usize].next = bn;

@@ -337,6 +337,7 @@ pub fn kind_name(k: StepKind) -> &'static str {
         StepKind::Transition => "transition (3 to 1)",
         StepKind::Mapped => "mapped grid",
         StepKind::Split => "loop split",
+        StepKind::Bridge => "bridge across a gap",
         StepKind::RipUp => "rip-up",
         StepKind::Fill => "fill of the region left",
         StepKind::Correction => "correction",

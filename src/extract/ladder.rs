@@ -3,7 +3,7 @@
 //! small loops, mapped grids on narrow logical rectangles, the fill inside
 //! the first layers, the reference points in queue order, seams, chord
 //! splits, a square cut, a relaxed rule-based element, relaxation, rip-up,
-//! and the fill as the last resort.
+//! a bridge across a gap, and the fill as the last resort.
 
 use super::candidate::Chosen;
 use super::guard::Limits;
@@ -34,6 +34,17 @@ const SMALL_LOOP: usize = 48;
 /// A stretch of the given boundary this long (nodes) that no row has
 /// reached when the queue moves on gets a row start.
 const ROW_RUN: usize = 4;
+/// A loop about to start a row first looks for a bridge of at least this
+/// scaled Jacobian across a gap at most [`ROW_BRIDGE_GAP`] times as high
+/// as the edges it joins are long: a gap a row would not fit.
+const ROW_BRIDGE_SJ: f64 = 0.5;
+/// See [`ROW_BRIDGE_SJ`].
+const ROW_BRIDGE_GAP: f64 = 1.0;
+/// A stuck front takes a bridge of any shape across a gap at most this
+/// many times as high as the edges it joins are long (the slanted quads
+/// of a gap between offset nodes have a scaled Jacobian of about 0.1, and
+/// no quad there does better).
+const BRIDGE_GAP: f64 = 0.5;
 /// Front nodes looked at first, sharpest first, for the best rule-based
 /// element anywhere (step 7 of the ladder).
 const SHARPEST: usize = 32;
@@ -72,6 +83,9 @@ impl Mesher {
                 && self.front.loops[lid as usize].len > 6
                 && !self.loop_has_reference(lid)
             {
+                if let Some(r) = self.bridge(Some(lid), ROW_BRIDGE_SJ, ROW_BRIDGE_GAP) {
+                    return Ok(r);
+                }
                 if let Some(r) = self.square_cut(Squares::Loop(lid), limits) {
                     return Ok(r);
                 }
@@ -320,6 +334,10 @@ impl Mesher {
             if let Some(r) = self.close_strip(lid) {
                 return Ok(r);
             }
+        }
+        // 9c. Two facing front edges joined across a gap.
+        if let Some(r) = self.bridge(None, 0.0, BRIDGE_GAP) {
+            return Ok(r);
         }
         // 10. Give the smallest stuck loop room: remove the elements around it.
         if let Some(&lid) = loops.first() {

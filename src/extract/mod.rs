@@ -14,6 +14,7 @@
 //!
 //! The same step API drives the command line, the tests and the editor.
 
+mod bridge;
 mod candidate;
 pub mod closure;
 pub mod fill;

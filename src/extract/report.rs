@@ -78,6 +78,9 @@ pub enum StepKind {
     Mapped,
     /// A loop split along a chord.
     Split,
+    /// Two facing front edges joined by one quad across a gap no other
+    /// step fits (a front collision).
+    Bridge,
     /// Elements around a loop that could not be reduced were removed to
     /// give it room.
     RipUp,
