@@ -19,7 +19,7 @@ def irr(r):
 
 
 short = {"Element": "E", "Square": "Sq", "Close4": "C4", "Close6": "C6", "Relax": "Rx",
-         "Seam": "Se", "Transition": "Tr", "Mapped": "Map", "Split": "Sp", "RipUp": "Rip", "Fill": "FILL"}
+         "Seam": "Se", "Transition": "Tr", "Mapped": "Map", "Split": "Sp", "Bridge": "Br", "RipUp": "Rip", "Fill": "FILL"}
 print("| case | quads | SJ min | SJ mean | irregular % | taper max | aspect max | steps by kind "
       "| Gmsh quads | Gmsh SJ mean | Gmsh irregular % |")
 print("|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|")
