@@ -162,35 +162,14 @@ impl Mesher {
 
 #[cfg(test)]
 mod tests {
-    use crate::boundary::Boundary;
-    use crate::extract::{MeshParams, Mesher, StepKind, StepOutcome};
+    use crate::extract::{Mesher, StepKind};
     use crate::geom::Point;
-    use std::sync::Arc;
 
     /// Meshes the loops (outer first) with the shipped model, checking the
     /// invariants after every step; also returns the steps' kinds.
     fn run(loops: Vec<Vec<Point>>) -> (Mesher, Vec<StepKind>) {
-        let mut points = Vec::new();
-        let mut ids = Vec::new();
-        for l in loops {
-            ids.push((points.len()..points.len() + l.len()).collect());
-            points.extend(l);
-        }
-        let b = Boundary::new(points, ids, None).unwrap();
-        let model = Arc::new(crate::model::default_model().unwrap());
-        let mut m = Mesher::new(b, model, MeshParams::DEFAULT);
-        let mut kinds = Vec::new();
-        loop {
-            match m.step() {
-                Ok(StepOutcome::Done) => break,
-                Ok(StepOutcome::Stepped(r)) => {
-                    m.check_invariants()
-                        .unwrap_or_else(|e| panic!("step {}: {e}", r.index));
-                    kinds.push(r.kind);
-                }
-                Err(e) => panic!("{e}"),
-            }
-        }
+        let mut m = Mesher::of_loops(loops);
+        let kinds = m.run_checked();
         (m, kinds)
     }
 

@@ -259,7 +259,7 @@ pub(crate) fn sunburst(n: usize) -> Vec<Point> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::extract::{Mesher, StepKind, StepOutcome};
+    use crate::extract::{Mesher, StepKind};
 
     #[test]
     fn a_needle_is_a_corner_no_quad_meets_the_side_ratio_at() {
@@ -282,18 +282,7 @@ mod tests {
         let (p0, pl, pr) = (pts[0], pts[2 * n - 1], pts[1]);
         assert!(is_needle(p0, pl, pr));
         let mut m = Mesher::of_loop(pts);
-        let mut kinds = Vec::new();
-        loop {
-            match m.step() {
-                Ok(StepOutcome::Done) => break,
-                Ok(StepOutcome::Stepped(r)) => {
-                    m.check_invariants()
-                        .unwrap_or_else(|e| panic!("step {}: {e}", r.index));
-                    kinds.push(r.kind);
-                }
-                Err(e) => panic!("{e}"),
-            }
-        }
+        let kinds = m.run_checked();
         assert!(!kinds.contains(&StepKind::Fill), "{kinds:?}");
         // The first n steps are the kites, one per needle tip.
         assert!(kinds[..n].iter().all(|&k| k == StepKind::Element));

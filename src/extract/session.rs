@@ -993,9 +993,38 @@ impl Mesher {
     /// A mesher with the shipped model and the default parameters over one
     /// boundary loop through `pts`, for tests that set up a front by hand.
     pub(super) fn of_loop(pts: Vec<Point>) -> Mesher {
-        let loop_ids: Vec<usize> = (0..pts.len()).collect();
-        let b = Boundary::new(pts, vec![loop_ids], None).expect("a valid loop");
+        Mesher::of_loops(vec![pts])
+    }
+
+    /// As [`Mesher::of_loop`], over the loops through `loops` (the outer
+    /// one first).
+    pub(super) fn of_loops(loops: Vec<Vec<Point>>) -> Mesher {
+        let mut points = Vec::new();
+        let mut ids = Vec::new();
+        for l in loops {
+            ids.push((points.len()..points.len() + l.len()).collect());
+            points.extend(l);
+        }
+        let b = Boundary::new(points, ids, None).expect("valid loops");
         let model = Arc::new(crate::model::default_model().expect("the shipped model"));
         Mesher::new(b, model, MeshParams::DEFAULT)
+    }
+
+    /// Steps to the end, checking the invariants after every step (a
+    /// failed step or check panics); returns the steps' kinds.
+    pub(super) fn run_checked(&mut self) -> Vec<StepKind> {
+        let mut kinds = Vec::new();
+        loop {
+            match self.step() {
+                Ok(StepOutcome::Done) => break,
+                Ok(StepOutcome::Stepped(r)) => {
+                    self.check_invariants()
+                        .unwrap_or_else(|e| panic!("step {}: {e}", r.index));
+                    kinds.push(r.kind);
+                }
+                Err(e) => panic!("{e}"),
+            }
+        }
+        kinds
     }
 }
