@@ -2,8 +2,8 @@
 //! thesis §5.1): a first row on a loop without reference points, closing
 //! small loops, mapped grids on narrow logical rectangles, the fill inside
 //! the first layers, the reference points in queue order, seams, chord
-//! splits, a square cut, a relaxed rule-based element, relaxation, rip-up,
-//! a bridge across a gap, and the fill as the last resort.
+//! splits, a square cut, a relaxed rule-based element, relaxation, a
+//! bridge across a gap, rip-up, and the fill as the last resort.
 
 use super::candidate::Chosen;
 use super::guard::Limits;
