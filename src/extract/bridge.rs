@@ -57,16 +57,18 @@ impl Mesher {
     /// times as high as the two edges are long; `None` when no pair passes
     /// the guard.
     pub(super) fn bridge(&mut self, from: Option<u32>, floor: f64, gap: f64) -> Option<StepReport> {
-        // Each slot's position in its loop, for the parity of a split.
+        // The edges searched from, and each one's position in its loop for
+        // the parity of a split (a split's two edges are on one loop).
         let mut pos = vec![0usize; self.front.slots.len()];
-        let loops: Vec<u32> = self.front.live_loops().collect();
+        let loops: Vec<u32> = match from {
+            Some(lid) => vec![lid],
+            None => self.front.live_loops().collect(),
+        };
         let mut edges = Vec::new();
         for &lid in &loops {
             for (k, s) in self.front.loop_slots(lid).into_iter().enumerate() {
                 pos[s as usize] = k;
-                if from.is_none_or(|l| l == lid) {
-                    edges.push(s);
-                }
+                edges.push(s);
             }
         }
         let mut best: Option<Bridge> = None;
