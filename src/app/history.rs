@@ -22,6 +22,27 @@ enum Entry {
     Replaced(Box<Document>, &'static str, Option<PathBuf>),
 }
 
+impl Entry {
+    /// Puts a kept document (and a replaced one's project file) in place of
+    /// the current ones; returns the entry that puts them back, and the
+    /// edit's name. Steps are not kept documents: they come back as they
+    /// are.
+    fn swap(self, doc: &mut Document, project: &mut Option<PathBuf>) -> (Entry, &'static str) {
+        match self {
+            Entry::State(kept, name) => {
+                let current = std::mem::replace(doc, *kept);
+                (Entry::State(Box::new(current), name), name)
+            }
+            Entry::Replaced(kept, name, file) => {
+                let current = std::mem::replace(doc, *kept);
+                let current_file = std::mem::replace(project, file);
+                (Entry::Replaced(Box::new(current), name, current_file), name)
+            }
+            steps @ Entry::Steps(_) => (steps, "step"),
+        }
+    }
+}
+
 /// The undo and redo stacks.
 #[derive(Default)]
 pub struct History {
@@ -111,16 +132,9 @@ impl History {
                     step: true,
                 })
             }
-            Entry::State(before, name) => {
-                let after = std::mem::replace(doc, *before);
-                self.redo.push(Entry::State(Box::new(after), name));
-                Some(Undone { name, step: false })
-            }
-            Entry::Replaced(before, name, was) => {
-                let after = std::mem::replace(doc, *before);
-                let after_project = std::mem::replace(project, was);
-                self.redo
-                    .push(Entry::Replaced(Box::new(after), name, after_project));
+            kept => {
+                let (back, name) = kept.swap(doc, project);
+                self.redo.push(back);
                 Some(Undone { name, step: false })
             }
         }
@@ -151,16 +165,9 @@ impl History {
                     step: true,
                 }))
             }
-            Entry::State(after, name) => {
-                let before = std::mem::replace(doc, *after);
-                self.undo.push(Entry::State(Box::new(before), name));
-                Ok(Some(Undone { name, step: false }))
-            }
-            Entry::Replaced(after, name, then) => {
-                let before = std::mem::replace(doc, *after);
-                let before_project = std::mem::replace(project, then);
-                self.undo
-                    .push(Entry::Replaced(Box::new(before), name, before_project));
+            kept => {
+                let (back, name) = kept.swap(doc, project);
+                self.undo.push(back);
                 Ok(Some(Undone { name, step: false }))
             }
         }
