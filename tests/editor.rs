@@ -445,15 +445,24 @@ fn correct_append_refit_and_finish() {
     assert_eq!(d.training.len(), 1);
     let new_node = d.last().unwrap().new_nodes[0];
     assert!((d.mesher().unwrap().mesh().nodes[new_node as usize] - moved).length() < 1e-12);
-    // The corrected element keeps its sample: appending it again is
-    // refused, so it does not weigh twice.
-    h.get_by_label("Append as sample").click();
+    // The corrected element keeps its sample: the panel says so and its
+    // Append button is off; the command itself is refused, so the sample
+    // does not weigh twice.
+    h.get_by_label("kept as sample 1");
+    assert!(h
+        .get_by_label("Append as sample")
+        .accesskit_node()
+        .is_disabled());
+    h.state_mut().apply(Command::AppendLast);
     h.run();
     assert_eq!(h.state().doc().training.len(), 1);
     assert_eq!(
         status(&h),
         "error: the last element is in the training set already (sample 1)"
     );
+    // The step panel shows the correction beside the model's element.
+    h.get_by_label("yours, corrected by hand");
+    h.get_by_label("model's Pn, world");
     // The next element appended from the panel (a counter shows it).
     h.state_mut().apply(Command::Step);
     h.run();
@@ -694,6 +703,14 @@ fn a_correction_sticks_through_refit_and_reset_and_the_model_saves() {
                 .is_some()
     );
     let f = h.state().doc().last_refit.clone().unwrap();
+    // The status line after the rest is meshed keeps the refit's warning.
+    assert!(status(&h).starts_with("refitted, then meshed the rest"));
+    assert_eq!(
+        status(&h).contains("meshes this boundary worse"),
+        !f.worse.is_empty(),
+        "{}",
+        status(&h)
+    );
     assert_eq!(f.checks.len(), 1);
     assert!(f.checks[0].reproduced());
     assert!(f

@@ -261,8 +261,8 @@ pub fn quality_color(sj: f64) -> Color32 {
 }
 
 /// Height of the strip at the canvas's bottom the colour legend takes
-/// ([`legend`], whose box reaches 78 points up), in points.
-const LEGEND_ROOM: f32 = 80.0;
+/// ([`legend`], whose box reaches 96 points up), in points.
+const LEGEND_ROOM: f32 = 98.0;
 
 /// The colour legend of the quads' metric: a bar from bad to ideal in the
 /// canvas's lower left corner, labelled with the metric's figures.
@@ -273,10 +273,22 @@ pub fn legend(painter: &egui::Painter, rect: egui::Rect, metric: super::quality_
     let text = Color32::from_rgb(230, 230, 230);
     let origin = rect.left_bottom() + egui::vec2(12.0, -58.0);
     let back = egui::Rect::from_min_size(
-        origin - egui::vec2(6.0, 20.0),
-        egui::vec2(w * STOPS.len() as f32 + 12.0, h + 40.0),
+        origin - egui::vec2(6.0, 38.0),
+        egui::vec2(w * STOPS.len() as f32 + 12.0, h + 58.0),
     );
     painter.rect_filled(back, 4.0, Color32::from_black_alpha(170));
+    // The tint of the quads that miss the thesis criteria, over a good
+    // quad's colour, as it shows on the canvas.
+    let swatch = egui::Rect::from_min_size(origin - egui::vec2(0.0, 34.0), egui::vec2(h, h));
+    painter.rect_filled(swatch, 0.0, quality_color(1.0));
+    painter.rect_filled(swatch, 0.0, POOR_TINT);
+    painter.text(
+        swatch.right_center() + egui::vec2(6.0, 0.0),
+        egui::Align2::LEFT_CENTER,
+        "tinted: misses the thesis criteria",
+        font.clone(),
+        text,
+    );
     painter.text(
         origin - egui::vec2(0.0, 4.0),
         egui::Align2::LEFT_BOTTOM,

@@ -633,6 +633,16 @@ impl Document {
         self.push_sample(s)
     }
 
+    /// The number (from 1) of the training sample the last element's
+    /// sample already is, if it is one: a correction keeps its sample at
+    /// once, and appending it again would add nothing.
+    pub fn last_sampled(&self) -> Option<usize> {
+        let r = self.last()?;
+        self.last_element()?;
+        let s = self.mesher()?.sample_of(r)?;
+        self.training.position_of(&s).map(|i| i + 1)
+    }
+
     fn push_sample(&mut self, s: Sample) -> Result<usize, EditorError> {
         if self.training.points != 2 * s.n() + 1 && self.training.is_empty() {
             self.training = TrainingSet::new(2 * s.n() + 1);
@@ -677,8 +687,14 @@ impl Document {
             Some(b) => b,
             None => self.before_last().ok_or(EditorError::NoStep)?,
         };
-        let report = mesher.correct(&c)?;
+        let (prediction, predicted_pn) = (r.prediction, r.predicted_pn);
+        let mut report = mesher.correct(&c)?;
         let sample = mesher.sample_of(&report);
+        // The model's element at this input stays on show beside the
+        // user's, to compare them (a correction has no prediction of its
+        // own).
+        report.prediction = prediction;
+        report.predicted_pn = predicted_pn;
         let m = self.meshing_mut()?;
         m.mesher = mesher;
         m.last = Some(report);

@@ -1375,12 +1375,26 @@ impl App {
             } else {
                 ""
             };
+            // A refit's warning (it meshes this boundary worse) stays in
+            // the status line that replaces the refit's own.
+            let worse = match (&job.record, &self.document.doc.last_refit) {
+                (Record::WithLastEdit, Some(f)) if !f.worse.is_empty() => {
+                    format!(
+                        "; the refitted model meshes this boundary worse: {}",
+                        f.worse.join(", ")
+                    )
+                }
+                _ => String::new(),
+            };
             self.window.status = match done.error {
-                Some(e) => format!("{what}error after {}: {e}", plural(done.steps, "step")),
+                Some(e) => format!(
+                    "{what}error after {}: {e}{worse}",
+                    plural(done.steps, "step")
+                ),
                 None => {
                     let all = self.document.doc.steps();
                     format!(
-                        "{what}{} taken{}{}",
+                        "{what}{} taken{}{}{worse}",
                         plural(done.steps, "step"),
                         if all > done.steps {
                             format!(" ({all} in all)")

@@ -335,7 +335,11 @@ impl super::View for StepPanel {
                 if let Some(t) = r.element_type {
                     row(ui, "element", plain(format!("type {}", t.number())));
                 }
-                row(ui, "remedy", plain(remedy_name(r.remedy).to_string()));
+                if r.kind == StepKind::Correction {
+                    row(ui, "remedy", plain("yours, corrected by hand".to_string()));
+                } else {
+                    row(ui, "remedy", plain(remedy_name(r.remedy).to_string()));
+                }
                 if r.skipped > 0 {
                     row(
                         ui,

@@ -597,7 +597,7 @@ impl Tools {
                     note(
                         ui,
                         if valid == 0 {
-                            "Drag Pn: no front node near P0 gives a valid element here (the quad would be flat or fold).".to_string()
+                            "Drag Pn to correct. No front node near P0 closes a valid element here: the quad would be flat or fold. Closing onto a node works where the front turns (corners, fronts meeting).".to_string()
                         } else {
                             format!(
                                 "Click a ringed node to close onto it, or drag Pn: {} near P0 {} a valid element (green good, amber fair, orange poor).",

@@ -90,12 +90,23 @@ impl super::View for TrainPanel {
                             snap_to: None,
                         });
                     }
-                    if ui
-                        .button("Append as sample")
-                        .on_hover_text("Keep the last element as it is as a training sample")
-                        .clicked()
-                    {
-                        out.push(Command::AppendLast);
+                    match doc.last_sampled() {
+                        Some(i) => {
+                            ui.add_enabled(false, egui::Button::new("Append as sample"))
+                                .on_disabled_hover_text(format!(
+                                    "The last element is in the training set already (sample {i})"
+                                ));
+                            ui.weak(format!("kept as sample {i}"));
+                        }
+                        None => {
+                            if ui
+                                .button("Append as sample")
+                                .on_hover_text("Keep the last element as it is as a training sample")
+                                .clicked()
+                            {
+                                out.push(Command::AppendLast);
+                            }
+                        }
                     }
                 });
             }
