@@ -25,6 +25,9 @@ use crate::smooth::pattern_search;
 /// A small loop whose closure and whose nodes' quads are all at least this
 /// good (scaled Jacobian) is not settled.
 const SETTLED: f64 = 0.3;
+/// Settling never takes a quad under this (or under its own measure, if
+/// lower).
+const SETTLE_FLOOR: f64 = 0.1;
 
 /// A way to fill a 6-node loop: the quads (indices into the loop, with
 /// 6 and 7 standing for the interior nodes) and the interior nodes.
@@ -268,7 +271,9 @@ impl Mesher {
     /// each by a pattern search, to where the worst of their quads and of
     /// the loop's best closure ([`closure_quality`]) is best, keeping the
     /// front free of crossings and the loop running the way it ran
-    /// (paving's smoothing before closure). True when a node moved.
+    /// (paving's smoothing before closure); no quad at a moved node falls
+    /// under [`SETTLE_FLOOR`] (or its own measure, if lower). True when a
+    /// node moved.
     pub(super) fn settle_small(&mut self, lid: u32) -> bool {
         let slots = self.front.loop_slots(lid);
         let nodes: Vec<u32> = slots.iter().map(|&s| self.front.node(s)).collect();
@@ -283,20 +288,36 @@ impl Mesher {
                 continue;
             }
             let quads: Vec<u32> = self.incident[v as usize].clone();
+            // A quad squeezed towards a triangle keeps good angles but not
+            // its sides: both count.
+            let measure = |c: [Point; 4]| {
+                let shape = Shape::of(c);
+                let sides = (MAX_SIDE_RATIO / shape.side_ratio()).min(1.0);
+                shape.scaled_jacobian.min(sides)
+            };
+            // No quad may fall under its own measure or SETTLED, whichever
+            // is lower: where the loop's closure is folded (a negative
+            // quality), any quad over that would otherwise do, and a node
+            // settled again at every step crept onto its neighbour.
+            let floors: Vec<f64> = quads
+                .iter()
+                .map(|&q| {
+                    measure(self.mesh.corners(&self.mesh.quads[q as usize])).min(SETTLE_FLOOR)
+                })
+                .collect();
             let quality = |m: &QuadMesh| {
                 let pts: Vec<Point> = nodes.iter().map(|&u| m.nodes[u as usize]).collect();
                 let mut worst = closure_quality(&pts);
                 let mut sum = worst;
-                for &q in &quads {
+                for (&q, &floor) in quads.iter().zip(&floors) {
                     let c = m.corners(&m.quads[q as usize]);
                     if !is_measurably_convex(c) {
                         return None;
                     }
-                    let shape = Shape::of(c);
-                    // A quad squeezed towards a triangle keeps good
-                    // angles but not its sides: both count.
-                    let sides = (MAX_SIDE_RATIO / shape.side_ratio()).min(1.0);
-                    let sj = shape.scaled_jacobian.min(sides);
+                    let sj = measure(c);
+                    if sj < floor {
+                        return None;
+                    }
                     worst = worst.min(sj);
                     sum += sj;
                 }
