@@ -66,10 +66,6 @@ fn toggle_edge(edges: &mut std::collections::BTreeSet<(u32, u32)>, (a, b): (u32,
     }
 }
 
-/// A chord's nodes are spaced at most this many times as wide as the
-/// front at its ends ([`Mesher::chord_split`]).
-const CHORD_COARSEN: f64 = 1.5;
-
 impl Mesher {
     /// Removes every quad within `rings` element rings of loop `lid` and
     /// rebuilds the front around the enlarged hole in the mesh.
@@ -572,10 +568,7 @@ impl Mesher {
     /// Splits a loop along an interior chord into two even loops (the
     /// splitting-line rule of the extension of TP, thesis §1.3.2): both
     /// ends' angles split as close to 90° as possible, the chord visible
-    /// and inside, with new nodes spaced like the front, or up to
-    /// [`CHORD_COARSEN`] times as wide where the size field asks for
-    /// coarser (a ring that keeps its node count as it shrinks runs finer
-    /// than the boundary's spacing; the chord across it need not). A chord is not
+    /// and inside, with new nodes spaced like the front. A chord is not
     /// given more nodes than its loop has: where the front at its ends is
     /// far finer than its length (a sliver of microscopic elements), a split
     /// would multiply the front instead of dividing it.
@@ -624,7 +617,6 @@ impl Mesher {
                         + pa.distance(self.world(self.front.prev(a)))
                         + pb.distance(self.world(self.front.next(b)))
                         + pb.distance(self.world(self.front.prev(b))));
-                let h = self.size.at(pa.lerp(pb, 0.5)).clamp(h, CHORD_COARSEN * h);
                 let d = j - i;
                 let mut k = ((len / h).round() as usize).saturating_sub(1);
                 let want = if any_odd {
