@@ -295,10 +295,11 @@ impl Mesher {
                 let sides = (MAX_SIDE_RATIO / shape.side_ratio()).min(1.0);
                 shape.scaled_jacobian.min(sides)
             };
-            // No quad may fall under its own measure or SETTLED, whichever
-            // is lower: where the loop's closure is folded (a negative
-            // quality), any quad over that would otherwise do, and a node
-            // settled again at every step crept onto its neighbour.
+            // No quad may fall under its own measure or SETTLE_FLOOR,
+            // whichever is lower: where the loop's closure is folded (a
+            // negative quality), any quad over that would otherwise do,
+            // and a node settled again at every step crept onto its
+            // neighbour.
             let floors: Vec<f64> = quads
                 .iter()
                 .map(|&q| {
