@@ -637,8 +637,7 @@ impl Document {
     /// sample already is, if it is one: a correction keeps its sample at
     /// once, and appending it again would add nothing.
     pub fn last_sampled(&self) -> Option<usize> {
-        let r = self.last()?;
-        self.last_element()?;
+        let r = self.last_element()?;
         let s = self.mesher()?.sample_of(r)?;
         self.training.position_of(&s).map(|i| i + 1)
     }

@@ -59,7 +59,8 @@ impl Mesher {
     pub(super) fn bridge(&mut self, from: Option<u32>, floor: f64, gap: f64) -> Option<StepReport> {
         // The edges searched from, and each one's position in its loop for
         // the parity of a split (a split's two edges are on one loop).
-        let mut pos = vec![0usize; self.front.slots.len()];
+        let mut pos = std::mem::take(&mut self.scratch.loop_pos);
+        pos.resize(pos.len().max(self.front.slots.len()), 0);
         let loops: Vec<u32> = match from {
             Some(lid) => vec![lid],
             None => self.front.live_loops().collect(),
@@ -93,6 +94,7 @@ impl Mesher {
                 }
             }
         }
+        self.scratch.loop_pos = pos;
         let Bridge { s, t, .. } = best?;
         Some(self.commit_bridge(s, t))
     }

@@ -32,6 +32,10 @@ pub struct Limits {
 #[derive(Default, Debug, Clone)]
 pub struct Scratch {
     pub near: Vec<SlotId>,
+    /// Per slot, its position in its loop, written for the loops a bridge
+    /// search numbers (kept between searches so that none allocates a
+    /// buffer as long as the front's slots).
+    pub loop_pos: Vec<usize>,
 }
 
 /// A candidate that passed the guard: its corners and its score.
