@@ -68,14 +68,15 @@ impl Params {
 /// [`QuadMesh::check_invariants`] for a partial mesh). Call after
 /// [`Mesher::run`]; an unfinished mesh is returned as it stands.
 pub fn finish(mesher: &Mesher, f: &FinishParams) -> Result<QuadMesh, MeshError> {
-    finish_at(mesher, f, crate::geom::Point::ZERO)
+    finish_moved(mesher, f, crate::geom::Point::ZERO)
 }
 
-/// [`finish`] for a mesher run in a frame moved by `-origin`: the mesh is
-/// moved back by `origin` before it is checked, so the check is of the
-/// mesh as written (quads far smaller than the domain's distance from the
-/// origin may turn flat when moved).
-fn finish_at(
+/// [`finish`] for a mesher run in a frame moved by `-origin` (as
+/// [`mesh_boundary`] runs it, [`Boundary::to_local`]): the mesh is moved
+/// back by `origin` before it is checked, so the check is of the mesh as
+/// written (quads far smaller than the domain's distance from the origin
+/// may turn flat when moved).
+pub fn finish_moved(
     mesher: &Mesher,
     f: &FinishParams,
     origin: crate::geom::Point,
@@ -114,7 +115,7 @@ pub fn mesh_boundary(
     let (local, origin) = boundary.to_local();
     let mut m = Mesher::new(local, model, params.extract.clone());
     m.run(progress)?;
-    let mesh = finish_at(&m, &params.finish, origin)?;
+    let mesh = finish_moved(&m, &params.finish, origin)?;
     Ok((mesh, m.stats().clone()))
 }
 

@@ -2243,3 +2243,79 @@ fn a_quads_tip_stays_over_the_canvas() {
         }
     }
 }
+
+/// A boundary away from the origin is meshed by the editor in the frame
+/// the command line meshes it in (moved next to the origin, exactly): the
+/// same mesh, the same file bytes, and corrections given in the file's
+/// coordinates. Run in its own coordinates, this domain ends in another
+/// mesh (129 quads against 133 as stepped).
+#[test]
+fn the_editor_meshes_a_domain_away_from_the_origin_as_the_command_line_does() {
+    use quadex::domains::{generate, Family};
+    let d = generate(Family::Unbalanced, 0xa23f69ab86b9b961);
+    let (_, origin) = d.boundary.to_local();
+    assert_ne!(origin, quadex::Point::ZERO, "the domain must be moved");
+    let dir = tempfile::tempdir().unwrap();
+    let poly = dir.path().join("away.poly");
+    std::fs::write(&poly, quadex::io::poly::write_poly(&d.boundary)).unwrap();
+    // The command line's mesh.
+    let settings = Settings::default();
+    let params = quadex::Params {
+        extract: settings.params(),
+        finish: settings.finishing(),
+    };
+    let model: std::sync::Arc<dyn quadex::Model> = quadex::model::load("default").unwrap().into();
+    let boundary = quadex::io::read_boundary(&poly).unwrap();
+    let (cli, _) = quadex::mesh_boundary(&boundary, model, &params, |_| {}).unwrap();
+    let cli_file = dir.path().join("cli.msh");
+    quadex::io::write_mesh(&cli, &cli_file).unwrap();
+    // The editor's, stepped to the end and exported.
+    let mut h = harness(open(&poly));
+    h.run();
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    assert!(h.state().doc().is_done());
+    let out = dir.path().join("editor.msh");
+    h.state_mut().apply(Command::Export(out.clone()));
+    h.run();
+    assert!(status(&h).starts_with("wrote"), "{}", status(&h));
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        std::fs::read(&cli_file).unwrap()
+    );
+    // A correction in world coordinates: the model's own Pn, given back,
+    // makes the same element (moved into the mesher's frame and out, to
+    // rounding).
+    h.state_mut().apply(Command::Reset);
+    h.state_mut().apply(Command::StepN(5));
+    h.run();
+    let last = h.state().doc().last().cloned().unwrap();
+    assert_eq!(last.kind, StepKind::Element);
+    let pn = h.state().doc().mesher().unwrap().mesh().nodes[last.pn_node().unwrap() as usize];
+    h.state_mut().apply(Command::CorrectLast {
+        element_type: ElementType::New,
+        pn,
+        snap_to: None,
+    });
+    h.run();
+    assert!(
+        status(&h).starts_with("element corrected"),
+        "{}",
+        status(&h)
+    );
+    let doc = h.state().doc();
+    let after = doc.last().unwrap();
+    let moved = doc.mesher().unwrap().mesh().nodes[after.pn_node().unwrap() as usize];
+    assert!(
+        moved.distance(pn) <= 1e-12 * origin.length(),
+        "{pn} {moved}"
+    );
+    // A project of it opens with the same mesh (its actions are kept in
+    // the mesher's frame).
+    let mesh = doc.mesher().unwrap().mesh().clone();
+    let project = dir.path().join("away.quadex.json");
+    h.state_mut().apply(Command::SaveProject(project.clone()));
+    assert!(status(&h).starts_with("saved"), "{}", status(&h));
+    let (reopened, _) = Document::open(&project, Settings::default()).unwrap();
+    assert_eq!(reopened.mesher().unwrap().mesh(), &mesh);
+}

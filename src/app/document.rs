@@ -7,13 +7,13 @@
 //! core's public API (`Mesher`, `model::load`, `fit`, `io`).
 
 use super::error::{AtPath, EditorError, ProjectError};
+use super::framed::Framed;
 use crate::boundary::BoundaryError;
 use crate::boundary_edit::Draft;
 use crate::cleanup::CleanupParams;
 use crate::compare;
 use crate::extract::{
-    Action, CheckedElement, Correction, MeshParams, Mesher, StepKind, StepOutcome, StepReport,
-    Strategy,
+    Action, CheckedElement, Correction, MeshParams, StepKind, StepOutcome, StepReport, Strategy,
 };
 use crate::fit::{self, Figures, FitParams, TypeFigures};
 use crate::geom::Point;
@@ -104,7 +104,8 @@ impl Settings {
 #[derive(Clone)]
 pub struct Meshing {
     pub boundary: Boundary,
-    pub mesher: Mesher,
+    /// The mesher, run in the command line's frame.
+    pub mesher: Framed,
     /// The report of the last step taken (after undo: of the step now
     /// last, so that it can be corrected).
     pub last: Option<StepReport>,
@@ -129,7 +130,7 @@ impl Meshing {
     ) -> Result<Meshing, EditorError> {
         let (m, info) = load_model(&settings.model, models)?;
         Ok(Meshing {
-            mesher: Mesher::new(boundary.clone(), m, settings.params()),
+            mesher: Framed::new(boundary.clone(), m, settings.params()),
             boundary,
             last: None,
             refits: Vec::new(),
@@ -467,7 +468,7 @@ impl Document {
         self.meshing.as_ref().map(|m| &m.boundary)
     }
 
-    pub fn mesher(&self) -> Option<&Mesher> {
+    pub fn mesher(&self) -> Option<&Framed> {
         self.meshing.as_ref().map(|m| &m.mesher)
     }
 
@@ -484,7 +485,7 @@ impl Document {
 
     /// Steps taken.
     pub fn steps(&self) -> usize {
-        self.mesher().map_or(0, Mesher::steps)
+        self.mesher().map_or(0, |m| m.steps())
     }
 
     /// Models set by refits.
@@ -501,7 +502,7 @@ impl Document {
 
     /// True when the run is complete.
     pub fn is_done(&self) -> bool {
-        self.mesher().is_some_and(Mesher::is_done)
+        self.mesher().is_some_and(|m| m.is_done())
     }
 
     /// True when there is a complete mesh to show and export: the run is
@@ -651,7 +652,7 @@ impl Document {
     }
 
     /// The mesher as it was before the last step (the last step undone).
-    pub fn before_last(&self) -> Option<Mesher> {
+    pub fn before_last(&self) -> Option<Framed> {
         let mut m = self.mesher()?.clone();
         m.undo().then_some(m)
     }
@@ -669,7 +670,7 @@ impl Document {
         element_type: ElementType,
         pn: Point,
         snap_to: Option<u32>,
-        before: Option<Mesher>,
+        before: Option<Framed>,
     ) -> Result<usize, EditorError> {
         let r = self.last().ok_or(EditorError::NoStep)?;
         if !matches!(r.kind, StepKind::Element | StepKind::Correction) {
@@ -715,7 +716,7 @@ impl Document {
     /// element could be closed onto instead (P_r2 as type 1, P_l2 as type 2,
     /// any other as type 0 with that node as Pn), each checked on `before`,
     /// the mesher before the last step.
-    pub fn closing_targets(&self, before: &mut Mesher) -> Vec<Target> {
+    pub fn closing_targets(&self, before: &mut Framed) -> Vec<Target> {
         let Some(r) = self.last_element() else {
             return Vec::new();
         };
@@ -942,7 +943,7 @@ impl Document {
             return Ok(m.clone());
         }
         match self.mesher() {
-            Some(m) if m.is_done() => Ok(crate::pipeline::finish(m, &self.settings.finishing())?),
+            Some(m) if m.is_done() => Ok(m.finish(&self.settings.finishing())?),
             _ => Err(EditorError::NotFinished),
         }
     }
@@ -1288,12 +1289,23 @@ pub struct Project {
 /// The `format` field of a project file.
 pub const PROJECT_FORMAT: &str = "quadex-project";
 
+/// The `version` a project is saved with. Version 2 records its actions in
+/// the frame the mesher runs in (the boundary moved next to the origin, as
+/// the command line meshes it, [`Framed`]); version 1 recorded them in the
+/// boundary's own coordinates, and is replayed there.
+pub const PROJECT_VERSION: u32 = 2;
+
 impl Document {
     /// The document as a project.
     pub fn project(&self) -> Project {
         Project {
             format: PROJECT_FORMAT.into(),
-            version: 1,
+            // A version-1 project replayed in the boundary's own frame
+            // goes on in it, and is saved as version 1 again.
+            version: match &self.meshing {
+                Some(m) if m.mesher.origin() != m.boundary.to_local().1 => 1,
+                _ => PROJECT_VERSION,
+            },
             boundary: self.boundary_doc(),
             settings: self.settings.clone(),
             actions: self
@@ -1374,6 +1386,14 @@ impl Document {
                 _ => Ok((doc, replayed)),
             };
         };
+        if p.version < 2 {
+            let m = &meshing.mesher;
+            meshing.mesher = Framed::unmoved(
+                meshing.boundary.clone(),
+                m.model().clone(),
+                m.params().clone(),
+            );
+        }
         // The document as it is before a refit (the rest of `doc` holds no
         // mesh while replaying, so the copy is the mesher's).
         let snapshot = |meshing: &Meshing, doc: &Document| {

@@ -8,9 +8,10 @@
 //! taking (a step, the fill of a large region in particular, is not
 //! interrupted) and its result is thrown away.
 
-use crate::extract::{Mesher, StepReport};
+use super::framed::Framed;
+use crate::extract::StepReport;
 use crate::mesh::QuadMesh;
-use crate::pipeline::{self, FinishParams};
+use crate::pipeline::FinishParams;
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -41,7 +42,7 @@ pub enum Record {
 
 /// What a finished job hands back.
 pub struct JobDone {
-    pub mesher: Mesher,
+    pub mesher: Framed,
     /// The report of the last step taken, if any.
     pub last: Option<StepReport>,
     pub steps: usize,
@@ -73,7 +74,7 @@ pub struct Job {
 impl Job {
     /// Starts `work` on `mesher` in a thread.
     pub fn start(
-        mut mesher: Mesher,
+        mut mesher: Framed,
         work: Work,
         what: &'static str,
         record: Record,
@@ -109,7 +110,7 @@ impl Job {
             };
             let finished = finish
                 .filter(|_| mesher.is_done() && !c.load(Ordering::Relaxed))
-                .map(|p| pipeline::finish(&mesher, &p));
+                .map(|p| mesher.finish(&p));
             JobDone {
                 mesher,
                 last,

@@ -20,6 +20,7 @@ pub mod compare_panel;
 pub mod document;
 pub mod error;
 pub mod files;
+pub mod framed;
 pub mod history;
 pub mod job;
 pub mod model_panel;
@@ -31,7 +32,6 @@ pub mod tools;
 pub mod train_panel;
 pub mod world_mesh;
 
-use crate::extract::Mesher;
 use crate::geom::{Aabb, Point};
 use crate::mesh::QuadMesh;
 use crate::pipeline::FinishParams;
@@ -40,6 +40,7 @@ use compare_panel::{CompareJob, ComparePanel, CompareState, Comparison};
 pub use document::{CorrectionCheck, Document, ModelInfo, RefitFigures, Settings, Target};
 pub use error::{EditorError, ScreenshotError};
 use files::{Prompt, Recent};
+use framed::Framed;
 pub use history::History;
 use job::{Job, JobDone, Record, Work};
 use model_panel::ModelPanel;
@@ -290,7 +291,7 @@ pub struct ViewState {
     /// The element the next step would cut, by mesh version.
     preview: Option<(u64, Vec<[Point; 4]>)>,
     /// The mesher before the last step, by mesh version.
-    before_last: Option<(u64, Mesher)>,
+    before_last: Option<(u64, Framed)>,
     /// Front nodes the last element could close onto, by mesh version.
     targets: Option<(u64, Vec<Target>)>,
     /// Front loops of the mesh as stepped, by mesh version.
@@ -1301,7 +1302,7 @@ impl App {
     }
 
     /// The mesher before the last step, when it is at hand.
-    fn cached_before_last(&mut self) -> Option<Mesher> {
+    fn cached_before_last(&mut self) -> Option<Framed> {
         match self.view.before_last.take() {
             Some((v, m)) if v == self.document.mesh_version => Some(m),
             _ => None,
