@@ -18,19 +18,21 @@ use crate::model::Model;
 use crate::pipeline::{self, FinishParams};
 use crate::{Boundary, MeshParams, Point, QuadMesh};
 use std::ops::{ControlFlow, Deref};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// A [`Mesher`] over a boundary moved by `-origin`, read in world
 /// coordinates. Read-only calls go to the mesher itself (through `Deref`);
 /// every call that changes it goes through here, so that the mesh in world
-/// coordinates is kept with it.
+/// coordinates is made again when it is next read.
 #[derive(Clone)]
 pub struct Framed {
     inner: Mesher,
     origin: Point,
-    /// The mesher's mesh moved back by `origin` (`None` at a zero origin,
-    /// where the mesher's own mesh is the world's).
-    world: Option<Arc<QuadMesh>>,
+    /// The mesher's mesh moved back by `origin`, made when first read after
+    /// a change (never at a zero origin, where the mesher's own mesh is the
+    /// world's): a hundred steps in a row copy the mesh once, not a
+    /// hundred times.
+    world: OnceLock<Arc<QuadMesh>>,
 }
 
 impl Framed {
@@ -47,13 +49,11 @@ impl Framed {
     }
 
     fn at(local: Boundary, origin: Point, model: Arc<dyn Model>, params: MeshParams) -> Framed {
-        let mut f = Framed {
+        Framed {
             inner: Mesher::new(local, model, params),
             origin,
-            world: None,
-        };
-        f.refresh();
-        f
+            world: OnceLock::new(),
+        }
     }
 
     /// What the boundary was moved by (subtracted from its coordinates).
@@ -63,16 +63,19 @@ impl Framed {
 
     /// The mesh as stepped, in world coordinates.
     pub fn mesh(&self) -> &QuadMesh {
-        self.world.as_deref().unwrap_or(self.inner.mesh())
-    }
-
-    /// Keeps the world mesh with the mesher's after a change.
-    fn refresh(&mut self) {
-        self.world = (self.origin != Point::ZERO).then(|| {
+        if self.origin == Point::ZERO {
+            return self.inner.mesh();
+        }
+        self.world.get_or_init(|| {
             let mut m = self.inner.mesh().clone();
             pipeline::to_world(&mut m, self.origin);
             Arc::new(m)
-        });
+        })
+    }
+
+    /// Drops the world mesh after a change (it is made again when read).
+    fn refresh(&mut self) {
+        self.world = OnceLock::new();
     }
 
     /// A report of the mesher's, in world coordinates.
