@@ -2319,3 +2319,27 @@ fn the_editor_meshes_a_domain_away_from_the_origin_as_the_command_line_does() {
     let (reopened, _) = Document::open(&project, Settings::default()).unwrap();
     assert_eq!(reopened.mesher().unwrap().mesh(), &mesh);
 }
+
+/// A step that is not the model's still marks its reference point: the
+/// circle's first step is a square cut, and P0 is drawn at the node the
+/// step panel names.
+#[test]
+fn a_square_cut_marks_its_reference_point() {
+    let mut h = harness(open(&boundary("circle.poly")));
+    h.run();
+    h.state_mut().apply(Command::Step);
+    h.run();
+    let last = h.state().doc().last().cloned().unwrap();
+    assert_eq!(last.kind, StepKind::Square);
+    assert!(last.leading.is_empty());
+    let p0 = h.state().doc().mesher().unwrap().mesh().nodes[last.reference.unwrap() as usize];
+    let at = screen(&h, p0);
+    let label = painted(&h)
+        .into_iter()
+        .find(|(t, _, _)| t == "P0")
+        .expect("a P0 label");
+    assert!(
+        label.1.center().distance(at) < 40.0,
+        "{label:?} far from {at:?}"
+    );
+}

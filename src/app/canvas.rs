@@ -859,8 +859,8 @@ impl Labels<'_> {
 }
 
 /// The last step: its element outlined (when it is a few quads), the
-/// reference point, the leading points labelled l1..lN and r1..rN, and the
-/// model's Pn; labels go outside the element and never overlap (those
+/// reference point (of any step that has one), the leading points labelled
+/// l1..lN and r1..rN, and the model's Pn; labels go outside the element and never overlap (those
 /// that find no room are left out, the outermost first).
 fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn Fn(Point) -> Pos2) {
     let highlight = Color32::from_rgb(255, 230, 60);
@@ -878,7 +878,11 @@ fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn 
         }
     }
     let n = r.leading.len() / 2;
-    let Some(&p0) = r.leading.get(n) else { return };
+    // Steps that are not the model's (a square cut, a seam, a closure)
+    // have a reference point but no leading points: P0 alone is marked.
+    let Some(p0) = r.leading.get(n).copied().or(r.reference) else {
+        return;
+    };
     let at = |v: u32| mesh.nodes.get(v as usize).map(|&p| to(p));
     let Some(s0) = at(p0) else { return };
     let centre = if corners > 0.0 {
