@@ -860,8 +860,9 @@ impl Labels<'_> {
 
 /// The last step: its element outlined (when it is a few quads), the
 /// reference point (of any step that has one), the leading points labelled
-/// l1..lN and r1..rN, and the model's Pn; labels go outside the element and never overlap (those
-/// that find no room are left out, the outermost first).
+/// l1..lN and r1..rN, and the model's Pn; labels go outside the element and
+/// never overlap (those that find no room are left out, the outermost
+/// first).
 fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn Fn(Point) -> Pos2) {
     let highlight = Color32::from_rgb(255, 230, 60);
     let small = r.quads.len() <= MAX_HIGHLIGHT && r.kind != StepKind::Fill;

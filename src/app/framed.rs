@@ -79,9 +79,8 @@ impl Framed {
     }
 
     /// A report of the mesher's, in world coordinates.
-    fn report(&self, mut r: StepReport) -> StepReport {
-        r.predicted_pn = r.predicted_pn.map(|p| p + self.origin);
-        r
+    fn report(&self, r: StepReport) -> StepReport {
+        moved_out(r, self.origin)
     }
 
     /// A correction given in world coordinates, in the mesher's frame.
@@ -157,9 +156,7 @@ impl Framed {
             if origin == Point::ZERO {
                 each(r, at)
             } else {
-                let mut r = r.clone();
-                r.predicted_pn = r.predicted_pn.map(|p| p + origin);
-                each(&r, at)
+                each(&moved_out(r.clone(), origin), at)
             }
         });
         self.refresh();
@@ -171,6 +168,13 @@ impl Framed {
     pub fn finish(&self, f: &FinishParams) -> Result<QuadMesh, MeshError> {
         pipeline::finish_moved(&self.inner, f, self.origin)
     }
+}
+
+/// Step report `r` of a mesher run in a frame moved by `-origin`, moved
+/// back (its only point is the model's Pn; the rest are node ids).
+fn moved_out(mut r: StepReport, origin: Point) -> StepReport {
+    r.predicted_pn = r.predicted_pn.map(|p| p + origin);
+    r
 }
 
 impl Deref for Framed {
