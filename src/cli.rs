@@ -7,6 +7,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use quadex::boundary::Boundary;
 use quadex::boundary_edit::Draft;
 use quadex::cleanup::CleanupParams;
+use quadex::coarsen::CoarsenParams;
 use quadex::compare;
 use quadex::extract::{MeshParams, StepKind, StepStats, Strategy};
 use quadex::factors;
@@ -71,6 +72,10 @@ enum Command {
         /// swaps) of the finished mesh.
         #[arg(long)]
         no_cleanup: bool,
+        /// No chord coarsening (closed rows of quads lower than the size
+        /// field asks are removed) of the finished mesh.
+        #[arg(long)]
+        no_coarsen: bool,
         /// Remesh the regions around quads whose scaled Jacobian is still
         /// below this after cleanup and smoothing (0: no remeshing).
         #[arg(long, default_value_t = RemeshParams::DEFAULT.below, value_parser = parse_remesh_below)]
@@ -562,6 +567,7 @@ fn run(c: Command) -> Result<()> {
             points,
             smooth,
             no_cleanup,
+            no_coarsen,
             remesh_below,
             pure_model,
             no_fill,
@@ -623,6 +629,11 @@ fn run(c: Command) -> Result<()> {
                     CleanupParams::OFF
                 } else {
                     CleanupParams::DEFAULT
+                },
+                coarsen: if no_coarsen {
+                    CoarsenParams::OFF
+                } else {
+                    CoarsenParams::DEFAULT
                 },
                 remesh: RemeshParams {
                     below: remesh_below,

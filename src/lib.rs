@@ -19,8 +19,8 @@
 //! (validation), [`front`] (the advancing front), [`normalize`] (thesis
 //! §3.2), [`model`] (rules, the thesis preset, fitted models and their
 //! files), [`extract`] (the step loop, guard, closure, fill), [`smooth`],
-//! [`quality`], [`io`] (file formats), [`samples`] (training samples,
-//! thesis Chapter 3), [`fit`] (model fitting and fit figures, Chapter 4),
+//! [`cleanup`], [`coarsen`] (chord coarsening), [`quality`], [`io`] (file
+//! formats), [`samples`] (training samples, thesis Chapter 3), [`fit`] (model fitting and fit figures, Chapter 4),
 //! [`factors`] (critical factors, §4.2), [`predict`] (a model's answers
 //! for rows of inputs), [`domains`] (seeded awkward test
 //! domains), [`mapped`] (transfinite mapped meshing) and
@@ -33,6 +33,7 @@ pub mod app;
 pub mod boundary;
 pub mod boundary_edit;
 pub mod cleanup;
+pub mod coarsen;
 pub mod compare;
 pub mod domains;
 pub mod extract;

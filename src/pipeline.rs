@@ -1,6 +1,7 @@
 //! The meshing pipeline: element extraction ([`crate::extract`], method §2)
 //! and then finishing the mesh it made: topological cleanup and smoothing
-//! ([`improve`], thesis §5.1 "de-noise"), local remeshing of the regions
+//! ([`improve`], thesis §5.1 "de-noise"), closed rows lower than the size
+//! field removed ([`coarsen`]), local remeshing of the regions
 //! still bad ([`remesh_bad`]), corners flat to rounding moved off the line
 //! ([`unflatten`]), and the final check. The command line, the editor and
 //! the tests all mesh through here, so a mesh is finished the same way
@@ -8,6 +9,7 @@
 
 use crate::boundary::Boundary;
 use crate::cleanup::{improve, CleanupParams};
+use crate::coarsen::{coarsen, CoarsenParams};
 use crate::extract::{MeshError, MeshParams, Mesher, RunProgress, StepStats};
 use crate::mesh::QuadMesh;
 use crate::model::Model;
@@ -23,6 +25,9 @@ pub struct FinishParams {
     /// Topological cleanup of a complete mesh before smoothing
     /// ([`crate::cleanup`]).
     pub cleanup: CleanupParams,
+    /// Closed rows removed where the mesh runs finer than the size field,
+    /// on a complete mesh ([`crate::coarsen`]).
+    pub coarsen: CoarsenParams,
     /// Local remeshing of the regions around quads that cleanup and
     /// smoothing leave bad ([`crate::remesh`]), on a complete mesh.
     pub remesh: RemeshParams,
@@ -33,6 +38,7 @@ pub struct FinishParams {
 impl FinishParams {
     pub const DEFAULT: FinishParams = FinishParams {
         cleanup: CleanupParams::DEFAULT,
+        coarsen: CoarsenParams::DEFAULT,
         remesh: RemeshParams::DEFAULT,
         smooth: SmoothParams::DEFAULT,
     };
@@ -61,7 +67,9 @@ impl Params {
 
 /// The finished mesh of `mesher`'s run (a large one renumbered for memory
 /// locality, [`QuadMesh::sort_spatially`]): cleaned up and smoothed
-/// ([`improve`]; a mesh with front left is only smoothed), the regions of
+/// ([`improve`]; a mesh with front left is only smoothed), closed rows
+/// lower than the mesher's size field removed ([`coarsen`]) and the
+/// mesh cleaned up and smoothed again if any was, the regions of
 /// quads still bad remeshed with the mesher's model and extraction
 /// parameters ([`remesh_bad`]) and polished ([`polish`]), corners flat to
 /// rounding moved off the line ([`unflatten`]), and checked ([`QuadMesh::check_finished`], or
@@ -89,6 +97,10 @@ pub fn finish_moved(
     let complete = mesher.is_done();
     improve(&mut mesh, complete, &f.cleanup, &f.smooth);
     if complete {
+        let size = mesher.size();
+        if coarsen(&mut mesh, |p| size.at(p), &f.coarsen).chords > 0 {
+            improve(&mut mesh, complete, &f.cleanup, &f.smooth);
+        }
         remesh_bad(&mut mesh, mesher.model(), mesher.params(), f);
         polish(&mut mesh, &f.smooth);
     }

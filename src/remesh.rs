@@ -422,6 +422,7 @@ pub fn remesh_bad(
     let cands = candidates(params);
     let patch_finish = FinishParams {
         remesh: RemeshParams::OFF,
+        coarsen: crate::coarsen::CoarsenParams::OFF,
         cleanup: CleanupParams {
             sliver_sj: rp.below.max(finish.cleanup.sliver_sj),
             ..finish.cleanup

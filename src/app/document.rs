@@ -11,6 +11,7 @@ use super::framed::Framed;
 use crate::boundary::BoundaryError;
 use crate::boundary_edit::Draft;
 use crate::cleanup::CleanupParams;
+use crate::coarsen::CoarsenParams;
 use crate::compare;
 use crate::extract::{
     Action, CheckedElement, Correction, MeshParams, StepKind, StepOutcome, StepReport, Strategy,
@@ -48,6 +49,8 @@ pub struct Settings {
     pub smooth: SmoothParams,
     /// Topological cleanup of the finished mesh.
     pub cleanup: CleanupParams,
+    /// Chord coarsening of the finished mesh.
+    pub coarsen: CoarsenParams,
     /// Local remeshing of the finished mesh's bad regions.
     pub remesh: RemeshParams,
 }
@@ -62,6 +65,7 @@ impl Default for Settings {
             fill_after_layers: MeshParams::DEFAULT.fill_after_layers,
             smooth: FinishParams::DEFAULT.smooth,
             cleanup: FinishParams::DEFAULT.cleanup,
+            coarsen: FinishParams::DEFAULT.coarsen,
             remesh: FinishParams::DEFAULT.remesh,
         }
     }
@@ -83,6 +87,7 @@ impl Settings {
     pub fn finishing(&self) -> FinishParams {
         FinishParams {
             cleanup: self.cleanup,
+            coarsen: self.coarsen,
             remesh: self.remesh,
             smooth: self.smooth,
         }
@@ -94,6 +99,7 @@ impl Settings {
         Settings {
             smooth: self.smooth,
             cleanup: self.cleanup,
+            coarsen: self.coarsen,
             remesh: self.remesh,
             ..other.clone()
         } == *self

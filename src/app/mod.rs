@@ -1610,7 +1610,7 @@ impl App {
         self.background.job = Some(Job::start(
             mesher,
             Work::Finish(key.params),
-            "finishing (cleanup, remeshing, smoothing)",
+            "finishing (cleanup, coarsening, remeshing, smoothing)",
             Record::Steps,
             key,
         ));

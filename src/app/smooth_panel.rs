@@ -7,6 +7,7 @@ use super::command::Command;
 use super::document::Settings;
 use super::{Document, Figures, MeshKind};
 use crate::cleanup::CleanupParams;
+use crate::coarsen::CoarsenParams;
 use crate::quality::MeshQuality;
 use crate::remesh::RemeshParams;
 use crate::smooth::SmoothParams;
@@ -104,6 +105,37 @@ impl super::View for SmoothPanel {
                 );
                 ui.end_row();
             });
+        ui.label(egui::RichText::new("Chord coarsening").strong())
+            .on_hover_text("closed rows of quads lower than the size field asks are removed");
+        let k = &mut s.coarsen;
+        egui::Grid::new("coarsen_params")
+            .num_columns(2)
+            .show(ui, |ui| {
+                ui.label("rounds");
+                ui.add(egui::DragValue::new(&mut k.rounds).range(0..=20));
+                ui.end_row();
+                ui.label("remove rows lower than (× size)");
+                ui.add(
+                    egui::DragValue::new(&mut k.max_rung)
+                        .range(0.0..=1.5)
+                        .speed(0.01),
+                );
+                ui.end_row();
+                ui.label("quads around keep SJ ≥");
+                ui.add(
+                    egui::DragValue::new(&mut k.min_sj)
+                        .range(0.0..=1.0)
+                        .speed(0.01),
+                );
+                ui.end_row();
+                ui.label("quads around at most (long/short)");
+                ui.add(
+                    egui::DragValue::new(&mut k.max_aspect)
+                        .range(1.0..=10.0)
+                        .speed(0.01),
+                );
+                ui.end_row();
+            });
         ui.label(egui::RichText::new("Local remeshing").strong())
             .on_hover_text("the regions around quads still bad after cleanup are meshed again");
         let r = &mut s.remesh;
@@ -127,11 +159,14 @@ impl super::View for SmoothPanel {
         ui.horizontal_wrapped(|ui| {
             if ui
                 .button("Defaults")
-                .on_hover_text("Cleanup, remeshing and smoothing as the command line does them")
+                .on_hover_text(
+                    "Cleanup, coarsening, remeshing and smoothing as the command line does them",
+                )
                 .clicked()
             {
                 s.smooth = SmoothParams::DEFAULT;
                 s.cleanup = CleanupParams::DEFAULT;
+                s.coarsen = CoarsenParams::DEFAULT;
                 s.remesh = RemeshParams::DEFAULT;
             }
             if ui
@@ -147,6 +182,13 @@ impl super::View for SmoothPanel {
                 .clicked()
             {
                 s.cleanup = CleanupParams::OFF;
+            }
+            if ui
+                .button("No coarsening")
+                .on_hover_text("No chord coarsening (rows lower than the size field stay)")
+                .clicked()
+            {
+                s.coarsen = CoarsenParams::OFF;
             }
             if ui
                 .button("No remeshing")
