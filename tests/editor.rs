@@ -2343,3 +2343,60 @@ fn a_square_cut_marks_its_reference_point() {
         "{label:?} far from {at:?}"
     );
 }
+
+#[test]
+fn chord_coarsening_is_turned_off_in_the_finishing_panel_without_stepping_again() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::RunToEnd);
+    h.step();
+    settle(&mut h);
+    let steps = h.state().doc().steps();
+    let with = h.state().doc().finished().unwrap().quads.len();
+    h.get_by_label("Smoothing").click();
+    h.run();
+    h.get_by_label("No coarsening").click();
+    let without = refinished(&mut h, with);
+    assert_eq!(
+        h.state().doc().settings.coarsen,
+        quadex::coarsen::CoarsenParams::OFF
+    );
+    assert_eq!(h.state().doc().steps(), steps);
+    // As the command line finishes the same boundary with --no-coarsen.
+    let b = quadex::io::read_boundary(&boundary("annulus.poly")).unwrap();
+    let model = std::sync::Arc::new(quadex::model::default_model().unwrap());
+    let params = quadex::Params {
+        finish: quadex::FinishParams {
+            coarsen: quadex::coarsen::CoarsenParams::OFF,
+            ..quadex::FinishParams::DEFAULT
+        },
+        ..quadex::Params::default()
+    };
+    let (cli, _) = quadex::mesh_boundary(&b, model, &params, |_| {}).unwrap();
+    assert_eq!(without, cli.quads.len());
+    assert!(without > with, "{without} quads without, {with} with");
+    // Defaults bring it back.
+    h.get_by_label("Defaults").click();
+    assert_eq!(refinished(&mut h, without), with);
+}
+
+/// Runs frames until a finished mesh of other than `quads` quads is shown
+/// (after a change of the finishing settings, which waits a moment before
+/// finishing again); returns its quad count.
+fn refinished(h: &mut Harness<'static, App>, quads: usize) -> usize {
+    let t = Instant::now();
+    loop {
+        h.step();
+        let shown = (h.state().shown_kind() == MeshKind::Finished && !h.state().finishing())
+            .then(|| h.state().doc().finished().ok().map(|m| m.quads.len()))
+            .flatten();
+        if let Some(n) = shown.filter(|&n| n != quads) {
+            return n;
+        }
+        assert!(
+            t.elapsed().as_secs() < 120,
+            "the mesh was not finished again"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
