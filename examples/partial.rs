@@ -1,7 +1,8 @@
 //! Meshes a boundary step by step and, when the run stops (finished, stuck
 //! or after `--steps N`), writes an SVG of the mesh so far with the front
 //! drawn in blue, and prints the steps by kind. Extraction runs to the end
-//! with no fill unless `--layers K` or `--fill` say otherwise.
+//! with no fill unless `--layers K` or `--fill` say otherwise. The boundary
+//! is meshed moved next to the origin, as `quadex mesh` meshes it.
 //!
 //! `cargo run --release --example partial -- IN.poly OUT.svg [--steps N]
 //! [--model default|rules|thesis|FILE] [--layers K] [--fill] [--trace]
@@ -38,7 +39,11 @@ fn main() {
         fill: flag("--fill"),
         ..MeshParams::DEFAULT
     };
-    let b = quadex::io::read_boundary(input.as_ref()).expect("boundary");
+    // In the command line's frame (`Boundary::to_local`), so the run is
+    // the one `quadex mesh` makes; files are written moved back.
+    let (b, origin) = quadex::io::read_boundary(input.as_ref())
+        .expect("boundary")
+        .to_local();
     let mut m = Mesher::new(b, model, params);
     let check_every: usize = opt("--check-every")
         .and_then(|s| s.parse().ok())
@@ -103,7 +108,7 @@ fn main() {
     if flag("--sizes") {
         for k in 0..m.boundary().points.len().min(8) {
             let p = m.boundary().points[k];
-            eprintln!("size at node {k} {p:?}: {:.4}", m.size().at(p));
+            eprintln!("size at node {k} {:?}: {:.4}", p + origin, m.size().at(p));
         }
     }
     if let Some(node) = opt("--explain").and_then(|s| s.parse::<u32>().ok()) {
@@ -144,13 +149,15 @@ fn main() {
     svg = svg.replace("</svg>\n", &extra);
     std::fs::write(output, svg).expect("write");
     if let Some(path) = opt("--msh") {
-        quadex::io::write_mesh(mesh, path.as_ref()).expect("write mesh");
+        let mut world = mesh.clone();
+        quadex::pipeline::to_world(&mut world, origin);
+        quadex::io::write_mesh(&world, path.as_ref()).expect("write mesh");
     }
     if let Some(path) = opt("--front") {
         let mut text = String::new();
         for lid in f.live_loops() {
             for sl in f.loop_slots(lid) {
-                let p = mesh.nodes[f.node(sl) as usize];
+                let p = mesh.nodes[f.node(sl) as usize] + origin;
                 text.push_str(&format!("{} {};", p.x, p.y));
             }
             text.push('\n');
@@ -164,7 +171,7 @@ fn main() {
                 .iter()
                 .map(|&sl| {
                     let v = f.node(sl);
-                    let p = mesh.nodes[v as usize];
+                    let p = mesh.nodes[v as usize] + origin;
                     let b = if mesh.is_boundary(v) { "*" } else { "" };
                     format!(
                         "{v}{b}({:.7},{:.7}) {:.1}°",
