@@ -1762,7 +1762,7 @@ fn issue17_the_panels_say_which_mesh_they_count() {
     assert_ne!(stepped, finished);
     h.get_by_label_contains(&format!("{stepped} quads as stepped"));
     h.get_by_label(&format!(
-        "The finished mesh (cleaned up, remeshed and smoothed): {finished} quads; the mesh as stepped has {stepped} quads."
+        "The finished mesh (cleaned up, coarsened, remeshed and smoothed): {finished} quads; the mesh as stepped has {stepped} quads."
     ));
 }
 

@@ -139,7 +139,7 @@ impl super::View for QualityPanel {
         let (what, note) = match s.kind {
             MeshKind::Imported => ("The mesh read from the file", String::new()),
             MeshKind::Finished => (
-                "The finished mesh (cleaned up, remeshed and smoothed)",
+                "The finished mesh (cleaned up, coarsened, remeshed and smoothed)",
                 format!(
                     "; the mesh as stepped has {}",
                     super::plural(stepped, "quad")
