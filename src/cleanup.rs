@@ -405,7 +405,7 @@ impl Work<'_> {
 
 /// The ideal valence of every node: 4 inside; on the boundary the interior
 /// angle in right angles, at least 1.
-fn ideal_valences(mesh: &QuadMesh) -> Vec<i32> {
+pub(crate) fn ideal_valences(mesh: &QuadMesh) -> Vec<i32> {
     let mut ideal = vec![4; mesh.nodes.len()];
     for l in &mesh.loops {
         let n = l.len();

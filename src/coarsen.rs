@@ -26,6 +26,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::cleanup::ideal_valences;
 use crate::geom::{is_measurably_convex, Point};
 use crate::mesh::QuadMesh;
 use crate::quality::{QuadQuality, Shape};
@@ -185,33 +186,6 @@ fn closed_chords(mesh: &QuadMesh) -> Vec<Chord> {
     out
 }
 
-/// The ideal valence of every node: 4 inside; on the boundary the interior
-/// angle in right angles, at least 1 (as [`crate::cleanup`] counts it).
-fn ideal_valences(mesh: &QuadMesh) -> Vec<i32> {
-    let mut ideal = vec![4; mesh.nodes.len()];
-    for l in &mesh.loops {
-        let n = l.len();
-        for k in 0..n {
-            let (prev, v, next) = (l[(k + n - 1) % n], l[k], l[(k + 1) % n]);
-            let p = |i: u32| mesh.nodes[i as usize];
-            let angle = crate::geom::ccw_angle(p(v), p(next), p(prev));
-            ideal[v as usize] = ((angle / std::f64::consts::FRAC_PI_2).round() as i32).max(1);
-        }
-    }
-    ideal
-}
-
-/// Longest over shortest edge.
-fn aspect(s: &Shape) -> f64 {
-    let (lo, hi) = s
-        .edges
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &e| {
-            (lo.min(e), hi.max(e))
-        });
-    hi / lo.max(f64::MIN_POSITIVE)
-}
-
 /// The worst scaled Jacobian and aspect of `quads`, and whether all are
 /// measurably convex and not thin.
 fn judge(mesh: &QuadMesh, quads: &[u32]) -> (f64, f64, bool) {
@@ -222,7 +196,7 @@ fn judge(mesh: &QuadMesh, quads: &[u32]) -> (f64, f64, bool) {
             let s = Shape::of(p);
             (
                 sj.min(s.scaled_jacobian),
-                asp.max(aspect(&s)),
+                asp.max(s.side_ratio()),
                 ok && is_measurably_convex(p) && s.rs >= QuadQuality::THIN_RS,
             )
         })
