@@ -620,13 +620,13 @@ pub fn improve(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::smooth::smooth_only;
 
     /// An n × n grid of unit squares as raw points and quads; node (i, j)
     /// is `j * (n + 1) + i`.
-    fn grid(n: usize) -> (Vec<Point>, Vec<[u32; 4]>) {
+    pub(crate) fn grid(n: usize) -> (Vec<Point>, Vec<[u32; 4]>) {
         let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
         let mut pts = Vec::new();
         for j in 0..=n {

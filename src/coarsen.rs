@@ -573,20 +573,7 @@ mod tests {
 
     #[test]
     fn a_grid_has_no_closed_chord() {
-        let n = 6;
-        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-        let mut nodes = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                nodes.push(Point::new(i as f64, j as f64));
-            }
-        }
-        let mut quads = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
-            }
-        }
+        let (nodes, quads) = crate::cleanup::tests::grid(6);
         let mesh = QuadMesh {
             nodes,
             quads,
