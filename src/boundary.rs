@@ -385,7 +385,6 @@ impl Boundary {
             .flat_map(|l| (0..l.len()).map(move |k| (l[k], l[(k + 1) % l.len()])))
     }
 
-    /// Bounding box of all nodes.
     /// The same boundary moved next to the origin, and the offset to add
     /// back. Per axis the offset is the smallest coordinate when every
     /// coordinate minus it is exact (always so when the coordinates lie
@@ -394,6 +393,18 @@ impl Boundary {
     /// own scale, and a domain moved by an offset that keeps its
     /// coordinates exact meshes to the same local coordinates.
     pub fn to_local(&self) -> (Boundary, Point) {
+        let o = self.local_origin();
+        let mut local = self.clone();
+        for p in &mut local.points {
+            *p -= o;
+        }
+        (local, o)
+    }
+
+    /// What [`Boundary::to_local`] moves the boundary by (subtracts from
+    /// its coordinates), without moving it: its smallest coordinates, each
+    /// where subtracting it is exact for every node, else zero.
+    pub fn local_origin(&self) -> Point {
         let bb = self.bbox();
         let exact = |o: f64, v: f64| two_sum_error(v, -o) == 0.0;
         let axis = |o: f64, get: fn(&Point) -> f64| {
@@ -403,14 +414,10 @@ impl Boundary {
                 0.0
             }
         };
-        let o = Point::new(axis(bb.min.x, |p| p.x), axis(bb.min.y, |p| p.y));
-        let mut local = self.clone();
-        for p in &mut local.points {
-            *p -= o;
-        }
-        (local, o)
+        Point::new(axis(bb.min.x, |p| p.x), axis(bb.min.y, |p| p.y))
     }
 
+    /// Bounding box of all nodes.
     pub fn bbox(&self) -> Aabb {
         Aabb::of(self.points.iter().copied()).unwrap_or(Aabb {
             min: Point::ZERO,

@@ -97,8 +97,7 @@ struct Chord {
 }
 
 /// The quad other than `k` with the edge from `b` to `a` (the edge `a → b`
-/// of `k` seen from the other side).
-/// `at_a` holds the quads at `a`.
+/// of `k` seen from the other side), among `at_a`, the quads at `a`.
 fn across(mesh: &QuadMesh, at_a: &[u32], k: u32, a: u32, b: u32) -> Option<(u32, usize)> {
     at_a.iter().copied().find_map(|m| {
         if m == k {
@@ -111,29 +110,10 @@ fn across(mesh: &QuadMesh, at_a: &[u32], k: u32, a: u32, b: u32) -> Option<(u32,
     })
 }
 
-/// Every closed chord that visits no quad twice, each once. `seen` marks
-/// (quad, pair of opposite edges) already walked.
+/// Every closed chord that visits no quad twice, each once.
 fn closed_chords(mesh: &QuadMesh) -> Vec<Chord> {
-    // Each node's quads, flat: those of node `v` are
-    // `at[start[v]..start[v + 1]]`.
-    let mut start = vec![0u32; mesh.nodes.len() + 1];
-    for q in &mesh.quads {
-        for &v in q {
-            start[v as usize + 1] += 1;
-        }
-    }
-    for v in 0..mesh.nodes.len() {
-        start[v + 1] += start[v];
-    }
-    let mut at = vec![0u32; start[mesh.nodes.len()] as usize];
-    let mut fill = start.clone();
-    for (k, q) in mesh.quads.iter().enumerate() {
-        for &v in q {
-            at[fill[v as usize] as usize] = k as u32;
-            fill[v as usize] += 1;
-        }
-    }
-    let quads_at = |v: u32| &at[start[v as usize] as usize..start[v as usize + 1] as usize];
+    let inc = mesh.node_quads_flat();
+    // Per quad, whether each pair of opposite edges has been walked.
     let mut seen = vec![[false; 2]; mesh.quads.len()];
     let mut in_walk = vec![false; mesh.quads.len()];
     let mut out = Vec::new();
@@ -160,7 +140,7 @@ fn closed_chords(mesh: &QuadMesh) -> Vec<Chord> {
                 let (a, b) = (q[exit], q[(exit + 1) % 4]);
                 chord.quads.push(k);
                 chord.rungs.push((a, b));
-                let Some((m, j)) = across(mesh, quads_at(a), k, a, b) else {
+                let Some((m, j)) = across(mesh, inc.at(a), k, a, b) else {
                     break;
                 };
                 if m == k0 && j % 2 == p0 {

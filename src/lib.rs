@@ -20,8 +20,9 @@
 //! §3.2), [`model`] (rules, the thesis preset, fitted models and their
 //! files), [`extract`] (the step loop, guard, closure, fill), [`smooth`],
 //! [`cleanup`], [`coarsen`] (chord coarsening), [`quality`], [`io`] (file
-//! formats), [`samples`] (training samples, thesis Chapter 3), [`fit`] (model fitting and fit figures, Chapter 4),
-//! [`factors`] (critical factors, §4.2), [`predict`] (a model's answers
+//! formats), [`samples`] (training samples, thesis Chapter 3), [`fit`]
+//! (model fitting and fit figures, Chapter 4), [`factors`] (critical
+//! factors, §4.2), [`predict`] (a model's answers
 //! for rows of inputs), [`domains`] (seeded awkward test
 //! domains), [`mapped`] (transfinite mapped meshing) and
 //! [`reference`](mod@reference) (the meshes the shipped model learns from).

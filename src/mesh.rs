@@ -226,6 +226,31 @@ impl QuadMesh {
         inc
     }
 
+    /// [`QuadMesh::node_quads`] in two flat arrays ([`NodeQuads`]), for
+    /// meshes of millions of quads, where a list per node costs an
+    /// allocation each.
+    pub fn node_quads_flat(&self) -> NodeQuads {
+        let n = self.nodes.len();
+        let mut start = vec![0u32; n + 1];
+        for q in &self.quads {
+            for &v in q {
+                start[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..n {
+            start[v + 1] += start[v];
+        }
+        let mut fill = start.clone();
+        let mut quads = vec![0u32; 4 * self.quads.len()];
+        for (k, q) in self.quads.iter().enumerate() {
+            for &v in q {
+                quads[fill[v as usize] as usize] = k as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        NodeQuads { start, quads }
+    }
+
     /// The checks of a finished mesh: [`QuadMesh::check_invariants`] with
     /// `complete`, and no corner flat to rounding
     /// ([`crate::geom::turns_left`]), which any floating-point
@@ -333,6 +358,20 @@ impl QuadMesh {
                 domain: domain.area(),
             })
         }
+    }
+}
+
+/// Node-to-quad incidence in flat arrays ([`QuadMesh::node_quads_flat`]):
+/// the quads at node `v`, in quad order, are `quads[start[v]..start[v + 1]]`.
+pub struct NodeQuads {
+    pub start: Vec<u32>,
+    pub quads: Vec<u32>,
+}
+
+impl NodeQuads {
+    /// The quads at node `v`.
+    pub fn at(&self, v: u32) -> &[u32] {
+        &self.quads[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
     }
 }
 

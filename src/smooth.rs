@@ -6,7 +6,7 @@
 //! deterministic.
 
 use crate::geom::{is_measurably_convex, Point};
-use crate::mesh::QuadMesh;
+use crate::mesh::{NodeQuads, QuadMesh};
 use crate::quality::{QuadQuality, Shape};
 use serde::{Deserialize, Serialize};
 
@@ -74,26 +74,18 @@ struct Adjacency {
 impl Adjacency {
     fn new(mesh: &QuadMesh) -> Adjacency {
         let n = mesh.nodes.len();
-        let mut count = vec![0u32; n + 1];
-        for q in &mesh.quads {
-            for &v in q {
-                count[v as usize + 1] += 1;
-            }
-        }
-        for i in 0..n {
-            count[i + 1] += count[i];
-        }
-        let quad_start = count.clone();
-        let mut fill = count.clone();
-        let mut quads = vec![0u32; 4 * mesh.quads.len()];
+        let NodeQuads {
+            start: quad_start,
+            quads,
+        } = mesh.node_quads_flat();
+        // Per slot of `quads`, the two corners next to its node.
         let mut nb_raw = vec![0u32; 8 * mesh.quads.len()];
-        for (k, q) in mesh.quads.iter().enumerate() {
-            for (i, &v) in q.iter().enumerate() {
-                let at = fill[v as usize] as usize;
-                quads[at] = k as u32;
+        for v in 0..n {
+            for at in quad_start[v] as usize..quad_start[v + 1] as usize {
+                let q = mesh.quads[quads[at] as usize];
+                let i = q.iter().position(|&u| u as usize == v).unwrap_or(0);
                 nb_raw[2 * at] = q[(i + 1) % 4];
                 nb_raw[2 * at + 1] = q[(i + 3) % 4];
-                fill[v as usize] += 1;
             }
         }
         let mut nb_start = vec![0u32; n + 1];

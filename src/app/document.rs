@@ -1309,7 +1309,7 @@ impl Document {
             // A version-1 project replayed in the boundary's own frame
             // goes on in it, and is saved as version 1 again.
             version: match &self.meshing {
-                Some(m) if m.mesher.origin() != m.boundary.to_local().1 => 1,
+                Some(m) if m.mesher.origin() != m.boundary.local_origin() => 1,
                 _ => PROJECT_VERSION,
             },
             boundary: self.boundary_doc(),
