@@ -12,6 +12,7 @@ use crate::quality::MeshQuality;
 use crate::remesh::RemeshParams;
 use crate::smooth::SmoothParams;
 use egui::Ui;
+use std::ops::RangeInclusive;
 
 /// One figure of a mesh, as the comparison table shows it.
 type Figure = fn(&MeshQuality) -> String;
@@ -39,71 +40,35 @@ impl super::View for SmoothPanel {
         egui::Grid::new("smooth_params")
             .num_columns(2)
             .show(ui, |ui| {
-                ui.label("Laplacian sweeps");
-                ui.add(egui::DragValue::new(&mut sm.iterations).range(0..=100));
-                ui.end_row();
-                ui.label("keep scaled Jacobian ≥");
-                ui.add(
-                    egui::DragValue::new(&mut sm.threshold)
-                        .range(0.0..=1.0)
-                        .speed(0.01),
+                count_row(ui, "Laplacian sweeps", &mut sm.iterations, 0..=100);
+                fraction_row(ui, "keep scaled Jacobian ≥", &mut sm.threshold, 0.0..=1.0);
+                fraction_row(ui, "relaxation", &mut sm.relaxation, 0.05..=1.0);
+                count_row(ui, "optimisation sweeps", &mut sm.optimize_sweeps, 0..=50);
+                fraction_row(
+                    ui,
+                    "optimise quads below",
+                    &mut sm.optimize_below,
+                    0.0..=1.0,
                 );
-                ui.end_row();
-                ui.label("relaxation");
-                ui.add(
-                    egui::DragValue::new(&mut sm.relaxation)
-                        .range(0.05..=1.0)
-                        .speed(0.01),
-                );
-                ui.end_row();
-                ui.label("optimisation sweeps");
-                ui.add(egui::DragValue::new(&mut sm.optimize_sweeps).range(0..=50));
-                ui.end_row();
-                ui.label("optimise quads below");
-                ui.add(
-                    egui::DragValue::new(&mut sm.optimize_below)
-                        .range(0.0..=1.0)
-                        .speed(0.01),
-                );
-                ui.end_row();
-                ui.label("polishing sweeps").on_hover_text(
+                count_row(ui, "polishing sweeps", &mut sm.polish_sweeps, 0..=50).on_hover_text(
                     "raise the mean scaled Jacobian of the final mesh, keeping its worst quads",
                 );
-                ui.add(egui::DragValue::new(&mut sm.polish_sweeps).range(0..=50));
-                ui.end_row();
-                ui.label("polish quads below");
-                ui.add(
-                    egui::DragValue::new(&mut sm.polish_below)
-                        .range(0.0..=1.0)
-                        .speed(0.01),
-                );
-                ui.end_row();
+                fraction_row(ui, "polish quads below", &mut sm.polish_below, 0.0..=1.0);
             });
         ui.label(egui::RichText::new("Cleanup").strong());
         let c = &mut s.cleanup;
         egui::Grid::new("cleanup_params")
             .num_columns(2)
             .show(ui, |ui| {
-                ui.label("passes");
-                ui.add(egui::DragValue::new(&mut c.passes).range(0..=20));
-                ui.end_row();
-                ui.label("rounds with smoothing");
-                ui.add(egui::DragValue::new(&mut c.rounds).range(0..=20));
-                ui.end_row();
-                ui.label("collapse slivers below SJ");
-                ui.add(
-                    egui::DragValue::new(&mut c.sliver_sj)
-                        .range(0.0..=0.5)
-                        .speed(0.01),
+                count_row(ui, "passes", &mut c.passes, 0..=20);
+                count_row(ui, "rounds with smoothing", &mut c.rounds, 0..=20);
+                fraction_row(ui, "collapse slivers below SJ", &mut c.sliver_sj, 0.0..=0.5);
+                fraction_row(
+                    ui,
+                    "edge swap keeps SJ ≥",
+                    &mut c.min_swap_quality,
+                    0.0..=1.0,
                 );
-                ui.end_row();
-                ui.label("edge swap keeps SJ ≥");
-                ui.add(
-                    egui::DragValue::new(&mut c.min_swap_quality)
-                        .range(0.0..=1.0)
-                        .speed(0.01),
-                );
-                ui.end_row();
             });
         ui.label(egui::RichText::new("Chord coarsening").strong())
             .on_hover_text("closed rows of quads lower than the size field asks are removed");
@@ -111,30 +76,20 @@ impl super::View for SmoothPanel {
         egui::Grid::new("coarsen_params")
             .num_columns(2)
             .show(ui, |ui| {
-                ui.label("rounds");
-                ui.add(egui::DragValue::new(&mut k.rounds).range(0..=20));
-                ui.end_row();
-                ui.label("remove rows lower than (× size)");
-                ui.add(
-                    egui::DragValue::new(&mut k.max_rung)
-                        .range(0.0..=1.5)
-                        .speed(0.01),
+                count_row(ui, "rounds", &mut k.rounds, 0..=20);
+                fraction_row(
+                    ui,
+                    "remove rows lower than (× size)",
+                    &mut k.max_rung,
+                    0.0..=1.5,
                 );
-                ui.end_row();
-                ui.label("quads around keep SJ ≥");
-                ui.add(
-                    egui::DragValue::new(&mut k.min_sj)
-                        .range(0.0..=1.0)
-                        .speed(0.01),
+                fraction_row(ui, "quads around keep SJ ≥", &mut k.min_sj, 0.0..=1.0);
+                fraction_row(
+                    ui,
+                    "quads around at most (long/short)",
+                    &mut k.max_aspect,
+                    1.0..=10.0,
                 );
-                ui.end_row();
-                ui.label("quads around at most (long/short)");
-                ui.add(
-                    egui::DragValue::new(&mut k.max_aspect)
-                        .range(1.0..=10.0)
-                        .speed(0.01),
-                );
-                ui.end_row();
             });
         ui.label(egui::RichText::new("Local remeshing").strong())
             .on_hover_text("the regions around quads still bad after cleanup are meshed again");
@@ -142,19 +97,9 @@ impl super::View for SmoothPanel {
         egui::Grid::new("remesh_params")
             .num_columns(2)
             .show(ui, |ui| {
-                ui.label("remesh around quads below SJ");
-                ui.add(
-                    egui::DragValue::new(&mut r.below)
-                        .range(0.0..=0.9)
-                        .speed(0.01),
-                );
-                ui.end_row();
-                ui.label("largest region (rings)");
-                ui.add(egui::DragValue::new(&mut r.rings).range(2..=8));
-                ui.end_row();
-                ui.label("at most regions");
-                ui.add(egui::DragValue::new(&mut r.max_regions).range(0..=10_000));
-                ui.end_row();
+                fraction_row(ui, "remesh around quads below SJ", &mut r.below, 0.0..=0.9);
+                count_row(ui, "largest region (rings)", &mut r.rings, 2..=8);
+                count_row(ui, "at most regions", &mut r.max_regions, 0..=10_000);
             });
         ui.horizontal_wrapped(|ui| {
             if ui
@@ -245,4 +190,32 @@ impl super::View for SmoothPanel {
             });
         cmds
     }
+}
+
+/// A grid row: `label` and a drag value for `value`, a bound or fraction
+/// in `range`, stepped by 0.01. Returns the label's response.
+fn fraction_row(
+    ui: &mut Ui,
+    label: &str,
+    value: &mut f64,
+    range: RangeInclusive<f64>,
+) -> egui::Response {
+    let r = ui.label(label);
+    ui.add(egui::DragValue::new(value).range(range).speed(0.01));
+    ui.end_row();
+    r
+}
+
+/// A grid row: `label` and a drag value for `value`, a count in `range`.
+/// Returns the label's response.
+fn count_row(
+    ui: &mut Ui,
+    label: &str,
+    value: &mut usize,
+    range: RangeInclusive<usize>,
+) -> egui::Response {
+    let r = ui.label(label);
+    ui.add(egui::DragValue::new(value).range(range));
+    ui.end_row();
+    r
 }
