@@ -8,6 +8,10 @@ use quadex::Boundary;
 use quadex::Params;
 use std::sync::Arc;
 
+/// The command line's allocator, so the times are the ones it gives.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("mesh");
     g.sample_size(10);

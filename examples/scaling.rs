@@ -11,6 +11,10 @@ use quadex::Boundary;
 use std::sync::Arc;
 use std::time::Instant;
 
+/// The command line's allocator, so the times are the ones it gives.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn time(b: &Boundary, model: &Arc<dyn Model>, n: usize) -> Result<(usize, f64, f64), String> {
     let mut runs = Vec::new();
     let mut quads = 0;
