@@ -343,10 +343,11 @@ impl Front {
     /// The signed area loop `lid` encloses (negative for a hole's front,
     /// which runs clockwise).
     pub fn loop_area(&self, lid: u32, nodes: &[Point]) -> f64 {
+        let l = self.loops[lid as usize];
         crate::geom::polygon_area(
-            self.loop_slots(lid)
-                .iter()
-                .map(|&s| nodes[self.node(s) as usize]),
+            std::iter::successors(Some(l.head), |&s| Some(self.next(s)))
+                .take(l.len)
+                .map(|s| nodes[self.node(s) as usize]),
         )
     }
 

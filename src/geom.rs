@@ -160,12 +160,17 @@ fn on_segment(a: Point, b: Point, p: Point) -> bool {
 
 /// Signed area of a closed polygon given by its vertices (positive when CCW).
 pub fn polygon_area(pts: impl IntoIterator<Item = Point>) -> f64 {
-    let pts: Vec<Point> = pts.into_iter().collect();
-    let n = pts.len();
+    let mut pts = pts.into_iter();
+    let Some(first) = pts.next() else {
+        return 0.0;
+    };
     let mut s = 0.0;
-    for i in 0..n {
-        s += pts[i].perp_dot(pts[(i + 1) % n]);
+    let mut prev = first;
+    for p in pts {
+        s += prev.perp_dot(p);
+        prev = p;
     }
+    s += prev.perp_dot(first);
     0.5 * s
 }
 
