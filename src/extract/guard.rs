@@ -59,6 +59,13 @@ pub struct Passed {
 pub const CLEAR_GOOD: f64 = 0.7;
 /// Room below which a candidate leaves a gap only a sliver could fill.
 pub const CLEAR_NONE: f64 = 0.25;
+/// Beside a front edge longer than `1 / EDGE_ROOM` local sizes, room is
+/// counted in this fraction of the edge's length instead of in local
+/// sizes: the element that takes that edge later needs about that much
+/// height, and a row run up close to it leaves only a sliver for it (a
+/// boundary segment among much shorter ones, or the long side a transition
+/// leaves).
+pub const EDGE_ROOM: f64 = 0.4;
 /// Longest over shortest side of a new quad, at most (the thesis's aspect
 /// and taper limit is 10; smoothing afterwards moves nodes a little).
 pub const MAX_SIDE_RATIO: f64 = 8.0;
@@ -175,6 +182,7 @@ pub fn check(
         ],
         Corner::New(_) => [None, None],
     });
+    // The least room, in units of the room each edge asks for.
     let mut clearance = f64::INFINITY;
     for &e in &scratch.near {
         if consumed.contains(&e) {
@@ -182,6 +190,9 @@ pub fn check(
         }
         let (c, d) = (front.node(e), front.node(front.next(e)));
         let (pc, pd) = (nodes[c as usize], nodes[d as usize]);
+        // The room this edge needs: a local size, or more beside a front
+        // edge much longer than that, whose own element needs its height.
+        let want = size.max(EDGE_ROOM * pc.distance(pd));
         let c_in = ids.contains(&Some(c));
         let d_in = ids.contains(&Some(d));
         if c_in && d_in {
@@ -213,18 +224,18 @@ pub fn check(
                 if neighbours[k].contains(&Some(v)) || neighbours[k1].contains(&Some(v)) {
                     continue;
                 }
-                clearance = clearance.min(point_segment_distance(pv, p[k], p[(k + 1) % 4]));
+                clearance = clearance.min(point_segment_distance(pv, p[k], p[(k + 1) % 4]) / want);
             }
         }
         // Room between a new node and this edge.
         for k in 0..4 {
             if ids[k].is_none() && !touches(&ids, c, d) {
-                clearance = clearance.min(point_segment_distance(p[k], pc, pd));
+                clearance = clearance.min(point_segment_distance(p[k], pc, pd) / want);
             }
         }
     }
     let stretch = (1.0 / q.aspect()).sqrt();
-    let room = ((clearance / size - CLEAR_NONE) / (CLEAR_GOOD - CLEAR_NONE)).clamp(0.0, 1.0);
+    let room = ((clearance - CLEAR_NONE) / (CLEAR_GOOD - CLEAR_NONE)).clamp(0.0, 1.0);
     // New sides far from the local size cost a little: a tie-breaker
     // between otherwise good elements, not a limit.
     let mut fit: f64 = 1.0;
@@ -264,6 +275,47 @@ pub(crate) fn sunburst(n: usize) -> Vec<Point> {
 mod tests {
     use super::*;
     use crate::extract::{Mesher, StepKind};
+
+    /// A unit square on the bottom of a strip 1.6 high, its top 0.6 from
+    /// the strip's: the same room counts as most of enough below a top of
+    /// unit edges, and as none below a top that is one edge ten sizes long
+    /// (the quad that takes that edge needs about four sizes of height).
+    #[test]
+    fn room_beside_a_long_front_edge_is_counted_in_its_length() {
+        let score = |top: &[f64]| {
+            let mut nodes: Vec<Point> = (0..=10).map(|x| Point::new(x as f64, 0.0)).collect();
+            nodes.push(Point::new(10.0, 0.8));
+            nodes.extend(top.iter().map(|&x| Point::new(x, 1.6)));
+            nodes.push(Point::new(0.0, 0.8));
+            let lp: Vec<u32> = (0..nodes.len() as u32).collect();
+            let front = Front::new(&[lp], &nodes, 1.0);
+            let limits = Limits {
+                min_corner: 10f64.to_radians(),
+                max_corner: 170f64.to_radians(),
+                min_front: 10f64.to_radians(),
+            };
+            let corners = [
+                Corner::Partial(5),
+                Corner::Partial(6),
+                Corner::New(Point::new(6.0, 1.0)),
+                Corner::New(Point::new(5.0, 1.0)),
+            ];
+            let passed = check(
+                &front,
+                &nodes,
+                corners,
+                &[5],
+                limits,
+                1.0,
+                &mut Scratch::default(),
+            );
+            passed.map(|p| p.score).unwrap_or(-1.0)
+        };
+        let fine: Vec<f64> = (0..=10).rev().map(f64::from).collect();
+        let (short, long) = (score(&fine), score(&[10.0, 0.0]));
+        assert!(short > 0.6, "{short}");
+        assert!((0.0..0.05).contains(&long), "{long}");
+    }
 
     #[test]
     fn a_needle_is_a_corner_no_quad_meets_the_side_ratio_at() {
