@@ -59,12 +59,13 @@ pub struct Passed {
 pub const CLEAR_GOOD: f64 = 0.7;
 /// Room below which a candidate leaves a gap only a sliver could fill.
 pub const CLEAR_NONE: f64 = 0.25;
-/// Beside a front edge longer than `1 / EDGE_ROOM` local sizes, room is
-/// counted in this fraction of the edge's length instead of in local
-/// sizes: the element that takes that edge later needs about that much
-/// height, and a row run up close to it leaves only a sliver for it (a
-/// boundary segment among much shorter ones, or the long side a transition
-/// leaves).
+/// Beside a boundary segment longer than `1 / EDGE_ROOM` local sizes (a
+/// front edge both of whose ends are boundary nodes), room is counted in
+/// this fraction of the segment's length instead of in local sizes: the
+/// element that takes the segment later needs about that much height, and
+/// a row run up close to it leaves only a sliver for it. Edges extraction
+/// made (the long side a transition leaves among them) are as long as it
+/// chose, and count in local sizes.
 pub const EDGE_ROOM: f64 = 0.4;
 /// Longest over shortest side of a new quad, at most (the thesis's aspect
 /// and taper limit is 10; smoothing afterwards moves nodes a little).
@@ -190,9 +191,15 @@ pub fn check(
         }
         let (c, d) = (front.node(e), front.node(front.next(e)));
         let (pc, pd) = (nodes[c as usize], nodes[d as usize]);
-        // The room this edge needs: a local size, or more beside a front
-        // edge much longer than that, whose own element needs its height.
-        let want = size.max(EDGE_ROOM * pc.distance(pd));
+        // The room this edge needs: a local size, or more beside a
+        // boundary segment much longer than that, whose own element needs
+        // its height (edges extraction made are as long as it chose).
+        let given = front.slot(e).layer == 0 && front.slot(front.next(e)).layer == 0;
+        let want = if given {
+            size.max(EDGE_ROOM * pc.distance(pd))
+        } else {
+            size
+        };
         let c_in = ids.contains(&Some(c));
         let d_in = ids.contains(&Some(d));
         if c_in && d_in {
@@ -278,10 +285,11 @@ mod tests {
 
     /// A unit square on the bottom of a strip 1.6 high, its top 0.6 from
     /// the strip's: the same room counts as most of enough below a top of
-    /// unit edges, and as none below a top that is one edge ten sizes long
-    /// (the quad that takes that edge needs about four sizes of height).
+    /// unit segments, and as none below a top that is one boundary segment
+    /// ten sizes long (the quad that takes it needs about four sizes of
+    /// height).
     #[test]
-    fn room_beside_a_long_front_edge_is_counted_in_its_length() {
+    fn room_beside_a_long_boundary_segment_is_counted_in_its_length() {
         let score = |top: &[f64]| {
             let mut nodes: Vec<Point> = (0..=10).map(|x| Point::new(x as f64, 0.0)).collect();
             nodes.push(Point::new(10.0, 0.8));
