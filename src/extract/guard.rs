@@ -59,14 +59,6 @@ pub struct Passed {
 pub const CLEAR_GOOD: f64 = 0.7;
 /// Room below which a candidate leaves a gap only a sliver could fill.
 pub const CLEAR_NONE: f64 = 0.25;
-/// Beside a boundary segment longer than `1 / EDGE_ROOM` local sizes (a
-/// front edge both of whose ends are boundary nodes), room is counted in
-/// this fraction of the segment's length instead of in local sizes: the
-/// element that takes the segment later needs about that much height, and
-/// a row run up close to it leaves only a sliver for it. Edges extraction
-/// made (the long side a transition leaves among them) are as long as it
-/// chose, and count in local sizes.
-pub const EDGE_ROOM: f64 = 0.4;
 /// Longest over shortest side of a new quad, at most (the thesis's aspect
 /// and taper limit is 10; smoothing afterwards moves nodes a little).
 pub const MAX_SIDE_RATIO: f64 = 8.0;
@@ -183,7 +175,6 @@ pub fn check(
         ],
         Corner::New(_) => [None, None],
     });
-    // The least room, in units of the room each edge asks for.
     let mut clearance = f64::INFINITY;
     for &e in &scratch.near {
         if consumed.contains(&e) {
@@ -191,15 +182,6 @@ pub fn check(
         }
         let (c, d) = (front.node(e), front.node(front.next(e)));
         let (pc, pd) = (nodes[c as usize], nodes[d as usize]);
-        // The room this edge needs: a local size, or more beside a
-        // boundary segment much longer than that, whose own element needs
-        // its height (edges extraction made are as long as it chose).
-        let given = front.slot(e).layer == 0 && front.slot(front.next(e)).layer == 0;
-        let want = if given {
-            size.max(EDGE_ROOM * pc.distance(pd))
-        } else {
-            size
-        };
         let c_in = ids.contains(&Some(c));
         let d_in = ids.contains(&Some(d));
         if c_in && d_in {
@@ -231,18 +213,18 @@ pub fn check(
                 if neighbours[k].contains(&Some(v)) || neighbours[k1].contains(&Some(v)) {
                     continue;
                 }
-                clearance = clearance.min(point_segment_distance(pv, p[k], p[(k + 1) % 4]) / want);
+                clearance = clearance.min(point_segment_distance(pv, p[k], p[(k + 1) % 4]));
             }
         }
         // Room between a new node and this edge.
         for k in 0..4 {
             if ids[k].is_none() && !touches(&ids, c, d) {
-                clearance = clearance.min(point_segment_distance(p[k], pc, pd) / want);
+                clearance = clearance.min(point_segment_distance(p[k], pc, pd));
             }
         }
     }
     let stretch = (1.0 / q.aspect()).sqrt();
-    let room = ((clearance - CLEAR_NONE) / (CLEAR_GOOD - CLEAR_NONE)).clamp(0.0, 1.0);
+    let room = ((clearance / size - CLEAR_NONE) / (CLEAR_GOOD - CLEAR_NONE)).clamp(0.0, 1.0);
     // New sides far from the local size cost a little: a tie-breaker
     // between otherwise good elements, not a limit.
     let mut fit: f64 = 1.0;
@@ -282,48 +264,6 @@ pub(crate) fn sunburst(n: usize) -> Vec<Point> {
 mod tests {
     use super::*;
     use crate::extract::{Mesher, StepKind};
-
-    /// A unit square on the bottom of a strip 1.6 high, its top 0.6 from
-    /// the strip's: the same room counts as most of enough below a top of
-    /// unit segments, and as none below a top that is one boundary segment
-    /// ten sizes long (the quad that takes it needs about four sizes of
-    /// height).
-    #[test]
-    fn room_beside_a_long_boundary_segment_is_counted_in_its_length() {
-        let score = |top: &[f64]| {
-            let mut nodes: Vec<Point> = (0..=10).map(|x| Point::new(x as f64, 0.0)).collect();
-            nodes.push(Point::new(10.0, 0.8));
-            nodes.extend(top.iter().map(|&x| Point::new(x, 1.6)));
-            nodes.push(Point::new(0.0, 0.8));
-            let lp: Vec<u32> = (0..nodes.len() as u32).collect();
-            let front = Front::new(&[lp], &nodes, 1.0);
-            let limits = Limits {
-                min_corner: 10f64.to_radians(),
-                max_corner: 170f64.to_radians(),
-                min_front: 10f64.to_radians(),
-            };
-            let corners = [
-                Corner::Partial(5),
-                Corner::Partial(6),
-                Corner::New(Point::new(6.0, 1.0)),
-                Corner::New(Point::new(5.0, 1.0)),
-            ];
-            let passed = check(
-                &front,
-                &nodes,
-                corners,
-                &[5],
-                limits,
-                1.0,
-                &mut Scratch::default(),
-            );
-            passed.map(|p| p.score).unwrap_or(-1.0)
-        };
-        let fine: Vec<f64> = (0..=10).rev().map(f64::from).collect();
-        let (short, long) = (score(&fine), score(&[10.0, 0.0]));
-        assert!(short > 0.6, "{short}");
-        assert!((0.0..0.05).contains(&long), "{long}");
-    }
 
     #[test]
     fn a_needle_is_a_corner_no_quad_meets_the_side_ratio_at() {
