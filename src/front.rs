@@ -330,25 +330,21 @@ impl Front {
 
     /// The slots of a loop, in order from its head.
     pub fn loop_slots(&self, lid: u32) -> Vec<SlotId> {
-        let l = self.loops[lid as usize];
-        let mut v = Vec::with_capacity(l.len);
-        let mut s = l.head;
-        for _ in 0..l.len {
-            v.push(s);
-            s = self.next(s);
-        }
+        let mut v = Vec::with_capacity(self.loops[lid as usize].len);
+        v.extend(self.loop_walk(lid));
         v
+    }
+
+    /// [`Front::loop_slots`] walked in place, without collecting them.
+    pub fn loop_walk(&self, lid: u32) -> impl Iterator<Item = SlotId> + '_ {
+        let l = self.loops[lid as usize];
+        std::iter::successors(Some(l.head), |&s| Some(self.next(s))).take(l.len)
     }
 
     /// The signed area loop `lid` encloses (negative for a hole's front,
     /// which runs clockwise).
     pub fn loop_area(&self, lid: u32, nodes: &[Point]) -> f64 {
-        let l = self.loops[lid as usize];
-        crate::geom::polygon_area(
-            std::iter::successors(Some(l.head), |&s| Some(self.next(s)))
-                .take(l.len)
-                .map(|s| nodes[self.node(s) as usize]),
-        )
+        crate::geom::polygon_area(self.loop_walk(lid).map(|s| nodes[self.node(s) as usize]))
     }
 
     /// The area the live loops enclose (the region not meshed yet; holes'
