@@ -110,6 +110,19 @@ fn small_random_domains_mesh_validly() {
     );
 }
 
+/// A mixed domain (seven teeth of 5°, a slot of 1:25) on which the region
+/// fill's triangulation met a panic inside spade's refinement ("Failed to
+/// locate position"): that attempt now fails quietly and the fill's next
+/// try meshes the region.
+#[test]
+fn a_panic_inside_spade_is_an_attempt_that_failed() {
+    let d = quadex::domains::generate(quadex::domains::Family::Mixed, 2_679_092_208_377_531_280);
+    assert_eq!(d.boundary.node_count(), 124, "{}", d.description);
+    if let Err(why) = mesh_one(&d) {
+        panic!("{} ({}): {why}", d.name, d.description);
+    }
+}
+
 /// Steps the generated domain `family`/`seed` to the end with the default
 /// model, checking the invariants (among them: a clockwise loop lies
 /// inside a counter-clockwise one) after every step, and with `fill`

@@ -49,6 +49,7 @@ use spade::{
     AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
 };
 
+use super::spade_guard::guarded;
 use crate::front::EdgeGrid;
 use crate::geom::{ccw_angle, is_strictly_convex, Aabb, Point};
 use crate::smooth::{search, SearchSteps, SEARCH_MARGIN};
@@ -111,6 +112,8 @@ pub enum FillError {
     Unbordered { node: u32 },
     #[error("a new quad at node {node} would not be strictly convex")]
     NotConvex { node: u32 },
+    #[error("the region's triangulation failed on nearly degenerate input")]
+    Triangulation,
 }
 
 /// Smallest new quad area, as a fraction of the squared mean front edge (and
@@ -674,9 +677,11 @@ fn quadrangulate(
     }
     let expected = vertices.len();
     let mut conflict = false;
-    let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
+    let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> = guarded(|| {
         ConstrainedDelaunayTriangulation::try_bulk_load_cdt(vertices, edges, |_| conflict = true)
-            .map_err(|_| FillError::Crossing)?;
+    })
+    .ok_or(FillError::Triangulation)?
+    .map_err(|_| FillError::Crossing)?;
     if conflict || cdt.num_vertices() != expected {
         return Err(FillError::Crossing);
     }
@@ -699,7 +704,9 @@ fn quadrangulate(
             f64::INFINITY
         })
         .with_max_additional_vertices(if refine { budget } else { 0 });
-    let result = cdt.refine(params);
+    let Some(result) = guarded(|| cdt.refine(params)) else {
+        return Err(FillError::Triangulation);
+    };
     let outer: std::collections::BTreeSet<usize> =
         result.excluded_faces.iter().map(|f| f.index()).collect();
     for v in cdt.vertices().skip(expected) {

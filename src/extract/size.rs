@@ -413,10 +413,10 @@ impl SizeField {
             })
             .collect();
         let edges: Vec<[usize; 2]> = boundary.segments().map(|(a, b)| [a, b]).collect::<Vec<_>>();
-        let built = std::panic::catch_unwind(move || {
+        let built = super::spade_guard::guarded(move || {
             ConstrainedDelaunayTriangulation::<Sized>::try_bulk_load_cdt(vertices, edges, |_| {})
         });
-        let Ok(Ok(cdt)) = built else {
+        let Some(Ok(cdt)) = built else {
             return false;
         };
         let cell = 1.0 / self.inv_cell;
