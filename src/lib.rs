@@ -55,6 +55,7 @@ pub mod remesh;
 pub mod rng;
 pub mod samples;
 pub mod smooth;
+mod spade_guard;
 
 pub use boundary::{Boundary, BoundaryError};
 pub use extract::{MeshError, MeshParams, Mesher, StepOutcome, StepReport, Strategy};

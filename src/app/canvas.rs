@@ -196,8 +196,13 @@ pub fn pan_zoom(view: &mut View, r: &Response, ui: &Ui, primary_taken: bool) {
 
 /// Triangles filling the domain, in world coordinates, from spade's
 /// constrained Delaunay triangulation of the boundary (kept: those whose
-/// centroid is inside the outer loop and outside every hole).
+/// centroid is inside the outer loop and outside every hole); none where
+/// spade fails on the boundary (`spade_guard.rs`).
 pub fn domain_triangles(b: &Boundary) -> Vec<[Point; 3]> {
+    crate::spade_guard::guarded(|| triangulate_domain(b)).unwrap_or_default()
+}
+
+fn triangulate_domain(b: &Boundary) -> Vec<[Point; 3]> {
     let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::new();
     let mut handles = Vec::with_capacity(b.points.len());
     for p in &b.points {

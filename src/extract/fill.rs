@@ -49,10 +49,10 @@ use spade::{
     AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
 };
 
-use super::spade_guard::guarded;
 use crate::front::EdgeGrid;
 use crate::geom::{ccw_angle, is_strictly_convex, Aabb, Point};
 use crate::smooth::{search, SearchSteps, SEARCH_MARGIN};
+use crate::spade_guard::guarded;
 
 /// The quads that fill a region, over the existing nodes (ids below
 /// `first_new`) and the new nodes `points` (id `first_new + k`).

@@ -28,7 +28,6 @@ mod repair;
 mod report;
 mod session;
 pub mod size;
-mod spade_guard;
 mod transition;
 
 pub use candidate::CandidateReport;

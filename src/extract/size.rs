@@ -413,7 +413,7 @@ impl SizeField {
             })
             .collect();
         let edges: Vec<[usize; 2]> = boundary.segments().map(|(a, b)| [a, b]).collect::<Vec<_>>();
-        let built = super::spade_guard::guarded(move || {
+        let built = crate::spade_guard::guarded(move || {
             ConstrainedDelaunayTriangulation::<Sized>::try_bulk_load_cdt(vertices, edges, |_| {})
         });
         let Some(Ok(cdt)) = built else {

@@ -4,8 +4,9 @@
 //! constraint edge) where they have no error to return. Such a call is
 //! run here: a panic becomes `None`, which the caller handles as the
 //! failure of that attempt (the size field falls back to the median
-//! segment, the region fill to its next try), and its message is kept off
-//! standard error, since nothing failed for the user.
+//! segment, the region fill to its next try, the editor draws the domain
+//! unshaded), and its message is kept off standard error, since nothing
+//! failed for the user.
 //!
 //! Silencing works through the process's panic hook, wrapped once: while
 //! a guarded call runs on a thread, a panic on that thread is not printed;
