@@ -1,7 +1,8 @@
 //! Calls into spade that cannot bring the mesher down. Spade's constrained
 //! triangulation and its refinement can panic on nearly degenerate input
-//! ("Failed to locate position", on vertices a rounding apart from a
-//! constraint edge) where they have no error to return. Such a call is
+//! where they have no error to return (its refinement reported "Failed to
+//! locate position. This is a bug in spade." on a region of seven 5° teeth
+//! and a 1:25 slot, `tests/random_domains.rs`). Such a call is
 //! run here: a panic becomes `None`, which the caller handles as the
 //! failure of that attempt (the size field falls back to the median
 //! segment, the region fill to its next try, the editor draws the domain
