@@ -24,8 +24,7 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
-    let bench_dir =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let bench_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/boundaries");
     for name in ["circle", "disk100"] {
         let b = quadex::io::read_boundary(&bench_dir.join(format!("{name}.poly"))).unwrap();
         g.bench_function(name, |bch| {

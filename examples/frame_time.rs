@@ -5,7 +5,7 @@
 //!
 //! `cargo run --release --example frame_time [CELLS_PER_SIDE | FILE]`
 //! (default 450, about 200k quads; a boundary file is meshed with the
-//! default model, e.g. `../shared/bench/boundaries/disk1600.poly`).
+//! default model, e.g. `tests/data/boundaries/disk1600.poly`).
 //! Prints the median over still frames, frames with the pointer moving
 //! over the mesh, frames of a pan and of a zoom at the fit, and of zooming
 //! in to 4× and panning there and at 2×.

@@ -59,7 +59,7 @@ fn main() {
         }
         n *= 2;
     }
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/boundaries");
     for name in ["disk100", "disk400", "disk1600", "disk6400"] {
         let Ok(b) = quadex::io::read_boundary(&dir.join(format!("{name}.poly"))) else {
             continue;

@@ -100,7 +100,7 @@ fn main() {
     );
     // Real steps: in pure-model mode the guard takes the model's element as
     // predicted or rejects it; count both (the fallbacks finish the mesh).
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/boundaries");
     println!("pure-model runs (remedies off):");
     for name in ["square", "lshape", "irregular", "circle", "plate_hole"] {
         let b = quadex::io::read_boundary(&dir.join(format!("{name}.poly"))).unwrap();

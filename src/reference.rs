@@ -8,7 +8,7 @@
 //! it again). Each is checked by [`QuadMesh::check_invariants`]. `cargo run
 //! --example reference_meshes` writes them to `assets/reference/` and the
 //! tests check that the shipped files are what the generator makes. No
-//! benchmark case (`../shared/bench`) is among them.
+//! benchmark case (`tests/data`) is among them.
 
 use crate::domains::{generate, Family};
 use crate::fit::{refit, FitError, FitParams};

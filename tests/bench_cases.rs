@@ -289,9 +289,8 @@ fn both_strategies_follow_the_layer_count() {
 /// R05: a 1 × 0.02 rectangle of six nodes) closes with the strip pattern.
 #[test]
 fn a_thin_six_node_rectangle_meshes() {
-    let b =
-        quadex::io::read_boundary(&common::bench().join("repro/R05_rect_1x0.02_6nodes_exit1.poly"))
-            .unwrap();
+    let b = quadex::io::read_boundary(&common::repro().join("R05_rect_1x0.02_6nodes_exit1.poly"))
+        .unwrap();
     let model = Arc::new(quadex::model::default_model().unwrap());
     let (mesh, stats) = quadex::mesh_boundary(&b, model, &quadex::Params::DEFAULT, |_| {}).unwrap();
     mesh.check_finished().unwrap();

@@ -180,7 +180,7 @@ fn the_shipped_default_model_is_the_refit_of_the_reference_meshes() {
     let again = reference::default_model(&shipped_reference(), &params).unwrap();
     assert_eq!(again.coefficients, shipped.coefficients);
     // The annulus meshes identically with either.
-    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/boundaries");
     let b = quadex::io::read_boundary(&bench.join("annulus.poly")).unwrap();
     let mesh_with = |m: Arc<dyn Model>| mesh_boundary(&b, m, &Params::DEFAULT, |_| {}).unwrap().0;
     assert_eq!(
@@ -216,7 +216,7 @@ fn the_shipped_ann_model_is_the_fit_of_the_reference_meshes() {
     // It meshes as a built-in model.
     let ann: Arc<dyn Model> = Arc::from(model::builtin("ann").unwrap());
     assert_eq!(ann.leading_points(), Some(3));
-    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/boundaries");
     let b = quadex::io::read_boundary(&bench.join("plate_hole.poly")).unwrap();
     let (mesh, _) = mesh_boundary(&b, ann, &Params::DEFAULT, |_| {}).unwrap();
     mesh.check_finished().unwrap();
@@ -244,7 +244,7 @@ fn the_richer_form_reaches_the_fit_targets_on_mapped_reference_samples() {
 fn default_model_meshes_benchmark_cases_with_invariants_after_every_step() {
     let model: Arc<dyn Model> = Arc::from(model::builtin("default").unwrap());
     assert_eq!(model.leading_points(), Some(3));
-    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/boundaries");
     for case in ["square", "lshape", "irregular", "plate_hole", "annulus"] {
         let b = quadex::io::read_boundary(&bench.join(format!("{case}.poly"))).unwrap();
         let mut m = Mesher::new(b.clone(), model.clone(), MeshParams::DEFAULT);
@@ -261,7 +261,7 @@ fn default_model_meshes_benchmark_cases_with_invariants_after_every_step() {
 
 #[test]
 fn pure_model_counts_rejected_predictions() {
-    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/boundaries");
     let b = quadex::io::read_boundary(&bench.join("lshape.poly")).unwrap();
     let params = Params {
         extract: MeshParams {
@@ -283,7 +283,7 @@ fn pure_model_counts_rejected_predictions() {
 #[test]
 fn a_step_and_the_same_element_as_a_correction_give_the_same_sample() {
     use quadex::extract::Correction;
-    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/boundaries");
     let b = quadex::io::read_boundary(&bench.join("square.poly")).unwrap();
     let rules: Arc<dyn Model> = Arc::from(model::builtin("rules").unwrap());
     let mut m = Mesher::new(b, rules, MeshParams::DEFAULT);
@@ -376,7 +376,7 @@ fn cli_samples_fit_mesh_and_factors() {
     assert_eq!(r["forms"].as_array().unwrap().len(), 3);
     // The fitted model meshes a benchmark boundary.
     let square =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries/square.poly");
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/boundaries/square.poly");
     let msh = out("square.msh");
     run(&[
         "mesh".as_ref(),
@@ -418,7 +418,7 @@ fn cli_samples_fit_mesh_and_factors() {
 
 #[test]
 fn a_model_set_mid_run_survives_undo_and_replay() {
-    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench/boundaries");
+    let bench = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/boundaries");
     let b = quadex::io::read_boundary(&bench.join("plate_hole.poly")).unwrap();
     let rules: Arc<dyn Model> = Arc::from(model::builtin("rules").unwrap());
     let default: Arc<dyn Model> = Arc::from(model::builtin("default").unwrap());

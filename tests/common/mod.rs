@@ -3,11 +3,16 @@
 
 use std::path::PathBuf;
 
-/// The shared benchmark folder beside the checkout.
+/// The benchmark boundaries the tests use, kept in the repository
+/// (`tests/data`, provenance in its README): `boundaries`, `peer`, `edge`
+/// and `bad`.
 pub fn bench() -> PathBuf {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/bench");
-    assert!(p.is_dir(), "benchmark folder {} not found", p.display());
-    p
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data")
+}
+
+/// The reproducers of reported failures (`tests/repro`).
+pub fn repro() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/repro")
 }
 
 /// The `.poly` files of a benchmark sub-folder, sorted.
