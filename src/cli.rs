@@ -111,6 +111,10 @@ enum Command {
         /// Write the quality figures and step counts as JSON.
         #[arg(long)]
         report: Option<PathBuf>,
+        /// Threads meshing the regions of a file with several (default:
+        /// every core). The mesh is the same whatever the count.
+        #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
+        threads: Option<u16>,
     },
     /// Quality figures of a mesh file (.msh); with --boundary, also checks
     /// that it meshes that boundary.
@@ -576,6 +580,7 @@ fn run(c: Command) -> Result<()> {
             mapped_rows,
             resample,
             report,
+            threads,
         } => {
             let fmt = MeshFormat::from_path(&output)
                 .map_err(|e| InputError(anyhow!("{}: {e}", output.display())))?;
@@ -590,7 +595,18 @@ fn run(c: Command) -> Result<()> {
                     .into());
                 }
             }
-            let boundary = read_resampled(&input, resample)?;
+            let graph = read_graph(&input)?;
+            if graph.is_some() && resample.is_some() {
+                return Err(InputError(anyhow!(
+                    "{}: --resample does not apply to a file with regions or boundary markers yet: place its nodes in the file",
+                    input.display()
+                ))
+                .into());
+            }
+            let boundary = match graph {
+                Some(_) => None,
+                None => Some(read_resampled(&input, resample)?),
+            };
             let spec = model;
             let model = load_model(&spec)?;
             let own = model.leading_points().map(|n| 2 * n + 1);
@@ -642,11 +658,25 @@ fn run(c: Command) -> Result<()> {
             };
             let t0 = Instant::now();
             let name = model.name().to_string();
-            let bar = progress_bar(boundary.node_count());
             let params = pipeline::Params {
                 extract: params,
                 finish,
             };
+            let Some(boundary) = boundary else {
+                let graph = graph.unwrap_or_default();
+                return mesh_graph(MeshGraph {
+                    input: &input,
+                    output: &output,
+                    report: report.as_deref(),
+                    fmt,
+                    graph: &graph,
+                    model,
+                    params: &params,
+                    threads,
+                    t0,
+                });
+            };
+            let bar = progress_bar(boundary.node_count());
             let (mesh, stats) = pipeline::mesh_boundary(&boundary, model, &params, |at| {
                 if let Some(b) = &bar {
                     b.set_message(format!(
@@ -1051,4 +1081,142 @@ fn progress_bar(front: usize) -> Option<ProgressBar> {
     let b = ProgressBar::new_spinner();
     b.set_style(ProgressStyle::with_template("{spinner} meshing: {msg} [{elapsed}]").ok()?);
     Some(b)
+}
+
+/// The graph of a file with several regions, boundary markers, segments
+/// that branch (several faces), or in the regions document form; `None`
+/// for a file of one domain, read as it always was ([`read_resampled`]).
+fn read_graph(path: &Path) -> Result<Option<quadex::pslg::Pslg>> {
+    if !io::is_boundary_file(path) {
+        return Ok(None);
+    }
+    let document = io::is_regions_document(path);
+    match io::read_graph(path) {
+        Ok(g) if document || g.has_groups() || !g.is_loops() => Ok(Some(g)),
+        Err(e) if document => Err(InputError(anyhow!("{}: {e}", path.display())).into()),
+        _ => Ok(None),
+    }
+}
+
+/// What `quadex mesh` meshes a graph of regions with.
+struct MeshGraph<'a> {
+    input: &'a Path,
+    output: &'a Path,
+    report: Option<&'a Path>,
+    fmt: MeshFormat,
+    graph: &'a quadex::pslg::Pslg,
+    model: Arc<dyn Model>,
+    params: &'a pipeline::Params,
+    threads: Option<u16>,
+    t0: Instant,
+}
+
+#[derive(Serialize)]
+struct RegionsReport<'a> {
+    input: String,
+    model: String,
+    quality: MeshQuality,
+    regions: &'a [quadex::regions::Region],
+    groups: Vec<GroupSummary<'a>>,
+    faces: &'a [quadex::regions::FaceMesh],
+    steps: StepStats,
+    seconds: f64,
+}
+
+#[derive(Serialize)]
+struct GroupSummary<'a> {
+    tag: i64,
+    name: &'a str,
+    edges: usize,
+}
+
+/// Meshes every region of a graph, writes the mesh with its groups (and
+/// the report), and prints the quality overall and per region.
+fn mesh_graph(a: MeshGraph) -> Result<()> {
+    let at = |e: &dyn std::fmt::Display| InputError(anyhow!("{}: {e}", a.input.display()));
+    let faces = a.graph.faces().map_err(|e| at(&e))?;
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = a.threads {
+        pool = pool.num_threads(n as usize);
+    }
+    let pool = pool.build()?;
+    let bar = progress_bar(a.graph.points.len());
+    let name = a.model.name().to_string();
+    let m = pool
+        .install(|| {
+            quadex::regions::mesh_regions(a.graph, a.model, a.params, |done| {
+                if let Some(b) = &bar {
+                    b.set_message(format!("{done} of {} regions' faces meshed", faces.len()));
+                    b.tick();
+                }
+            })
+        })
+        .with_context(|| format!("{}", a.input.display()))?;
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let seconds = a.t0.elapsed().as_secs_f64();
+    let q = m.quality();
+    let steps = m.steps();
+    let rendered = a.fmt.render_regions(&m);
+    let report_json = match a.report {
+        Some(_) => Some(serde_json::to_string_pretty(&RegionsReport {
+            input: a.input.display().to_string(),
+            model: name,
+            quality: q.clone(),
+            regions: &m.regions,
+            groups: m
+                .groups
+                .iter()
+                .map(|g| GroupSummary {
+                    tag: g.tag,
+                    name: &g.name,
+                    edges: g.edges.len(),
+                })
+                .collect(),
+            faces: &m.faces,
+            steps: steps.clone(),
+            seconds,
+        })?),
+        None => None,
+    };
+    let mut files: Vec<(&Path, &[u8])> = vec![(a.output, rendered.as_bytes())];
+    if let (Some(path), Some(json)) = (a.report, &report_json) {
+        files.push((path, json.as_bytes()));
+    }
+    io::write_atomic_all(&files)?;
+    let fills = steps.count(StepKind::Fill);
+    outln!(
+        "{}: {} quads in {} regions ({} faces), {} groups, sj min {:.3} mean {:.3}, {:.1}% in [45,135], {} irregular of {} interior, {} extraction steps{}, {:.3} s",
+        a.output.display(),
+        q.quads,
+        m.regions.len(),
+        m.faces.len(),
+        m.groups.len(),
+        q.sj_min,
+        q.sj_mean,
+        100.0 * q.frac_angles_45_135,
+        q.irregular_interior,
+        q.interior_nodes,
+        steps.steps - fills,
+        if fills > 0 { format!(" and {fills} region fills") } else { String::new() },
+        seconds
+    );
+    for r in &m.regions {
+        let rq = &r.quality;
+        outln!(
+            "  region {} {:?}: {} quads, sj min {:.3} mean {:.3}, {} irregular of {} interior",
+            r.tag,
+            r.name,
+            rq.quads,
+            rq.sj_min,
+            rq.sj_mean,
+            rq.irregular_interior,
+            rq.interior_nodes
+        );
+    }
+    for g in &m.groups {
+        outln!("  group {} {:?}: {} edges", g.tag, g.name, g.edges.len());
+    }
+    Ok(())
 }

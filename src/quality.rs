@@ -187,6 +187,41 @@ impl MeshQuality {
         Self::of_open(mesh, &[])
     }
 
+    /// The figures of several meshes taken together (the faces of one
+    /// region): counts add up, extremes are the extremes, shares and the
+    /// mean are weighted by quad count. A node on two of the meshes counts
+    /// once in each (their shared curves are their boundaries).
+    pub fn combine(parts: &[MeshQuality]) -> MeshQuality {
+        let parts: Vec<&MeshQuality> = parts.iter().filter(|q| q.quads > 0).collect();
+        let n: usize = parts.iter().map(|q| q.quads).sum();
+        if n == 0 {
+            return MeshQuality::default();
+        }
+        let w = |f: fn(&MeshQuality) -> f64| {
+            parts.iter().map(|q| f(q) * q.quads as f64).sum::<f64>() / n as f64
+        };
+        let min =
+            |f: fn(&MeshQuality) -> f64| parts.iter().map(|q| f(q)).fold(f64::INFINITY, f64::min);
+        let max = |f: fn(&MeshQuality) -> f64| {
+            parts.iter().map(|q| f(q)).fold(f64::NEG_INFINITY, f64::max)
+        };
+        MeshQuality {
+            quads: n,
+            nodes: parts.iter().map(|q| q.nodes).sum(),
+            min_angle: min(|q| q.min_angle),
+            max_angle: max(|q| q.max_angle),
+            frac_angles_45_135: w(|q| q.frac_angles_45_135),
+            frac_thesis_good: w(|q| q.frac_thesis_good),
+            frac_rs_ge_0_8: w(|q| q.frac_rs_ge_0_8),
+            sj_min: min(|q| q.sj_min),
+            sj_mean: w(|q| q.sj_mean),
+            aspect_max: max(|q| q.aspect_max),
+            taper_max: max(|q| q.taper_max),
+            interior_nodes: parts.iter().map(|q| q.interior_nodes).sum(),
+            irregular_interior: parts.iter().map(|q| q.irregular_interior).sum(),
+        }
+    }
+
     /// [`MeshQuality::of`] for a mesh still being made: the nodes `open`
     /// (the front's) are not counted as interior nodes, since their quads
     /// do not surround them yet and their valence says nothing.

@@ -197,6 +197,27 @@ impl StepStats {
         self.quads_by_kind.get(&k).copied().unwrap_or(0)
     }
 
+    /// Adds the counts of another run (another face of the same domain):
+    /// `standing` adds up too.
+    pub fn add(&mut self, o: &StepStats) {
+        self.steps += o.steps;
+        self.standing += o.standing;
+        for (k, n) in &o.by_kind {
+            *self.by_kind.entry(*k).or_default() += n;
+        }
+        for (k, n) in &o.quads_by_kind {
+            *self.quads_by_kind.entry(*k).or_default() += n;
+        }
+        for (t, n) in self.by_type.iter_mut().zip(o.by_type) {
+            *t += n;
+        }
+        for (r, n) in &o.by_remedy {
+            *self.by_remedy.entry(*r).or_default() += n;
+        }
+        self.skipped_references += o.skipped_references;
+        self.rejected_predictions += o.rejected_predictions;
+    }
+
     /// Counts step `r`, after which the mesh holds `standing` quads.
     pub(super) fn record(&mut self, r: &StepReport, standing: usize) {
         self.steps += 1;

@@ -7,7 +7,7 @@ use crate::mesh::QuadMesh;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-fn list(out: &mut String, ids: impl IntoIterator<Item = usize>) {
+pub(super) fn list(out: &mut String, ids: impl IntoIterator<Item = usize>) {
     for (k, id) in ids.into_iter().enumerate() {
         if k > 0 {
             out.push_str(if k % 16 == 0 { ",\n" } else { ", " });

@@ -9,8 +9,10 @@
 pub mod abaqus;
 pub mod boundary_json;
 pub mod check;
+pub mod groups;
 pub mod msh;
 pub mod poly;
+pub mod regions_json;
 pub mod svg;
 pub mod vtk;
 
@@ -47,6 +49,8 @@ pub enum ReadError {
     Json(String),
     #[error("{0}")]
     Boundary(#[from] BoundaryError),
+    #[error("{0}")]
+    Graph(#[from] crate::pslg::PslgError),
     #[error("unsupported file type `{0}`")]
     UnknownFormat(String),
     #[error("the mesh is not an all-quad 2D mesh: {0}")]
@@ -151,6 +155,21 @@ impl MeshFormat {
             MeshFormat::Vtu => vtk::write_vtu(mesh),
             MeshFormat::Abaqus => abaqus::write_inp(mesh),
             MeshFormat::Svg => svg::write_svg(mesh, &svg::SvgOptions::default()),
+        }
+    }
+}
+
+impl MeshFormat {
+    /// Renders a mesh of several regions with its groups in this format
+    /// ([`groups`]; an SVG picture shows the mesh alone).
+    pub fn render_regions(self, m: &crate::regions::RegionMesh) -> String {
+        match self {
+            MeshFormat::Msh41 => groups::write_msh41(m),
+            MeshFormat::Msh22 => groups::write_msh22(m),
+            MeshFormat::Vtk => groups::write_legacy(m),
+            MeshFormat::Vtu => groups::write_vtu(m),
+            MeshFormat::Abaqus => groups::write_inp(m),
+            MeshFormat::Svg => svg::write_svg(&m.mesh, &svg::SvgOptions::default()),
         }
     }
 }
@@ -315,6 +334,29 @@ pub fn read_boundary(path: &Path) -> Result<Boundary, ReadError> {
         poly::parse_poly(&text)
     } else {
         boundary_json::parse(&text)
+    }
+}
+
+/// True for a `.json` file in the regions document form
+/// ([`regions_json`]).
+pub fn is_regions_document(path: &Path) -> bool {
+    matches!(read_boundary_text(path), Ok((false, text)) if regions_json::is_regions(&normalise_text(&text)))
+}
+
+/// Reads a boundary file (`.poly` or `.json`, by extension) as a planar
+/// straight-line graph: a `.poly` file with its segment markers and
+/// regional attributes, a regions document ([`regions_json`]), or a
+/// boundary document's loops.
+pub fn read_graph(path: &Path) -> Result<crate::pslg::Pslg, ReadError> {
+    let (poly, text) = read_boundary_text(path)?;
+    if poly {
+        poly::parse_pslg(&text)
+    } else if regions_json::is_regions(&normalise_text(&text)) {
+        regions_json::parse(&text)
+    } else {
+        Ok(crate::pslg::Pslg::from_boundary(&boundary_json::parse(
+            &text,
+        )?))
     }
 }
 

@@ -30,7 +30,7 @@ fn physical_names(out: &mut String, mesh: &QuadMesh) {
     out.push_str("$EndPhysicalNames\n");
 }
 
-fn xyz(out: &mut String, p: Point) {
+pub(super) fn xyz(out: &mut String, p: Point) {
     fmt_f64(out, p.x);
     out.push(' ');
     fmt_f64(out, p.y);

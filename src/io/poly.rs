@@ -1,10 +1,15 @@
 //! Triangle `.poly` boundaries: nodes (0- or 1-based, any numbering),
-//! optional attributes and markers, segments in any order and direction,
-//! hole points, `#` comments. Segments are chained into loops.
+//! optional attributes and markers, segments in any order and direction
+//! with optional markers, hole points, the optional regional attributes
+//! section (`r x y attribute maxarea`), `#` comments. For one domain the
+//! segments are chained into loops ([`parse_poly`]); as a planar
+//! straight-line graph of several regions and marked segments they are
+//! kept as they are ([`parse_pslg`]).
 
 use super::ReadError;
 use crate::boundary::{loops_from_segments, Boundary, BoundaryError};
 use crate::geom::Point;
+use crate::pslg::{Pslg, RegionPoint, Segment};
 use std::collections::BTreeMap;
 
 struct Lines<'a> {
@@ -78,6 +83,22 @@ pub fn parse_poly(text: &str) -> Result<Boundary, ReadError> {
 /// the boundary.
 #[allow(clippy::type_complexity)]
 pub fn parse_poly_loops(text: &str) -> Result<(Vec<Point>, Vec<Vec<usize>>, Vec<i64>), ReadError> {
+    let g = parse_graph(text)?;
+    let segs: Vec<(usize, usize)> = g.segments.iter().map(|s| (s.a, s.b)).collect();
+    let loops = loops_from_segments(g.points.len(), &segs, &g.labels)?;
+    Ok((g.points, loops, g.labels))
+}
+
+/// A `.poly` file as a planar straight-line graph: its nodes used by
+/// segments, its segments with their markers, hole points and region
+/// points. The graph is not yet checked ([`Pslg::faces`] does).
+pub fn parse_pslg(text: &str) -> Result<Pslg, ReadError> {
+    parse_graph(text)
+}
+
+/// Reads every section of a `.poly` file; nodes no segment uses are
+/// dropped.
+fn parse_graph(text: &str) -> Result<Pslg, ReadError> {
     let text = super::normalise_text(text);
     if text.trim().is_empty() {
         return Err(ReadError::Empty);
@@ -125,6 +146,7 @@ pub fn parse_poly_loops(text: &str) -> Result<(Vec<Point>, Vec<Vec<usize>>, Vec<
     }
     let (ln, f) = lines.next_fields("the segment count")?;
     let ns: u64 = num(ln, &f, 0, "segment count")?;
+    let with_markers = f.len() > 1 && num::<u64>(ln, &f, 1, "marker flag")? != 0;
     let ns = lines.room_for(ln, ns, "segments")?;
     let mut segs = Vec::with_capacity(ns);
     for k in 0..ns {
@@ -143,9 +165,20 @@ pub fn parse_poly_loops(text: &str) -> Result<(Vec<Point>, Vec<Vec<usize>>, Vec<
                 message: "a segment joins a node to itself".into(),
             });
         }
-        segs.push((ends[0], ends[1]));
+        let marker: i64 = if with_markers && f.len() > 3 {
+            num(ln, &f, 3, "segment marker")?
+        } else {
+            0
+        };
+        segs.push(Segment {
+            a: ends[0],
+            b: ends[1],
+            marker,
+        });
     }
     // Hole points are optional; when present they must be well formed.
+    let mut holes = Vec::new();
+    let mut regions = Vec::new();
     if let Ok((ln, f)) = lines.next_fields("") {
         let nh: u64 = num(ln, &f, 0, "hole count")?;
         let nh = lines.room_for(ln, nh, "hole points")?;
@@ -159,13 +192,48 @@ pub fn parse_poly_loops(text: &str) -> Result<(Vec<Point>, Vec<Vec<usize>>, Vec<
                     message: "non-finite hole point".into(),
                 });
             }
+            holes.push(Point::new(x, y));
+        }
+        // The regional attributes section is optional too.
+        if let Ok((ln, f)) = lines.next_fields("") {
+            let nr: u64 = num(ln, &f, 0, "region count")?;
+            let nr = lines.room_for(ln, nr, "region points")?;
+            for k in 0..nr {
+                let (ln, f) = lines.next_fields(&format!("region point {} of {nr}", k + 1))?;
+                let x: f64 = num(ln, &f, 1, "region x coordinate")?;
+                let y: f64 = num(ln, &f, 2, "region y coordinate")?;
+                let a: f64 = num(ln, &f, 3, "regional attribute")?;
+                if !(x.is_finite() && y.is_finite()) {
+                    return Err(ReadError::Syntax {
+                        line: ln,
+                        message: "non-finite region point".into(),
+                    });
+                }
+                if a.fract() != 0.0 || !(1.0..=2e9).contains(&a) {
+                    return Err(ReadError::Syntax {
+                        line: ln,
+                        message: format!(
+                            "regional attribute {a}: attributes are whole numbers from 1, the regions' physical tags"
+                        ),
+                    });
+                }
+                let max_area = match f.get(4) {
+                    Some(_) => Some(num::<f64>(ln, &f, 4, "maximum area")?),
+                    None => None,
+                };
+                regions.push(RegionPoint {
+                    at: Point::new(x, y),
+                    attribute: a as i64,
+                    max_area,
+                });
+            }
         }
     }
     // Nodes used by no segment are not part of the boundary.
     let mut used = vec![false; n];
-    for &(a, b) in &segs {
-        used[a] = true;
-        used[b] = true;
+    for s in &segs {
+        used[s.a] = true;
+        used[s.b] = true;
     }
     let mut remap = vec![usize::MAX; n];
     let (mut pts2, mut lab2) = (Vec::new(), Vec::new());
@@ -176,12 +244,21 @@ pub fn parse_poly_loops(text: &str) -> Result<(Vec<Point>, Vec<Vec<usize>>, Vec<
             lab2.push(labels[i]);
         }
     }
-    let segs: Vec<(usize, usize)> = segs.iter().map(|&(a, b)| (remap[a], remap[b])).collect();
     if segs.is_empty() {
         return Err(BoundaryError::TooFewNodes { count: 0 }.into());
     }
-    let loops = loops_from_segments(pts2.len(), &segs, &lab2)?;
-    Ok((pts2, loops, lab2))
+    for s in &mut segs {
+        s.a = remap[s.a];
+        s.b = remap[s.b];
+    }
+    Ok(Pslg {
+        points: pts2,
+        labels: lab2,
+        segments: segs,
+        holes,
+        regions,
+        ..Pslg::default()
+    })
 }
 
 /// Renders a boundary as a `.poly` file (1-based, loops in order).

@@ -7,7 +7,7 @@ use crate::mesh::QuadMesh;
 use crate::quality::QuadQuality;
 use std::fmt::Write as _;
 
-fn cell_fields(mesh: &QuadMesh) -> (Vec<f64>, Vec<f64>) {
+pub(super) fn cell_fields(mesh: &QuadMesh) -> (Vec<f64>, Vec<f64>) {
     mesh.quads
         .iter()
         .map(|q| {
