@@ -595,7 +595,8 @@ fn run(c: Command) -> Result<()> {
                     .into());
                 }
             }
-            let graph = read_graph(&input)?;
+            let graph = io::read_regions(&input)
+                .map_err(|e| InputError(anyhow!("{}: {e}", input.display())))?;
             if graph.is_some() && resample.is_some() {
                 return Err(InputError(anyhow!(
                     "{}: --resample does not apply to a file with regions or boundary markers yet: place its nodes in the file",
@@ -1081,21 +1082,6 @@ fn progress_bar(front: usize) -> Option<ProgressBar> {
     let b = ProgressBar::new_spinner();
     b.set_style(ProgressStyle::with_template("{spinner} meshing: {msg} [{elapsed}]").ok()?);
     Some(b)
-}
-
-/// The graph of a file with several regions, boundary markers, segments
-/// that branch (several faces), or in the regions document form; `None`
-/// for a file of one domain, read as it always was ([`read_resampled`]).
-fn read_graph(path: &Path) -> Result<Option<quadex::pslg::Pslg>> {
-    if !io::is_boundary_file(path) {
-        return Ok(None);
-    }
-    let document = io::is_regions_document(path);
-    match io::read_graph(path) {
-        Ok(g) if document || g.has_groups() || !g.is_loops() => Ok(Some(g)),
-        Err(e) if document => Err(InputError(anyhow!("{}: {e}", path.display())).into()),
-        _ => Ok(None),
-    }
 }
 
 /// What `quadex mesh` meshes a graph of regions with.

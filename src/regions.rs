@@ -14,11 +14,11 @@
 //! threads as the pool the caller runs in). They are merged in face order,
 //! so the mesh is the same, byte for byte, whatever the thread count.
 
-use crate::extract::{MeshError, StepStats};
+use crate::extract::{MeshError, Mesher, StepOutcome, StepStats};
 use crate::geom::Point;
 use crate::mesh::{InvariantError, QuadMesh};
 use crate::model::Model;
-use crate::pipeline::{mesh_boundary, Params};
+use crate::pipeline::{finish_moved, mesh_boundary, Params};
 use crate::pslg::{Face, Pslg, PslgError};
 use crate::quality::MeshQuality;
 use rayon::prelude::*;
@@ -124,6 +124,157 @@ pub fn mesh_regions(
         .collect();
     let meshed = meshed.into_iter().collect::<Result<Vec<_>, _>>()?;
     merge(graph, &faces, meshed)
+}
+
+/// Meshes a graph face by face with the step API: the current face has a
+/// [`Mesher`] (in its boundary's local frame, [`crate::Boundary::to_local`],
+/// as [`mesh_boundary`] runs it) that the caller steps, corrects or
+/// undoes like any other; [`RegionStepper::next_face`] finishes its mesh
+/// and starts the next face. Stepped to the end, it gives the mesh of
+/// [`mesh_regions`], byte for byte.
+pub struct RegionStepper {
+    graph: Pslg,
+    faces: Vec<Face>,
+    model: Arc<dyn Model>,
+    params: Params,
+    /// The current face and its mesher, with the offset its local frame
+    /// is moved by.
+    current: usize,
+    mesher: Mesher,
+    origin: Point,
+    finished: Vec<(QuadMesh, StepStats)>,
+}
+
+impl RegionStepper {
+    /// The faces of `graph`, the first one ready to step.
+    pub fn new(graph: Pslg, model: Arc<dyn Model>, params: Params) -> Result<Self, RegionError> {
+        let faces = graph.faces()?;
+        let (local, origin) = faces[0].boundary.to_local();
+        let mesher = Mesher::new(local, model.clone(), params.extract.clone());
+        Ok(RegionStepper {
+            graph,
+            faces,
+            model,
+            params,
+            current: 0,
+            mesher,
+            origin,
+            finished: Vec::new(),
+        })
+    }
+
+    pub fn graph(&self) -> &Pslg {
+        &self.graph
+    }
+
+    /// Every face to mesh, in meshing order.
+    pub fn faces(&self) -> &[Face] {
+        &self.faces
+    }
+
+    /// The index of the face being meshed.
+    pub fn current(&self) -> usize {
+        self.current
+    }
+
+    /// The name of the region the current face belongs to.
+    pub fn current_region(&self) -> String {
+        region_name_of(&self.graph, &self.faces, self.current)
+    }
+
+    /// The current face's mesher, in its local frame.
+    pub fn mesher(&self) -> &Mesher {
+        &self.mesher
+    }
+
+    pub fn mesher_mut(&mut self) -> &mut Mesher {
+        &mut self.mesher
+    }
+
+    /// The offset of the current face's local frame: world = local + origin.
+    pub fn origin(&self) -> Point {
+        self.origin
+    }
+
+    /// The finished meshes of the faces before the current one, in world
+    /// coordinates.
+    pub fn finished(&self) -> impl Iterator<Item = &QuadMesh> {
+        self.finished.iter().map(|(m, _)| m)
+    }
+
+    /// True when every face is meshed.
+    pub fn is_done(&self) -> bool {
+        self.finished.len() == self.faces.len()
+    }
+
+    /// One step of the current face; when its front is empty, the face is
+    /// finished and the next one started ([`RegionStepper::next_face`]).
+    pub fn step(&mut self) -> Result<StepOutcome, RegionError> {
+        if self.is_done() {
+            return Ok(StepOutcome::Done);
+        }
+        let out = self.mesher.step().map_err(|e| self.error(e))?;
+        if self.mesher.is_done() {
+            self.next_face()?;
+        }
+        Ok(out)
+    }
+
+    /// Runs every face left to the end.
+    pub fn run(&mut self) -> Result<(), RegionError> {
+        while !self.is_done() {
+            self.mesher.run(|_| {}).map_err(|e| self.error(e))?;
+            self.next_face()?;
+        }
+        Ok(())
+    }
+
+    fn error(&self, source: MeshError) -> RegionError {
+        RegionError::Mesh {
+            region: self.current_region(),
+            source,
+        }
+    }
+
+    /// Finishes the current face's mesh ([`finish_moved`], whether its
+    /// front is empty or it stops where it stands) and starts the next
+    /// face. Returns false when there was no face left.
+    pub fn next_face(&mut self) -> Result<bool, RegionError> {
+        if self.is_done() {
+            return Ok(false);
+        }
+        let mesh = finish_moved(&self.mesher, &self.params.finish, self.origin)
+            .map_err(|e| self.error(e))?;
+        self.finished.push((mesh, self.mesher.stats().clone()));
+        self.current = self.finished.len();
+        if let Some(f) = self.faces.get(self.current) {
+            let (local, origin) = f.boundary.to_local();
+            self.mesher = Mesher::new(local, self.model.clone(), self.params.extract.clone());
+            self.origin = origin;
+        }
+        Ok(true)
+    }
+
+    /// The merged mesh of every face, once all are meshed.
+    pub fn finish(self) -> Result<RegionMesh, RegionError> {
+        if !self.is_done() {
+            return Err(RegionError::NotConforming(format!(
+                "face {} of {} ({}) is not meshed yet",
+                self.current + 1,
+                self.faces.len(),
+                self.current_region()
+            )));
+        }
+        merge(&self.graph, &self.faces, self.finished)
+    }
+}
+
+fn region_name_of(graph: &Pslg, faces: &[Face], k: usize) -> String {
+    let (table, index) = region_table(graph, faces);
+    faces
+        .get(k)
+        .and_then(|f| index.get(&f.attribute))
+        .map_or_else(String::new, |&i| table[i as usize].1.clone())
 }
 
 /// The regions' tags and names: attributes in order, then the unassigned

@@ -157,6 +157,33 @@ fn the_mesh_is_the_same_bytes_on_one_thread_and_two() {
     }
 }
 
+/// Stepping face by face with the step API gives the mesh of the
+/// parallel run.
+#[test]
+fn stepping_region_by_region_gives_the_same_mesh() {
+    let g = graph("plate_inclusions.poly");
+    let model = Arc::new(quadex::model::default_model().unwrap());
+    let mut s = quadex::regions::RegionStepper::new(g.clone(), model, Params::DEFAULT).unwrap();
+    assert_eq!(s.faces().len(), 4);
+    let mut regions = Vec::new();
+    let mut steps = 0;
+    while !s.is_done() {
+        regions.push((s.current(), s.current_region()));
+        s.step().unwrap();
+        steps += 1;
+    }
+    regions.dedup();
+    let names: Vec<&str> = regions.iter().map(|(_, r)| r.as_str()).collect();
+    assert_eq!(names, ["region_1", "region_2", "region_2", "region_2"]);
+    let stepped = s.finish().unwrap();
+    let run = mesh(&g);
+    assert_eq!(stepped.steps().steps, steps);
+    assert_eq!(
+        MeshFormat::Msh41.render_regions(&stepped),
+        MeshFormat::Msh41.render_regions(&run)
+    );
+}
+
 #[test]
 fn every_format_carries_regions_and_groups() {
     let m = mesh(&graph("split_square.poly"));

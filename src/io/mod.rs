@@ -360,6 +360,23 @@ pub fn read_graph(path: &Path) -> Result<crate::pslg::Pslg, ReadError> {
     }
 }
 
+/// The graph of a boundary file that is more than one domain's loops: it
+/// has region points or segment markers, its segments branch (several
+/// faces), or it is a regions document. `Ok(None)` for a file of one
+/// domain, which [`read_boundary`] reads as it always has (its errors are
+/// that reader's too). The command line and the editor decide with this.
+pub fn read_regions(path: &Path) -> Result<Option<crate::pslg::Pslg>, ReadError> {
+    if !is_boundary_file(path) {
+        return Ok(None);
+    }
+    let document = is_regions_document(path);
+    match read_graph(path) {
+        Ok(g) if document || g.has_groups() || !g.is_loops() => Ok(Some(g)),
+        Err(e) if document => Err(e),
+        _ => Ok(None),
+    }
+}
+
 /// The loops of a boundary file (`.poly` or `.json`, by extension) as
 /// points, not validated as a boundary: the editor opens a file that
 /// [`read_boundary`] refuses as a draft to fix. Syntax errors, non-finite
