@@ -93,6 +93,9 @@ pub enum RegionError {
     Union(InvariantError),
 }
 
+/// A face's finished mesh and step counts, or why it failed.
+type FaceResult = Result<(QuadMesh, StepStats), RegionError>;
+
 /// Position key of a node: boundary nodes keep their exact coordinates.
 fn key(p: Point) -> (u64, u64) {
     (p.x.to_bits(), p.y.to_bits())
@@ -109,9 +112,15 @@ pub fn mesh_regions(
 ) -> Result<RegionMesh, RegionError> {
     let faces = graph.faces()?;
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let meshed: Vec<Result<(QuadMesh, StepStats), RegionError>> = faces
+    // Largest faces first, so that the last one to finish is a small one;
+    // the results go back to face order, which alone fixes the output.
+    let mut order: Vec<usize> = (0..faces.len()).collect();
+    order.sort_by_key(|&k| std::cmp::Reverse(faces[k].boundary.node_count()));
+    let mut meshed: Vec<(usize, FaceResult)> = order
         .par_iter()
-        .map(|f| {
+        .with_max_len(1)
+        .map(|&k| {
+            let f = &faces[k];
             let r = mesh_boundary(&f.boundary, model.clone(), params, |_| {}).map_err(|source| {
                 RegionError::Mesh {
                     region: graph.region_name(f.attribute),
@@ -119,9 +128,11 @@ pub fn mesh_regions(
                 }
             });
             progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
-            r
+            (k, r)
         })
         .collect();
+    meshed.sort_by_key(|(k, _)| *k);
+    let meshed: Vec<_> = meshed.into_iter().map(|(_, r)| r).collect();
     let meshed = meshed.into_iter().collect::<Result<Vec<_>, _>>()?;
     merge(graph, &faces, meshed)
 }

@@ -13,7 +13,7 @@
 
 use super::abaqus::list;
 use super::msh::xyz;
-use super::{fmt_f64, vtk};
+use super::{fmt_f64, svg, vtk};
 use crate::geom::Point;
 use crate::regions::RegionMesh;
 use std::collections::BTreeMap;
@@ -400,4 +400,23 @@ pub fn write_vtu(m: &RegionMesh) -> String {
     }
     out.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     out
+}
+
+/// An SVG picture: quads tinted by region, and the interfaces between
+/// regions and the groups' edges drawn as the boundary is.
+pub fn write_svg(m: &RegionMesh) -> String {
+    let fill = |k: usize| svg::PALETTE[m.quad_region[k] as usize % svg::PALETTE.len()];
+    let mut side: BTreeMap<(u32, u32), u32> = BTreeMap::new();
+    let mut lines: Vec<[u32; 2]> = Vec::new();
+    for (q, &r) in m.mesh.quads.iter().zip(&m.quad_region) {
+        for i in 0..4 {
+            let (a, b) = (q[i], q[(i + 1) % 4]);
+            match side.insert((a.min(b), a.max(b)), r) {
+                Some(other) if other != r => lines.push([a, b]),
+                _ => {}
+            }
+        }
+    }
+    lines.extend(m.groups.iter().flat_map(|g| g.edges.iter().copied()));
+    svg::write_svg_with(&m.mesh, svg::SvgOptions::default().width, &fill, &lines)
 }

@@ -161,7 +161,7 @@ impl MeshFormat {
 
 impl MeshFormat {
     /// Renders a mesh of several regions with its groups in this format
-    /// ([`groups`]; an SVG picture shows the mesh alone).
+    /// ([`groups`]; an SVG picture is tinted by region).
     pub fn render_regions(self, m: &crate::regions::RegionMesh) -> String {
         match self {
             MeshFormat::Msh41 => groups::write_msh41(m),
@@ -169,7 +169,7 @@ impl MeshFormat {
             MeshFormat::Vtk => groups::write_legacy(m),
             MeshFormat::Vtu => groups::write_vtu(m),
             MeshFormat::Abaqus => groups::write_inp(m),
-            MeshFormat::Svg => svg::write_svg(&m.mesh, &svg::SvgOptions::default()),
+            MeshFormat::Svg => groups::write_svg(m),
         }
     }
 }

@@ -165,33 +165,34 @@ def l_bracket():
     return g
 
 
-def machine():
+def machine(f=1):
     """A machine-like cross section: shaft hole, rotor iron with four
     inset magnets, a thin air gap, a stator with twelve closed slots
-    (windings). Marker 1 on the shaft, 2 on the stator's outside."""
+    (windings). Marker 1 on the shaft, 2 on the stator's outside. `f`
+    refines every curve f times."""
     g = Graph()
-    n_gap = 144
-    g.circle((0, 0), 0.3, 24, marker=1)
+    n_gap = 144 * f
+    g.circle((0, 0), 0.3, 24 * f, marker=1)
     g.holes = [(0, 0)]
     g.circle((0, 0), 1.0, n_gap)
     g.circle((0, 0), 1.04, n_gap)
-    g.circle((0, 0), 1.8, 96, marker=2)
+    g.circle((0, 0), 1.8, 96 * f, marker=2)
     regions = []
     for k in range(4):
         t = math.pi / 4 + k * math.pi / 2
         w = math.radians(22)
-        a = g.arc((0, 0), 0.8, t - w, t + w, 12)
-        b = g.arc((0, 0), 0.92, t + w, t - w, 12)
-        g.chain([g.nodes[a[-1]], g.nodes[b[0]]])
-        g.chain([g.nodes[b[-1]], g.nodes[a[0]]])
+        a = g.arc((0, 0), 0.8, t - w, t + w, 12 * f)
+        b = g.arc((0, 0), 0.92, t + w, t - w, 12 * f)
+        g.line(g.nodes[a[-1]], g.nodes[b[0]], f)
+        g.line(g.nodes[b[-1]], g.nodes[a[0]], f)
         regions.append((0.86 * math.cos(t), 0.86 * math.sin(t), 2, "magnets"))
     for k in range(12):
         t = k * math.pi / 6
         w = math.radians(6)
-        a = g.arc((0, 0), 1.12, t - w, t + w, 4)
-        b = g.arc((0, 0), 1.5, t + w, t - w, 6)
-        g.line(g.nodes[a[-1]], g.nodes[b[0]], 8)
-        g.line(g.nodes[b[-1]], g.nodes[a[0]], 8)
+        a = g.arc((0, 0), 1.12, t - w, t + w, 4 * f)
+        b = g.arc((0, 0), 1.5, t + w, t - w, 6 * f)
+        g.line(g.nodes[a[-1]], g.nodes[b[0]], 8 * f)
+        g.line(g.nodes[b[-1]], g.nodes[a[0]], 8 * f)
         regions.append((1.3 * math.cos(t), 1.3 * math.sin(t), 5, "windings"))
     g.regions = [(0.5, 0, 1, "rotor_iron"), (1.02, 0, 3, "air_gap"),
                  (1.7, 0.1, 4, "stator_iron")] + regions
@@ -212,6 +213,8 @@ def main():
     m.json(os.path.join(ROOT, "assets", "examples", "machine.json"),
            [(1, "shaft"), (2, "stator_outside")])
     m.poly(os.path.join(HERE, "machine.poly"), "a machine-like cross section")
+    machine(4).poly(os.path.join(HERE, "machine_fine.poly"),
+                    "the machine-like cross section, every curve four times finer")
 
 
 if __name__ == "__main__":
