@@ -16,6 +16,8 @@
 
 use crate::extract::{MeshError, Mesher, StepOutcome, StepStats};
 use crate::geom::Point;
+use crate::io::groups::{self, Labelled, Named};
+use crate::io::MeshFormat;
 use crate::mesh::{InvariantError, QuadMesh};
 use crate::model::Model;
 use crate::pipeline::{finish_moved, mesh_boundary, Params};
@@ -399,6 +401,28 @@ fn merge(
 }
 
 impl RegionMesh {
+    /// The mesh, its regions and groups as the writers see them.
+    pub fn labelled(&self) -> Labelled<'_> {
+        let named = |tag, name| Named {
+            tag,
+            name,
+            edges: &[],
+        };
+        Labelled {
+            mesh: &self.mesh,
+            quad_region: &self.quad_region,
+            regions: self.regions.iter().map(|r| named(r.tag, &r.name)).collect(),
+            groups: self
+                .groups
+                .iter()
+                .map(|g| Named {
+                    edges: &g.edges,
+                    ..named(g.tag, &g.name)
+                })
+                .collect(),
+        }
+    }
+
     /// The mesh of a single domain as one region (`domain`) without groups.
     pub fn single(mesh: QuadMesh, steps: StepStats) -> RegionMesh {
         let quality = MeshQuality::of(&mesh);
@@ -483,5 +507,21 @@ impl RegionMesh {
     /// Quality of the whole mesh: interface nodes count as interior nodes.
     pub fn quality(&self) -> MeshQuality {
         MeshQuality::of(&self.mesh)
+    }
+}
+
+impl MeshFormat {
+    /// Renders a mesh of several regions with its groups in this format
+    /// ([`groups`]; an SVG picture is tinted by region).
+    pub fn render_regions(self, m: &RegionMesh) -> String {
+        let l = m.labelled();
+        match self {
+            MeshFormat::Msh41 => groups::write_msh41(&l),
+            MeshFormat::Msh22 => groups::write_msh22(&l),
+            MeshFormat::Vtk => groups::write_legacy(&l),
+            MeshFormat::Vtu => groups::write_vtu(&l),
+            MeshFormat::Abaqus => groups::write_inp(&l),
+            MeshFormat::Svg => groups::write_svg(&l),
+        }
     }
 }

@@ -1,5 +1,6 @@
 //! Writers of a mesh of several regions with named boundary groups
-//! ([`RegionMesh`]), in the formats FE codes read:
+//! ([`Labelled`]: the view of a `crate::regions::RegionMesh` they write),
+//! in the formats FE codes read:
 //!
 //! - Gmsh MSH 4.1 and 2.2: region `a` is physical surface `a` (named
 //!   `region_a` or its given name), marker `m` physical curve `m` (named
@@ -15,11 +16,31 @@ use super::abaqus::list;
 use super::msh::xyz;
 use super::{fmt_f64, svg, vtk};
 use crate::geom::Point;
-use crate::regions::RegionMesh;
+use crate::mesh::QuadMesh;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-fn physical_names(out: &mut String, m: &RegionMesh) {
+/// A region or a group as the writers see it: its physical tag, its name
+/// and (for a group) its mesh edges as node pairs.
+#[derive(Clone, Copy, Debug)]
+pub struct Named<'a> {
+    pub tag: i64,
+    pub name: &'a str,
+    pub edges: &'a [[u32; 2]],
+}
+
+/// A mesh with its quads' regions and its boundary groups: what the
+/// writers of this module write.
+#[derive(Clone, Debug)]
+pub struct Labelled<'a> {
+    pub mesh: &'a QuadMesh,
+    /// The region (index into `regions`) of each quad.
+    pub quad_region: &'a [u32],
+    pub regions: Vec<Named<'a>>,
+    pub groups: Vec<Named<'a>>,
+}
+
+fn physical_names(out: &mut String, m: &Labelled) {
     out.push_str("$PhysicalNames\n");
     let _ = writeln!(out, "{}", m.groups.len() + m.regions.len());
     for g in &m.groups {
@@ -32,7 +53,7 @@ fn physical_names(out: &mut String, m: &RegionMesh) {
 }
 
 /// The quads of each region, in mesh order.
-fn quads_by_region(m: &RegionMesh) -> Vec<Vec<usize>> {
+fn quads_by_region(m: &Labelled) -> Vec<Vec<usize>> {
     let mut by = vec![Vec::new(); m.regions.len()];
     for (k, &r) in m.quad_region.iter().enumerate() {
         by[r as usize].push(k);
@@ -40,7 +61,7 @@ fn quads_by_region(m: &RegionMesh) -> Vec<Vec<usize>> {
     by
 }
 
-fn bbox(m: &RegionMesh, ids: impl Iterator<Item = u32>) -> (Point, Point) {
+fn bbox(m: &Labelled, ids: impl Iterator<Item = u32>) -> (Point, Point) {
     let mut lo = Point::splat(f64::INFINITY);
     let mut hi = Point::splat(f64::NEG_INFINITY);
     for i in ids {
@@ -52,8 +73,8 @@ fn bbox(m: &RegionMesh, ids: impl Iterator<Item = u32>) -> (Point, Point) {
 
 /// MSH 4.1 ASCII: one curve entity per group, one surface entity per
 /// region, every node in the first surface's block.
-pub fn write_msh41(m: &RegionMesh) -> String {
-    let mesh = &m.mesh;
+pub fn write_msh41(m: &Labelled) -> String {
+    let mesh = m.mesh;
     let mut out = String::with_capacity(64 * mesh.nodes.len() + 48 * mesh.quads.len());
     out.push_str("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
     physical_names(&mut out, m);
@@ -99,7 +120,7 @@ pub fn write_msh41(m: &RegionMesh) -> String {
     let mut tag = 0;
     for (k, g) in m.groups.iter().enumerate() {
         let _ = writeln!(out, "1 {} 1 {}", k + 1, g.edges.len());
-        for e in &g.edges {
+        for e in g.edges {
             tag += 1;
             let _ = writeln!(out, "{tag} {} {}", e[0] + 1, e[1] + 1);
         }
@@ -124,8 +145,8 @@ pub fn write_msh41(m: &RegionMesh) -> String {
 }
 
 /// MSH 2.2 ASCII: each element carries its physical tag and its entity.
-pub fn write_msh22(m: &RegionMesh) -> String {
-    let mesh = &m.mesh;
+pub fn write_msh22(m: &Labelled) -> String {
+    let mesh = m.mesh;
     let mut out = String::with_capacity(48 * mesh.nodes.len() + 40 * mesh.quads.len());
     out.push_str("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
     physical_names(&mut out, m);
@@ -141,7 +162,7 @@ pub fn write_msh22(m: &RegionMesh) -> String {
     let _ = writeln!(out, "{}", lines + mesh.quads.len());
     let mut tag = 0;
     for (k, g) in m.groups.iter().enumerate() {
-        for e in &g.edges {
+        for e in g.edges {
             tag += 1;
             let _ = writeln!(
                 out,
@@ -196,8 +217,8 @@ fn label(name: &str) -> String {
 /// region, and per group an NSET and an element SURFACE (the quad face on
 /// each edge; on an interface, the quad on the left of the segment as
 /// given).
-pub fn write_inp(m: &RegionMesh) -> String {
-    let mesh = &m.mesh;
+pub fn write_inp(m: &Labelled) -> String {
+    let mesh = m.mesh;
     let mut out = String::with_capacity(40 * mesh.nodes.len() + 40 * mesh.quads.len());
     out.push_str("*HEADING\nquadex all-quad mesh\n*NODE\n");
     for (i, p) in mesh.nodes.iter().enumerate() {
@@ -214,7 +235,7 @@ pub fn write_inp(m: &RegionMesh) -> String {
         let _ = writeln!(
             out,
             "*ELEMENT, TYPE=CPS4, ELSET={}",
-            label(&m.regions[k].name)
+            label(m.regions[k].name)
         );
         for &q in quads {
             number += 1;
@@ -233,14 +254,14 @@ pub fn write_inp(m: &RegionMesh) -> String {
         }
     }
     for g in &m.groups {
-        let name = label(&g.name);
+        let name = label(g.name);
         let _ = writeln!(out, "*NSET, NSET={name}");
         let mut nodes: Vec<usize> = g.edges.iter().flatten().map(|&v| v as usize + 1).collect();
         nodes.sort_unstable();
         nodes.dedup();
         list(&mut out, nodes);
         let mut by_face: [Vec<usize>; 4] = Default::default();
-        for e in &g.edges {
+        for e in g.edges {
             let on = face.get(&(e[0], e[1])).or_else(|| face.get(&(e[1], e[0])));
             if let Some(&(el, f)) = on {
                 by_face[f - 1].push(el);
@@ -272,8 +293,8 @@ struct Cells {
     angle: Vec<f64>,
 }
 
-fn cells(m: &RegionMesh) -> Cells {
-    let (mut sj, mut angle) = vtk::cell_fields(&m.mesh);
+fn cells(m: &Labelled) -> Cells {
+    let (mut sj, mut angle) = vtk::cell_fields(m.mesh);
     let mut c = Cells {
         nodes: m.mesh.quads.iter().map(|q| q.to_vec()).collect(),
         region: m
@@ -286,7 +307,7 @@ fn cells(m: &RegionMesh) -> Cells {
         angle: Vec::new(),
     };
     for g in &m.groups {
-        for e in &g.edges {
+        for e in g.edges {
             c.nodes.push(e.to_vec());
             c.region.push(0);
             c.marker.push(g.tag);
@@ -300,8 +321,8 @@ fn cells(m: &RegionMesh) -> Cells {
 }
 
 /// Legacy VTK 2.0 ASCII.
-pub fn write_legacy(m: &RegionMesh) -> String {
-    let mesh = &m.mesh;
+pub fn write_legacy(m: &Labelled) -> String {
+    let mesh = m.mesh;
     let c = cells(m);
     let mut out = String::with_capacity(48 * mesh.nodes.len() + 64 * c.nodes.len());
     out.push_str(
@@ -343,8 +364,8 @@ pub fn write_legacy(m: &RegionMesh) -> String {
 }
 
 /// VTK XML unstructured grid, ASCII.
-pub fn write_vtu(m: &RegionMesh) -> String {
-    let mesh = &m.mesh;
+pub fn write_vtu(m: &Labelled) -> String {
+    let mesh = m.mesh;
     let c = cells(m);
     let mut out = String::with_capacity(48 * mesh.nodes.len() + 80 * c.nodes.len());
     out.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n");
@@ -404,11 +425,11 @@ pub fn write_vtu(m: &RegionMesh) -> String {
 
 /// An SVG picture: quads tinted by region, and the interfaces between
 /// regions and the groups' edges drawn as the boundary is.
-pub fn write_svg(m: &RegionMesh) -> String {
+pub fn write_svg(m: &Labelled) -> String {
     let fill = |k: usize| svg::PALETTE[m.quad_region[k] as usize % svg::PALETTE.len()];
     let mut side: BTreeMap<(u32, u32), u32> = BTreeMap::new();
     let mut lines: Vec<[u32; 2]> = Vec::new();
-    for (q, &r) in m.mesh.quads.iter().zip(&m.quad_region) {
+    for (q, &r) in m.mesh.quads.iter().zip(m.quad_region) {
         for i in 0..4 {
             let (a, b) = (q[i], q[(i + 1) % 4]);
             match side.insert((a.min(b), a.max(b)), r) {
@@ -418,5 +439,5 @@ pub fn write_svg(m: &RegionMesh) -> String {
         }
     }
     lines.extend(m.groups.iter().flat_map(|g| g.edges.iter().copied()));
-    svg::write_svg_with(&m.mesh, svg::SvgOptions::default().width, &fill, &lines)
+    svg::write_svg_with(m.mesh, svg::SvgOptions::default().width, &fill, &lines)
 }

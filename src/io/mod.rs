@@ -159,21 +159,6 @@ impl MeshFormat {
     }
 }
 
-impl MeshFormat {
-    /// Renders a mesh of several regions with its groups in this format
-    /// ([`groups`]; an SVG picture is tinted by region).
-    pub fn render_regions(self, m: &crate::regions::RegionMesh) -> String {
-        match self {
-            MeshFormat::Msh41 => groups::write_msh41(m),
-            MeshFormat::Msh22 => groups::write_msh22(m),
-            MeshFormat::Vtk => groups::write_legacy(m),
-            MeshFormat::Vtu => groups::write_vtu(m),
-            MeshFormat::Abaqus => groups::write_inp(m),
-            MeshFormat::Svg => groups::write_svg(m),
-        }
-    }
-}
-
 /// Writes `mesh` to `path` in the format its extension names.
 pub fn write_mesh(mesh: &QuadMesh, path: &Path) -> Result<(), WriteError> {
     let fmt = MeshFormat::from_path(path)?;
