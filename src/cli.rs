@@ -111,6 +111,11 @@ enum Command {
         /// Write the quality figures and step counts as JSON.
         #[arg(long)]
         report: Option<PathBuf>,
+        /// Target size for a drawing (.dxf): every curve is cut into about
+        /// length / H segments (arcs also into at least one per 15°), the
+        /// counts made even per region.
+        #[arg(long, value_name = "H")]
+        size: Option<f64>,
         /// Threads meshing the regions of a file with several (default:
         /// every core). The mesh is the same whatever the count.
         #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
@@ -580,6 +585,7 @@ fn run(c: Command) -> Result<()> {
             mapped_rows,
             resample,
             report,
+            size,
             threads,
         } => {
             let fmt = MeshFormat::from_path(&output)
@@ -595,8 +601,25 @@ fn run(c: Command) -> Result<()> {
                     .into());
                 }
             }
-            let graph = io::read_regions(&input)
-                .map_err(|e| InputError(anyhow!("{}: {e}", input.display())))?;
+            let at = |e: &dyn std::fmt::Display| InputError(anyhow!("{}: {e}", input.display()));
+            let is_dxf = input
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("dxf"));
+            let graph = if is_dxf {
+                let Some(h) = size else {
+                    return Err(at(&"a drawing needs a target size: add --size H").into());
+                };
+                let g = quadex::cad::read_dxf(&input).map_err(|e| at(&e))?;
+                Some(g.discretise(h).map_err(|e| at(&e))?.graph)
+            } else {
+                if size.is_some() {
+                    return Err(at(
+                        &"--size applies to drawings (.dxf); for boundary nodes use --resample H",
+                    )
+                    .into());
+                }
+                io::read_regions(&input).map_err(|e| at(&e))?
+            };
             if graph.is_some() && resample.is_some() {
                 return Err(InputError(anyhow!(
                     "{}: --resample does not apply to a file with regions or boundary markers yet: place its nodes in the file",

@@ -33,6 +33,7 @@
 pub mod app;
 pub mod boundary;
 pub mod boundary_edit;
+pub mod cad;
 pub mod cleanup;
 pub mod coarsen;
 pub mod compare;

@@ -61,6 +61,21 @@ pub struct Pslg {
     pub region_names: BTreeMap<i64, String>,
     /// Names of segment markers (default `marker_M`).
     pub group_names: BTreeMap<i64, String>,
+    /// Without region points, each face to mesh is a region of its own
+    /// (attributes 1, 2, … in face order) instead of all one region.
+    pub face_regions: bool,
+}
+
+/// A bounded face of the graph ([`Pslg::face_cycles`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FaceCycle {
+    /// Graph node indices: the outer loop first (counter-clockwise), then
+    /// the holes (clockwise).
+    pub loops: Vec<Vec<usize>>,
+    /// False for a face holding a hole point, or, without region points,
+    /// inside a hole loop.
+    pub meshed: bool,
+    pub attribute: i64,
 }
 
 /// A face to mesh: its boundary and attribute.
@@ -332,10 +347,11 @@ impl Pslg {
         Ok(())
     }
 
-    /// The faces to mesh, in a fixed order (by their smallest node index),
-    /// each with its boundary validated ([`Boundary::new`]) and an even
-    /// node count.
-    pub fn faces(&self) -> Result<Vec<Face>, PslgError> {
+    /// Every bounded face of the graph, in a fixed order, with its loops
+    /// (graph node indices: the outer loop counter-clockwise, then its
+    /// holes clockwise), whether it is meshed and its attribute. Neither
+    /// node counts nor the loops as a boundary are checked yet.
+    pub fn face_cycles(&self) -> Result<Vec<FaceCycle>, PslgError> {
         self.check()?;
         let n = self.points.len();
         // Neighbours of each node, counter-clockwise by angle.
@@ -462,23 +478,43 @@ impl Pslg {
                 attribute.insert(c, (i + 1, r.attribute));
             }
         }
-        let mut faces = Vec::new();
+        let mut out = Vec::new();
         for &c in &ccw {
-            if hollow[c] || (self.regions.is_empty() && depth(c) % 2 == 1) {
+            let meshed = !(hollow[c] || (self.regions.is_empty() && depth(c) % 2 == 1));
+            let mut attr = attribute.get(&c).map_or(0, |&(_, a)| a);
+            if meshed && self.regions.is_empty() && self.face_regions {
+                attr = out.iter().filter(|f: &&FaceCycle| f.meshed).count() as i64 + 1;
+            }
+            let mut loops = vec![cycles[c].nodes.clone()];
+            for &h in holes.get(&c).map_or(&[][..], |v| &v[..]) {
+                loops.push(cycles[h].nodes.clone());
+            }
+            out.push(FaceCycle {
+                loops,
+                meshed,
+                attribute: attr,
+            });
+        }
+        Ok(out)
+    }
+
+    /// The faces to mesh, in a fixed order (by their smallest node index),
+    /// each with its boundary validated ([`Boundary::new`]) and an even
+    /// node count.
+    pub fn faces(&self) -> Result<Vec<Face>, PslgError> {
+        let mut faces = Vec::new();
+        for f in self.face_cycles()? {
+            if !f.meshed {
                 continue;
             }
-            let attr = attribute.get(&c).map_or(0, |&(_, a)| a);
-            let mut loops_global = vec![cycles[c].nodes.clone()];
-            for &h in holes.get(&c).map_or(&[][..], |v| &v[..]) {
-                loops_global.push(cycles[h].nodes.clone());
-            }
-            let count: usize = loops_global.iter().map(Vec::len).sum();
-            let region = self.region_name(attr);
+            let count: usize = f.loops.iter().map(Vec::len).sum();
+            let region = self.region_name(f.attribute);
             if count % 2 == 1 {
                 return Err(PslgError::OddRegion { region, count });
             }
             let mut nodes: Vec<usize> = Vec::with_capacity(count);
-            let loops: Vec<Vec<usize>> = loops_global
+            let loops: Vec<Vec<usize>> = f
+                .loops
                 .iter()
                 .map(|l| {
                     l.iter()
@@ -496,7 +532,7 @@ impl Pslg {
             faces.push(Face {
                 boundary,
                 nodes,
-                attribute: attr,
+                attribute: f.attribute,
             });
         }
         if faces.is_empty() {
