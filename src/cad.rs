@@ -344,6 +344,29 @@ pub struct Discretised {
     pub counts: Vec<usize>,
     /// The curves given one segment more to make every region even.
     pub parity_fixes: Vec<usize>,
+    /// The curve parameters of each segment's ends.
+    params: Vec<(f64, f64)>,
+    /// The segment between two node positions, either way round.
+    by_ends: std::collections::HashMap<(Key, Key), usize>,
+    curves: Vec<Curve>,
+}
+
+/// A node position as its coordinates' bits.
+type Key = (u64, u64);
+
+fn key(p: Point) -> Key {
+    (p.x.to_bits(), p.y.to_bits())
+}
+
+impl Discretised {
+    /// The point halfway along its curve between the nodes at `a` and `b`,
+    /// when they are the ends of one of the graph's segments: where a
+    /// second-order boundary edge puts its midside node.
+    pub fn midside(&self, a: Point, b: Point) -> Option<Point> {
+        let &s = self.by_ends.get(&(key(a), key(b)))?;
+        let (ta, tb) = self.params[s];
+        Some(self.curves[self.curve_of[s]].at(0.5 * (ta + tb)))
+    }
 }
 
 impl Geometry {
@@ -390,6 +413,7 @@ impl Geometry {
             g.group_names.insert(k as i64 + 1, name.clone());
         }
         let mut curve_of = Vec::new();
+        let mut params = Vec::new();
         for (ci, (c, e)) in self.curves.iter().zip(ends).enumerate() {
             let marker = layers.binary_search(&c.layer).map_or(0, |k| k as i64 + 1);
             let n = counts[ci];
@@ -408,14 +432,24 @@ impl Geometry {
                     marker,
                 });
                 curve_of.push(ci);
+                params.push(((k - 1) as f64 / n as f64, k as f64 / n as f64));
                 prev = id;
             }
+        }
+        let mut by_ends = std::collections::HashMap::new();
+        for (k, seg) in g.segments.iter().enumerate() {
+            let (a, b) = (key(g.points[seg.a]), key(g.points[seg.b]));
+            by_ends.insert((a, b), k);
+            by_ends.insert((b, a), k);
         }
         Discretised {
             graph: g,
             curve_of,
             counts: counts.to_vec(),
             parity_fixes: Vec::new(),
+            params,
+            by_ends,
+            curves: self.curves.iter().map(|c| c.curve).collect(),
         }
     }
 }

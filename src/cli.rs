@@ -116,6 +116,11 @@ enum Command {
         /// counts made even per region.
         #[arg(long, value_name = "H")]
         size: Option<f64>,
+        /// Element order: 1 (4-node quads) or 2 (9-node quads, their
+        /// boundary midside nodes on a drawing's true curves; 8-node CPS8
+        /// in .inp).
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=2))]
+        order: u8,
         /// Threads meshing the regions of a file with several (default:
         /// every core). The mesh is the same whatever the count.
         #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
@@ -586,6 +591,7 @@ fn run(c: Command) -> Result<()> {
             resample,
             report,
             size,
+            order,
             threads,
         } => {
             let fmt = MeshFormat::from_path(&output)
@@ -605,12 +611,16 @@ fn run(c: Command) -> Result<()> {
             let is_dxf = input
                 .extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("dxf"));
+            let mut drawing = None;
             let graph = if is_dxf {
                 let Some(h) = size else {
                     return Err(at(&"a drawing needs a target size: add --size H").into());
                 };
                 let g = quadex::cad::read_dxf(&input).map_err(|e| at(&e))?;
-                Some(g.discretise(h).map_err(|e| at(&e))?.graph)
+                let d = g.discretise(h).map_err(|e| at(&e))?;
+                let graph = d.graph.clone();
+                drawing = Some(d);
+                Some(graph)
             } else {
                 if size.is_some() {
                     return Err(at(
@@ -697,6 +707,8 @@ fn run(c: Command) -> Result<()> {
                     model,
                     params: &params,
                     threads,
+                    order,
+                    drawing: drawing.as_ref(),
                     t0,
                 });
             };
@@ -717,7 +729,13 @@ fn run(c: Command) -> Result<()> {
             }
             let seconds = t0.elapsed().as_secs_f64();
             let q = MeshQuality::of(&mesh);
-            let rendered = fmt.render(&mesh);
+            let rendered = if order == 2 {
+                let single = quadex::regions::RegionMesh::single(mesh.clone(), stats.clone());
+                let o2 = quadex::order2::Order2::elevate(&single.mesh, &|_, _| None);
+                fmt.render_labelled(&single.labelled_with(Some(&o2)))
+            } else {
+                fmt.render(&mesh)
+            };
             // The mesh and its report are written together or not at all.
             let report_json = match &report {
                 Some(_) => Some(serde_json::to_string_pretty(&Report {
@@ -1117,6 +1135,9 @@ struct MeshGraph<'a> {
     model: Arc<dyn Model>,
     params: &'a pipeline::Params,
     threads: Option<u16>,
+    order: u8,
+    /// The drawing's curves, for midside nodes on them.
+    drawing: Option<&'a quadex::cad::Discretised>,
     t0: Instant,
 }
 
@@ -1167,7 +1188,18 @@ fn mesh_graph(a: MeshGraph) -> Result<()> {
     let seconds = a.t0.elapsed().as_secs_f64();
     let q = m.quality();
     let steps = m.steps();
-    let rendered = a.fmt.render_regions(&m);
+    let (rendered, straightened) = if a.order == 2 {
+        let nodes = &m.mesh.nodes;
+        let curved = |u: u32, v: u32| {
+            a.drawing
+                .and_then(|d| d.midside(nodes[u as usize], nodes[v as usize]))
+        };
+        let o2 = quadex::order2::Order2::elevate(&m.mesh, &curved);
+        let text = a.fmt.render_labelled(&m.labelled_with(Some(&o2)));
+        (text, o2.straightened)
+    } else {
+        (a.fmt.render_regions(&m), 0)
+    };
     let report_json = match a.report {
         Some(_) => Some(serde_json::to_string_pretty(&RegionsReport {
             input: a.input.display().to_string(),
@@ -1226,6 +1258,9 @@ fn mesh_graph(a: MeshGraph) -> Result<()> {
     }
     for g in &m.groups {
         outln!("  group {} {:?}: {} edges", g.tag, g.name, g.edges.len());
+    }
+    if a.order == 2 {
+        outln!("  9-node quads; {straightened} curved quads straightened to keep the Jacobian positive");
     }
     Ok(())
 }

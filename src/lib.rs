@@ -48,6 +48,7 @@ pub mod mapped;
 pub mod mesh;
 pub mod model;
 pub mod normalize;
+pub mod order2;
 pub mod pipeline;
 pub mod predict;
 pub mod pslg;

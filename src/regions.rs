@@ -16,10 +16,11 @@
 
 use crate::extract::{MeshError, Mesher, StepOutcome, StepStats};
 use crate::geom::Point;
-use crate::io::groups::{self, Labelled, Named};
+use crate::io::groups::{Labelled, Named};
 use crate::io::MeshFormat;
 use crate::mesh::{InvariantError, QuadMesh};
 use crate::model::Model;
+use crate::order2::Order2;
 use crate::pipeline::{finish_moved, mesh_boundary, Params};
 use crate::pslg::{Face, Pslg, PslgError};
 use crate::quality::MeshQuality;
@@ -403,6 +404,11 @@ fn merge(
 impl RegionMesh {
     /// The mesh, its regions and groups as the writers see them.
     pub fn labelled(&self) -> Labelled<'_> {
+        self.labelled_with(None)
+    }
+
+    /// [`RegionMesh::labelled`] with 9-node quads.
+    pub fn labelled_with<'a>(&'a self, order2: Option<&'a Order2>) -> Labelled<'a> {
         let named = |tag, name| Named {
             tag,
             name,
@@ -420,6 +426,7 @@ impl RegionMesh {
                     ..named(g.tag, &g.name)
                 })
                 .collect(),
+            order2,
         }
     }
 
@@ -512,16 +519,8 @@ impl RegionMesh {
 
 impl MeshFormat {
     /// Renders a mesh of several regions with its groups in this format
-    /// ([`groups`]; an SVG picture is tinted by region).
+    /// ([`crate::io::groups`]; an SVG picture is tinted by region).
     pub fn render_regions(self, m: &RegionMesh) -> String {
-        let l = m.labelled();
-        match self {
-            MeshFormat::Msh41 => groups::write_msh41(&l),
-            MeshFormat::Msh22 => groups::write_msh22(&l),
-            MeshFormat::Vtk => groups::write_legacy(&l),
-            MeshFormat::Vtu => groups::write_vtu(&l),
-            MeshFormat::Abaqus => groups::write_inp(&l),
-            MeshFormat::Svg => groups::write_svg(&l),
-        }
+        self.render_labelled(&m.labelled())
     }
 }

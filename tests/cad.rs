@@ -265,3 +265,47 @@ fn seeded_drawings_mesh_with_every_region_even() {
         assert!(m.quality().sj_min > 0.0, "drawing {k}");
     }
 }
+
+/// Second order on a drawing's annulus: every boundary midside node lies
+/// on its circle, every 9-node quad has a positive Jacobian at its Gauss
+/// points, and the files carry 9-node quads and 3-node lines.
+#[test]
+fn nine_node_quads_put_their_boundary_midsides_on_the_arcs() {
+    let path =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/cad/annulus.dxf");
+    let geometry = read_dxf(&path).unwrap();
+    let d = geometry.discretise(0.2).unwrap();
+    let model = std::sync::Arc::new(quadex::model::default_model().unwrap());
+    let m =
+        quadex::regions::mesh_regions(&d.graph, model, &quadex::Params::DEFAULT, |_| {}).unwrap();
+    let nodes = &m.mesh.nodes;
+    let o2 = quadex::order2::Order2::elevate(&m.mesh, &|a, b| {
+        d.midside(nodes[a as usize], nodes[b as usize])
+    });
+    assert_eq!(o2.straightened, 0);
+    for l in &m.mesh.loops {
+        for k in 0..l.len() {
+            let mid = o2.mid(l[k], l[(k + 1) % l.len()]).unwrap();
+            let r = o2.nodes[mid as usize].length();
+            assert!(
+                (r - 1.0).abs() < 1e-12 || (r - 2.0).abs() < 1e-12,
+                "midside at r = {r}"
+            );
+        }
+    }
+    for q in &o2.quads {
+        let p = q.map(|v| o2.nodes[v as usize]);
+        assert!(quadex::order2::jacobians(&p).iter().all(|&j| j > 0.0));
+    }
+    let labelled = m.labelled_with(Some(&o2));
+    let msh = quadex::io::MeshFormat::Msh41.render_labelled(&labelled);
+    assert!(
+        msh.contains(&format!("2 1 10 {}", m.mesh.quads.len())),
+        "quad9 block"
+    );
+    assert!(msh.contains("\"inner\"") && msh.contains("\"outer\""));
+    let vtk = quadex::io::MeshFormat::Vtk.render_labelled(&labelled);
+    assert!(vtk.contains("\n28\n") && vtk.contains("\n21\n"));
+    let inp = quadex::io::MeshFormat::Abaqus.render_labelled(&labelled);
+    assert!(inp.contains("TYPE=CPS8"));
+}

@@ -17,6 +17,7 @@ use super::msh::xyz;
 use super::{fmt_f64, svg, vtk};
 use crate::geom::Point;
 use crate::mesh::QuadMesh;
+use crate::order2::Order2;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
@@ -38,6 +39,48 @@ pub struct Labelled<'a> {
     pub quad_region: &'a [u32],
     pub regions: Vec<Named<'a>>,
     pub groups: Vec<Named<'a>>,
+    /// The quads as 9-node quads (second order), when asked for.
+    pub order2: Option<&'a Order2>,
+}
+
+impl Labelled<'_> {
+    /// Every node written: the mesh's, then the second-order ones.
+    fn points(&self) -> &[Point] {
+        self.order2.map_or(&self.mesh.nodes, |o| &o.nodes)
+    }
+
+    /// The nodes of quad `k`: 4, or 9 at second order.
+    fn element(&self, k: usize) -> Vec<u32> {
+        match self.order2 {
+            Some(o) => o.quads[k].to_vec(),
+            None => self.mesh.quads[k].to_vec(),
+        }
+    }
+
+    /// The nodes of a group's edge: 2, or 3 at second order.
+    fn line(&self, e: [u32; 2]) -> Vec<u32> {
+        match self.order2.and_then(|o| o.mid(e[0], e[1])) {
+            Some(m) => vec![e[0], e[1], m],
+            None => e.to_vec(),
+        }
+    }
+
+    /// Gmsh element types of the quads and the lines.
+    fn msh_types(&self) -> (u8, u8) {
+        if self.order2.is_some() {
+            (10, 8)
+        } else {
+            (3, 1)
+        }
+    }
+}
+
+/// Node numbers (from 1) after a tag, space separated.
+fn numbered(out: &mut String, nodes: &[u32]) {
+    for v in nodes {
+        let _ = write!(out, " {}", v + 1);
+    }
+    out.push('\n');
 }
 
 fn physical_names(out: &mut String, m: &Labelled) {
@@ -101,13 +144,13 @@ pub fn write_msh41(m: &Labelled) -> String {
         entity(&mut out, k + 1, bbox(m, ids), r.tag);
     }
     out.push_str("$EndEntities\n");
-    let n = mesh.nodes.len();
+    let n = m.points().len();
     out.push_str("$Nodes\n");
     let _ = writeln!(out, "1 {n} 1 {n}\n2 1 0 {n}");
     for i in 1..=n {
         let _ = writeln!(out, "{i}");
     }
-    for &p in &mesh.nodes {
+    for &p in m.points() {
         xyz(&mut out, p);
         out.push('\n');
     }
@@ -115,29 +158,24 @@ pub fn write_msh41(m: &Labelled) -> String {
     let lines: usize = m.groups.iter().map(|g| g.edges.len()).sum();
     let total = lines + mesh.quads.len();
     let blocks = m.groups.len() + m.regions.len();
+    let (quad_type, line_type) = m.msh_types();
     out.push_str("$Elements\n");
     let _ = writeln!(out, "{blocks} {total} 1 {total}");
     let mut tag = 0;
     for (k, g) in m.groups.iter().enumerate() {
-        let _ = writeln!(out, "1 {} 1 {}", k + 1, g.edges.len());
+        let _ = writeln!(out, "1 {} {line_type} {}", k + 1, g.edges.len());
         for e in g.edges {
             tag += 1;
-            let _ = writeln!(out, "{tag} {} {}", e[0] + 1, e[1] + 1);
+            let _ = write!(out, "{tag}");
+            numbered(&mut out, &m.line(*e));
         }
     }
     for (k, quads) in by_region.iter().enumerate() {
-        let _ = writeln!(out, "2 {} 3 {}", k + 1, quads.len());
+        let _ = writeln!(out, "2 {} {quad_type} {}", k + 1, quads.len());
         for &q in quads {
             tag += 1;
-            let q = mesh.quads[q];
-            let _ = writeln!(
-                out,
-                "{tag} {} {} {} {}",
-                q[0] + 1,
-                q[1] + 1,
-                q[2] + 1,
-                q[3] + 1
-            );
+            let _ = write!(out, "{tag}");
+            numbered(&mut out, &m.element(q));
         }
     }
     out.push_str("$EndElements\n");
@@ -151,43 +189,29 @@ pub fn write_msh22(m: &Labelled) -> String {
     out.push_str("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
     physical_names(&mut out, m);
     out.push_str("$Nodes\n");
-    let _ = writeln!(out, "{}", mesh.nodes.len());
-    for (i, &p) in mesh.nodes.iter().enumerate() {
+    let _ = writeln!(out, "{}", m.points().len());
+    for (i, &p) in m.points().iter().enumerate() {
         let _ = write!(out, "{} ", i + 1);
         xyz(&mut out, p);
         out.push('\n');
     }
     let lines: usize = m.groups.iter().map(|g| g.edges.len()).sum();
+    let (quad_type, line_type) = m.msh_types();
     out.push_str("$EndNodes\n$Elements\n");
     let _ = writeln!(out, "{}", lines + mesh.quads.len());
     let mut tag = 0;
     for (k, g) in m.groups.iter().enumerate() {
         for e in g.edges {
             tag += 1;
-            let _ = writeln!(
-                out,
-                "{tag} 1 2 {} {} {} {}",
-                g.tag,
-                k + 1,
-                e[0] + 1,
-                e[1] + 1
-            );
+            let _ = write!(out, "{tag} {line_type} 2 {} {}", g.tag, k + 1);
+            numbered(&mut out, &m.line(*e));
         }
     }
     for (k, quads) in quads_by_region(m).iter().enumerate() {
         for &q in quads {
             tag += 1;
-            let q = mesh.quads[q];
-            let _ = writeln!(
-                out,
-                "{tag} 3 2 {} {} {} {} {} {}",
-                m.regions[k].tag,
-                k + 1,
-                q[0] + 1,
-                q[1] + 1,
-                q[2] + 1,
-                q[3] + 1
-            );
+            let _ = write!(out, "{tag} {quad_type} 2 {} {}", m.regions[k].tag, k + 1);
+            numbered(&mut out, &m.element(q));
         }
     }
     out.push_str("$EndElements\n");
@@ -213,15 +237,16 @@ fn label(name: &str) -> String {
     s
 }
 
-/// Abaqus input: CPS4 quads numbered region by region, an ELSET per
-/// region, and per group an NSET and an element SURFACE (the quad face on
-/// each edge; on an interface, the quad on the left of the segment as
-/// given).
+/// Abaqus input: CPS4 quads (CPS8 at second order: Abaqus has no 9-node
+/// plane element, so the centre node is left out) numbered region by
+/// region, an ELSET per region, and per group an NSET and an element
+/// SURFACE (the quad face on each edge; on an interface, the quad on the
+/// left of the segment as given).
 pub fn write_inp(m: &Labelled) -> String {
     let mesh = m.mesh;
     let mut out = String::with_capacity(40 * mesh.nodes.len() + 40 * mesh.quads.len());
     out.push_str("*HEADING\nquadex all-quad mesh\n*NODE\n");
-    for (i, p) in mesh.nodes.iter().enumerate() {
+    for (i, p) in m.points().iter().enumerate() {
         let _ = write!(out, "{}, ", i + 1);
         fmt_f64(&mut out, p.x);
         out.push_str(", ");
@@ -232,31 +257,35 @@ pub fn write_inp(m: &Labelled) -> String {
     let mut face: BTreeMap<(u32, u32), (usize, usize)> = BTreeMap::new();
     let mut number = 0;
     for (k, quads) in quads_by_region(m).iter().enumerate() {
+        let kind = if m.order2.is_some() { "CPS8" } else { "CPS4" };
         let _ = writeln!(
             out,
-            "*ELEMENT, TYPE=CPS4, ELSET={}",
+            "*ELEMENT, TYPE={kind}, ELSET={}",
             label(m.regions[k].name)
         );
         for &q in quads {
             number += 1;
-            let q = mesh.quads[q];
+            let corners = mesh.quads[q];
             for i in 0..4 {
-                face.insert((q[i], q[(i + 1) % 4]), (number, i + 1));
+                face.insert((corners[i], corners[(i + 1) % 4]), (number, i + 1));
             }
-            let _ = writeln!(
-                out,
-                "{number}, {}, {}, {}, {}",
-                q[0] + 1,
-                q[1] + 1,
-                q[2] + 1,
-                q[3] + 1
-            );
+            let nodes = m.element(q);
+            let _ = write!(out, "{number}");
+            for v in &nodes[..nodes.len().min(8)] {
+                let _ = write!(out, ", {}", v + 1);
+            }
+            out.push('\n');
         }
     }
     for g in &m.groups {
         let name = label(g.name);
         let _ = writeln!(out, "*NSET, NSET={name}");
-        let mut nodes: Vec<usize> = g.edges.iter().flatten().map(|&v| v as usize + 1).collect();
+        let mut nodes: Vec<usize> = g
+            .edges
+            .iter()
+            .flat_map(|e| m.line(*e))
+            .map(|v| v as usize + 1)
+            .collect();
         nodes.sort_unstable();
         nodes.dedup();
         list(&mut out, nodes);
@@ -296,7 +325,7 @@ struct Cells {
 fn cells(m: &Labelled) -> Cells {
     let (mut sj, mut angle) = vtk::cell_fields(m.mesh);
     let mut c = Cells {
-        nodes: m.mesh.quads.iter().map(|q| q.to_vec()).collect(),
+        nodes: (0..m.mesh.quads.len()).map(|k| m.element(k)).collect(),
         region: m
             .quad_region
             .iter()
@@ -308,7 +337,7 @@ fn cells(m: &Labelled) -> Cells {
     };
     for g in &m.groups {
         for e in g.edges {
-            c.nodes.push(e.to_vec());
+            c.nodes.push(m.line(*e));
             c.region.push(0);
             c.marker.push(g.tag);
             sj.push(0.0);
@@ -320,6 +349,17 @@ fn cells(m: &Labelled) -> Cells {
     c
 }
 
+/// The VTK cell type of a cell of `n` nodes: line, quadratic line, quad,
+/// biquadratic quad.
+fn vtk_type(n: usize) -> &'static str {
+    match n {
+        2 => "3\n",
+        3 => "21\n",
+        9 => "28\n",
+        _ => "9\n",
+    }
+}
+
 /// Legacy VTK 2.0 ASCII.
 pub fn write_legacy(m: &Labelled) -> String {
     let mesh = m.mesh;
@@ -328,8 +368,8 @@ pub fn write_legacy(m: &Labelled) -> String {
     out.push_str(
         "# vtk DataFile Version 2.0\nquadex all-quad mesh\nASCII\nDATASET UNSTRUCTURED_GRID\n",
     );
-    let _ = writeln!(out, "POINTS {} double", mesh.nodes.len());
-    for p in &mesh.nodes {
+    let _ = writeln!(out, "POINTS {} double", m.points().len());
+    for p in m.points() {
         xyz(&mut out, *p);
         out.push('\n');
     }
@@ -344,7 +384,7 @@ pub fn write_legacy(m: &Labelled) -> String {
     }
     let _ = writeln!(out, "CELL_TYPES {}", c.nodes.len());
     for n in &c.nodes {
-        out.push_str(if n.len() == 4 { "9\n" } else { "3\n" });
+        out.push_str(vtk_type(n.len()));
     }
     let _ = writeln!(out, "CELL_DATA {}", c.nodes.len());
     for (name, v) in [("region", &c.region), ("marker", &c.marker)] {
@@ -372,13 +412,13 @@ pub fn write_vtu(m: &Labelled) -> String {
     let _ = writeln!(
         out,
         "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
-        mesh.nodes.len(),
+        m.points().len(),
         c.nodes.len()
     );
     out.push_str(
         "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
     );
-    for p in &mesh.nodes {
+    for p in m.points() {
         xyz(&mut out, *p);
         out.push('\n');
     }
@@ -395,7 +435,7 @@ pub fn write_vtu(m: &Labelled) -> String {
     }
     out.push_str("</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
     for n in &c.nodes {
-        out.push_str(if n.len() == 4 { "9\n" } else { "3\n" });
+        out.push_str(vtk_type(n.len()));
     }
     out.push_str("</DataArray>\n</Cells>\n<CellData Scalars=\"region\">\n");
     for (name, v) in [("region", &c.region), ("marker", &c.marker)] {

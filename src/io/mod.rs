@@ -159,6 +159,21 @@ impl MeshFormat {
     }
 }
 
+impl MeshFormat {
+    /// Renders a mesh with its regions, groups and, when given, 9-node
+    /// quads ([`groups`]; an SVG picture is tinted by region).
+    pub fn render_labelled(self, l: &groups::Labelled) -> String {
+        match self {
+            MeshFormat::Msh41 => groups::write_msh41(l),
+            MeshFormat::Msh22 => groups::write_msh22(l),
+            MeshFormat::Vtk => groups::write_legacy(l),
+            MeshFormat::Vtu => groups::write_vtu(l),
+            MeshFormat::Abaqus => groups::write_inp(l),
+            MeshFormat::Svg => groups::write_svg(l),
+        }
+    }
+}
+
 /// Writes `mesh` to `path` in the format its extension names.
 pub fn write_mesh(mesh: &QuadMesh, path: &Path) -> Result<(), WriteError> {
     let fmt = MeshFormat::from_path(path)?;
