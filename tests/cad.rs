@@ -185,63 +185,71 @@ fn an_open_outline_is_refused_with_the_gap() {
 }
 
 /// Seeded drawings no case was tuned on: a rounded rectangle with random
-/// corner radii and sizes, a random number of round holes and a random
-/// target size. Every one meshes all-quad with no odd region.
+/// corner radii and sides, cut in two by a straight interface half the
+/// time, a random number of round holes away from it and a random target
+/// size. Every one meshes all-quad, conforming, with no odd region.
 #[test]
 fn seeded_drawings_mesh_with_every_region_even() {
+    use quadex::cad::{Geometry, LayerCurve};
+    use std::f64::consts::FRAC_PI_2 as Q;
+    let p = quadex::geom::Point::new;
     let mut r = quadex::rng::SplitMix64::new(0xcad0_5eed);
-    for k in 0..30 {
+    let (mut two, mut fixes, mut quads) = (0, 0, 0);
+    for k in 0..100 {
         let (w, hgt) = (r.uni(20.0, 80.0), r.uni(20.0, 80.0));
         let rad = r.uni(1.0, 0.2 * w.min(hgt));
-        let mut g = quadex::cad::Geometry::default();
+        let split = r.chance(0.5);
+        let mut g = Geometry::default();
         let mut add = |curve: Curve, layer: &str| {
-            g.curves.push(quadex::cad::LayerCurve {
+            g.curves.push(LayerCurve {
                 curve,
                 layer: layer.into(),
             })
         };
-        let p = quadex::geom::Point::new;
-        use std::f64::consts::FRAC_PI_2 as Q;
+        let arc = |cx: f64, cy: f64, start: f64| Curve::Arc {
+            centre: p(cx, cy),
+            radius: rad,
+            start,
+            sweep: Q,
+        };
         let corners = [
-            (w - rad, rad, -Q),
-            (w - rad, hgt - rad, 0.0),
-            (rad, hgt - rad, Q),
-            (rad, rad, 2.0 * Q),
+            arc(w - rad, rad, -Q),
+            arc(w - rad, hgt - rad, 0.0),
+            arc(rad, hgt - rad, Q),
+            arc(rad, rad, 2.0 * Q),
         ];
-        for (i, &(cx, cy, start)) in corners.iter().enumerate() {
+        for (i, c) in corners.iter().enumerate() {
+            add(*c, "outline");
+            let (a, b) = (c.at(1.0), corners[(i + 1) % 4].at(0.0));
+            // The bottom (i = 3) and top (i = 1) sides meet the interface
+            // at x = w / 2.
+            if split && (i == 1 || i == 3) {
+                let m = p(w / 2.0, a.y);
+                add(Curve::Line { a, b: m }, "outline");
+                add(Curve::Line { a: m, b }, "outline");
+            } else {
+                add(Curve::Line { a, b }, "outline");
+            }
+        }
+        if split {
+            two += 1;
             add(
-                Curve::Arc {
-                    centre: p(cx, cy),
-                    radius: rad,
-                    start,
-                    sweep: Q,
+                Curve::Line {
+                    a: p(w / 2.0, 0.0),
+                    b: p(w / 2.0, hgt),
                 },
-                "outline",
+                "interface",
             );
-            let end = Curve::Arc {
-                centre: p(cx, cy),
-                radius: rad,
-                start,
-                sweep: Q,
-            }
-            .at(1.0);
-            let (nx, ny, ns) = corners[(i + 1) % 4];
-            let next = Curve::Arc {
-                centre: p(nx, ny),
-                radius: rad,
-                start: ns,
-                sweep: Q,
-            }
-            .at(0.0);
-            add(Curve::Line { a: end, b: next }, "outline");
         }
         let holes = r.int(0, 3);
         for j in 0..holes {
-            let cx = w * (j as f64 + 1.0) / (holes as f64 + 1.0);
-            let hr = r.uni(0.05, 0.2) * w.min(hgt) / (holes as f64 + 1.0).sqrt();
+            // Hole centres in the quarters, clear of the interface.
+            let cx = w * [0.25, 0.75, 0.25][j];
+            let cy = hgt * [0.5, 0.5, 0.25][j];
+            let hr = r.uni(0.03, 0.1) * w.min(hgt);
             add(
                 Curve::Arc {
-                    centre: p(cx, hgt / 2.0),
+                    centre: p(cx, cy),
                     radius: hr,
                     start: 0.0,
                     sweep: 4.0 * Q,
@@ -253,17 +261,20 @@ fn seeded_drawings_mesh_with_every_region_even() {
         let d = g
             .discretise(h)
             .unwrap_or_else(|e| panic!("drawing {k}: {e}"));
+        fixes += d.parity_fixes.len();
         let faces = d
             .graph
             .faces()
             .unwrap_or_else(|e| panic!("drawing {k}: {e}"));
-        assert_eq!(faces.len(), 1, "drawing {k}");
+        assert_eq!(faces.len(), 1 + usize::from(split), "drawing {k}");
         let model = std::sync::Arc::new(quadex::model::default_model().unwrap());
         let m = quadex::regions::mesh_regions(&d.graph, model, &quadex::Params::DEFAULT, |_| {})
             .unwrap_or_else(|e| panic!("drawing {k}: {e}"));
         m.check_conforming().unwrap();
         assert!(m.quality().sj_min > 0.0, "drawing {k}");
+        quads += m.mesh.quads.len();
     }
+    println!("100 seeded drawings ({two} of two regions): {quads} quads, {fixes} curves refined for parity");
 }
 
 /// Second order on a drawing's annulus: every boundary midside node lies
