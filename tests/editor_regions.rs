@@ -420,3 +420,27 @@ fn regions_and_groups_survive_saving_and_opening_the_project() {
     assert_eq!(m.groups[0].name, "bottom");
     assert_eq!(m.regions.len(), 2);
 }
+
+#[test]
+fn a_graph_that_cannot_be_meshed_opens_with_its_problem_named() {
+    let p =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/regions/bad/odd_region.poly");
+    let mut h = harness(App::new(Document::open(&p, Settings::default()).unwrap().0));
+    h.run();
+    let r = h
+        .state()
+        .doc()
+        .regions
+        .as_ref()
+        .expect("a document of regions");
+    let e = r.problem.as_ref().expect("its problem").to_string();
+    assert!(e.contains("odd number"), "{e}");
+    assert!(!h.state().doc().can_step());
+    h.get_by_label(&format!("not a valid graph yet: {e}"));
+    h.state_mut().apply(Command::Step);
+    assert!(
+        status(&h).starts_with("error: no regions to mesh yet"),
+        "{}",
+        status(&h)
+    );
+}

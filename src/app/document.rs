@@ -520,7 +520,14 @@ impl Document {
             let m = io::read_mesh(path).at(path)?;
             return Ok((Document::from_mesh(m, path, settings)?, Vec::new()));
         }
-        if let Some(graph) = io::read_regions(path).at(path)? {
+        // A graph that cannot be meshed opens as a document of regions
+        // to fix when it names groups or regions (or is a regions
+        // document); otherwise it is read as one domain's loops, whose
+        // reader says what is wrong (an open chain, say), as before.
+        let graph = io::read_regions(path)
+            .at(path)?
+            .filter(|g| g.has_groups() || io::is_regions_document(path) || g.faces().is_ok());
+        if let Some(graph) = graph {
             let doc =
                 Document::from_graph(graph, Some(path.to_path_buf()), &file_name(path), settings)?;
             return Ok((doc, Vec::new()));
