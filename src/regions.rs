@@ -146,6 +146,7 @@ pub fn mesh_regions(
 /// undoes like any other; [`RegionStepper::next_face`] finishes its mesh
 /// and starts the next face. Stepped to the end, it gives the mesh of
 /// [`mesh_regions`], byte for byte.
+#[derive(Clone)]
 pub struct RegionStepper {
     graph: Pslg,
     faces: Vec<Face>,

@@ -1,8 +1,10 @@
 //! The example boundaries the editor offers, built into the binary so that
 //! an installed `quadex` opens them from any directory.
 
-/// `(file name, .poly text)` of every shipped example, sorted by name.
-pub const EXAMPLES: [(&str, &str); 7] = [
+/// `(file name, text)` of every shipped example, sorted by name: `.poly`
+/// boundaries, and a regions document (`.json`) of several materials with
+/// named boundary groups.
+pub const EXAMPLES: [(&str, &str); 8] = [
     (
         "annulus.poly",
         include_str!("../../assets/examples/annulus.poly"),
@@ -14,6 +16,10 @@ pub const EXAMPLES: [(&str, &str); 7] = [
     (
         "lshape.poly",
         include_str!("../../assets/examples/lshape.poly"),
+    ),
+    (
+        "machine.json",
+        include_str!("../../assets/examples/machine.json"),
     ),
     (
         "naca0012.poly",
@@ -51,13 +57,19 @@ mod tests {
         let mut on_disk: Vec<String> = std::fs::read_dir(dir)
             .unwrap()
             .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .filter(|n| n.ends_with(".poly"))
+            .filter(|n| n.ends_with(".poly") || n.ends_with(".json"))
             .collect();
         on_disk.sort();
         let built_in: Vec<&str> = EXAMPLES.iter().map(|(n, _)| *n).collect();
         assert_eq!(on_disk, built_in);
         for (name, text) in EXAMPLES {
-            crate::io::poly::parse_poly(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+            if name.ends_with(".json") {
+                let g =
+                    crate::io::regions_json::parse(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+                assert!(g.faces().unwrap().len() > 1, "{name}");
+            } else {
+                crate::io::poly::parse_poly(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+            }
         }
         assert!(example(DEFAULT_EXAMPLE).is_some());
     }

@@ -88,6 +88,26 @@ pub enum Command {
     /// The boundary as edited on the canvas (valid or not: an invalid
     /// draft shows its problem and has no mesh until it is fixed).
     SetDraft { draft: Draft, what: &'static str },
+    /// Turn a document of one valid boundary into a document of regions
+    /// (one region, no groups yet) to split and name.
+    ToRegions,
+    /// A document of regions: a curve from node `from` through `through`
+    /// to node `to` becomes an interface (new nodes and segments).
+    SplitRegion {
+        from: usize,
+        through: Vec<Point>,
+        to: usize,
+    },
+    /// A document of regions: these segments form the group `name` (tag
+    /// 0: the group's own, or a new one; an empty name ungroups them).
+    NameGroup {
+        segments: Vec<usize>,
+        name: String,
+        tag: i64,
+    },
+    /// A document of regions: the face holding `at` is in region `name`
+    /// (tag 0: the region's own, or a new one).
+    NameRegion { at: Point, name: String, tag: i64 },
 }
 
 /// What a file prompt is asked for.

@@ -8,6 +8,7 @@
 
 use super::error::{AtPath, EditorError, ProjectError};
 use super::framed::Framed;
+use super::regions::Regions;
 use crate::boundary::BoundaryError;
 use crate::boundary_edit::Draft;
 use crate::cleanup::CleanupParams;
@@ -24,6 +25,8 @@ use crate::mesh::QuadMesh;
 use crate::model::fitted::FittedModel;
 use crate::model::{self, ElementType, Form, Model as _, ModelFile};
 use crate::pipeline::FinishParams;
+use crate::pslg::Pslg;
+use crate::regions::RegionMesh;
 use crate::remesh::RemeshParams;
 use crate::samples::{Sample, SampleKeys, TrainingSet};
 use crate::smooth::SmoothParams;
@@ -244,6 +247,10 @@ pub struct Document {
     /// they survive a reset, a boundary edit or a model change, are saved
     /// with the project and can be saved as model files.
     pub models: Vec<ModelFile>,
+    /// A document of several regions and named groups (then `draft` is
+    /// empty and `meshing` is `None`: the regions' faces are meshed one
+    /// by one).
+    pub regions: Option<Regions>,
 }
 
 /// Figures of the model before and after a refit, on the same samples.
@@ -365,7 +372,56 @@ impl Document {
             boundary_edited: false,
             last_refit: None,
             models: Vec::new(),
+            regions: None,
         }
+    }
+
+    /// A document of several regions over `graph` (an invalid graph is
+    /// kept with its problem and has no mesh until it is fixed).
+    pub fn from_graph(
+        graph: Pslg,
+        source: Option<PathBuf>,
+        name: &str,
+        settings: Settings,
+    ) -> Result<Document, EditorError> {
+        let mut doc = Document::empty(settings);
+        doc.problem = None;
+        doc.regions = Some(Regions::new(graph, &doc.settings, &doc.models)?);
+        doc.source = source;
+        doc.name = name.to_string();
+        Ok(doc)
+    }
+
+    /// A new graph of regions (an edit on the canvas): its faces are
+    /// meshed from the start. Fails only when the model cannot be loaded.
+    pub fn set_graph(&mut self, graph: Pslg) -> Result<(), EditorError> {
+        self.regions = Some(Regions::new(graph, &self.settings, &self.models)?);
+        self.boundary_edited = true;
+        Ok(())
+    }
+
+    /// The document's boundary as a graph of regions (one region, no
+    /// groups yet), to be split and named; the steps taken are dropped.
+    pub fn to_regions(&mut self) -> Result<(), EditorError> {
+        let b = self.boundary().cloned().ok_or_else(|| {
+            EditorError::NoBoundary(self.problem.clone().unwrap_or(BoundaryError::Empty))
+        })?;
+        self.set_graph(Pslg::from_boundary(&b))?;
+        self.meshing = None;
+        self.draft = Draft::default();
+        self.problem = None;
+        Ok(())
+    }
+
+    /// True when there is something to step: a valid boundary, or a valid
+    /// graph of regions.
+    pub fn can_step(&self) -> bool {
+        self.meshing.is_some() || self.regions.as_ref().is_some_and(|r| r.stepper.is_some())
+    }
+
+    /// The mesh of every region, once all are meshed.
+    pub fn region_mesh(&self) -> Option<&Arc<RegionMesh>> {
+        self.regions.as_ref()?.mesh.as_ref()
     }
 
     /// A document over `draft` (meshing when it is a valid boundary); fails
@@ -408,6 +464,10 @@ impl Document {
         let text =
             super::assets::example(name).ok_or(EditorError::UnknownExample(name.to_string()))?;
         let path = PathBuf::from(name);
+        if name.ends_with(".json") {
+            let graph = io::regions_json::parse(text).at(&path)?;
+            return Document::from_graph(graph, None, name, settings);
+        }
         let (points, loops, _) = io::poly::parse_poly_loops(text).at(&path)?;
         let draft = Draft {
             loops: loops
@@ -460,6 +520,18 @@ impl Document {
             let m = io::read_mesh(path).at(path)?;
             return Ok((Document::from_mesh(m, path, settings)?, Vec::new()));
         }
+        // A graph that cannot be meshed opens as a document of regions
+        // to fix when it names groups or regions (or is a regions
+        // document); otherwise it is read as one domain's loops, whose
+        // reader says what is wrong (an open chain, say), as before.
+        let graph = io::read_regions(path)
+            .at(path)?
+            .filter(|g| g.has_groups() || io::is_regions_document(path) || g.faces().is_ok());
+        if let Some(graph) = graph {
+            let doc =
+                Document::from_graph(graph, Some(path.to_path_buf()), &file_name(path), settings)?;
+            return Ok((doc, Vec::new()));
+        }
         let loops = io::read_boundary_loops(path).at(path)?;
         let doc = Document::from_draft(
             Draft { loops },
@@ -480,17 +552,27 @@ impl Document {
 
     /// The last step's report (see [`Meshing::last`]).
     pub fn last(&self) -> Option<&StepReport> {
+        if let Some(r) = &self.regions {
+            return r.last.as_ref();
+        }
         self.meshing.as_ref()?.last.as_ref()
     }
 
     /// The last step, when it is an element that can be corrected.
     pub fn last_element(&self) -> Option<&StepReport> {
-        self.last()
+        // (A region's elements are not corrected in the editor.)
+        self.meshing
+            .as_ref()?
+            .last
+            .as_ref()
             .filter(|r| matches!(r.kind, StepKind::Element | StepKind::Correction))
     }
 
     /// Steps taken.
     pub fn steps(&self) -> usize {
+        if let Some(r) = &self.regions {
+            return r.steps;
+        }
         self.mesher().map_or(0, |m| m.steps())
     }
 
@@ -508,6 +590,9 @@ impl Document {
 
     /// True when the run is complete.
     pub fn is_done(&self) -> bool {
+        if let Some(r) = &self.regions {
+            return r.is_done();
+        }
         self.mesher().is_some_and(|m| m.is_done())
     }
 
@@ -542,6 +627,9 @@ impl Document {
 
     /// One step; `Ok(false)` when the mesh is already complete.
     pub fn step(&mut self) -> Result<bool, EditorError> {
+        if let Some(r) = self.regions.as_mut() {
+            return r.step();
+        }
         let m = self.meshing_mut()?;
         match m.mesher.step()? {
             StepOutcome::Stepped(r) => {
@@ -555,6 +643,9 @@ impl Document {
     /// Undoes the last step; the step before becomes the last one, with its
     /// report (replayed), so that it can be corrected.
     pub fn undo_step(&mut self) -> bool {
+        if let Some(r) = self.regions.as_mut() {
+            return r.undo_step();
+        }
         let Some(m) = self.meshing.as_mut() else {
             return false;
         };
@@ -573,6 +664,9 @@ impl Document {
 
     /// Takes the last undone step again; `Ok(false)` when there is none.
     pub fn redo_step(&mut self) -> Result<bool, EditorError> {
+        if let Some(r) = self.regions.as_mut() {
+            return r.redo_step();
+        }
         let m = self.meshing_mut()?;
         match m.mesher.redo()? {
             Some(r) => {
@@ -585,6 +679,11 @@ impl Document {
 
     /// Starts the mesh again with the current settings.
     pub fn reset(&mut self) -> Result<(), EditorError> {
+        if let Some(r) = &self.regions {
+            let graph = r.graph.clone();
+            self.regions = Some(Regions::new(graph, &self.settings, &self.models)?);
+            return Ok(());
+        }
         let boundary = self.meshing_mut()?.boundary.clone();
         self.meshing = Some(Meshing::new(boundary, &self.settings, &self.models)?);
         Ok(())
@@ -610,6 +709,14 @@ impl Document {
     /// does changed: the steps stay); returns whether the mesh restarted.
     /// On failure nothing changes.
     pub fn set_settings(&mut self, settings: Settings) -> Result<bool, EditorError> {
+        if let Some(r) = &self.regions {
+            // Each face is finished as it is meshed: any change starts
+            // the faces again.
+            let regions = Regions::new(r.graph.clone(), &settings, &self.models)?;
+            self.settings = settings;
+            self.regions = Some(regions);
+            return Ok(true);
+        }
         if self.settings.same_steps(&settings) || self.meshing.is_none() {
             if self.meshing.is_none() {
                 load_model(&settings.model, &self.models)?;
@@ -945,6 +1052,13 @@ impl Document {
 
     /// The finished mesh (cleaned up, smoothed and checked), for export.
     pub fn finished(&self) -> Result<QuadMesh, EditorError> {
+        if let Some(r) = &self.regions {
+            return r
+                .mesh
+                .as_ref()
+                .map(|m| m.mesh.clone())
+                .ok_or(EditorError::NotFinished);
+        }
         if let Some(m) = self.imported() {
             return Ok(m.clone());
         }
@@ -960,6 +1074,21 @@ impl Document {
         let json = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        if let Some(r) = &self.regions {
+            // A regions document keeps the names; `.poly` keeps the
+            // segment markers and region attributes (tags) only.
+            let text = if json {
+                serde_json::to_string_pretty(&io::regions_json::RegionsDoc::from_pslg(&r.graph))
+                    .map_err(|cause| EditorError::Encode {
+                        path: path.to_path_buf(),
+                        cause,
+                    })?
+            } else {
+                io::poly::write_pslg(&r.graph)
+            };
+            io::write_atomic(path, text.as_bytes())?;
+            return Ok(());
+        }
         let text = if json {
             serde_json::to_string_pretty(&self.boundary_doc()).map_err(|cause| {
                 EditorError::Encode {
@@ -1290,6 +1419,10 @@ pub struct Project {
     /// A mesh read from a file over the same boundary.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub imported: Option<QuadMesh>,
+    /// A document of several regions: its graph with the regions' and
+    /// groups' names (the faces are meshed again when it opens).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub regions: Option<io::regions_json::RegionsDoc>,
 }
 
 /// The `format` field of a project file.
@@ -1331,6 +1464,10 @@ impl Document {
                 .meshing
                 .as_ref()
                 .and_then(|m| m.imported.as_deref().cloned()),
+            regions: self
+                .regions
+                .as_ref()
+                .map(|r| io::regions_json::RegionsDoc::from_pslg(&r.graph)),
         }
     }
 
@@ -1359,6 +1496,22 @@ impl Document {
             .as_deref()
             .map(file_name)
             .unwrap_or_else(|| "untitled".into());
+        if let Some(r) = &p.regions {
+            let graph = r.to_pslg().map_err(ProjectError::Regions)?;
+            let mut doc = Document::empty(p.settings.clone());
+            doc.models = p.models;
+            doc.training = p.training;
+            doc.problem = None;
+            doc.regions = Some(Regions::new(graph, &doc.settings, &doc.models).map_err(
+                |e| match e {
+                    EditorError::Model { cause, .. } => ProjectError::Model(cause),
+                    other => ProjectError::Start(Box::new(other)),
+                },
+            )?);
+            doc.source = source;
+            doc.name = name;
+            return Ok((doc, Vec::new()));
+        }
         let loops: Vec<Vec<Point>> = p
             .boundary
             .loops

@@ -93,6 +93,21 @@ pub enum EditorError {
         "the model meshed with is not a refitted one: refit first (or choose a refitted model)"
     )]
     NoRefittedModel,
+    /// Meshing a face of a document of several regions failed.
+    #[error("{0}")]
+    Regions(crate::regions::RegionError),
+    /// A graph of regions that cannot be meshed as it is.
+    #[error("no regions to mesh yet: {0}")]
+    NoGraph(crate::pslg::PslgError),
+    /// A region or group edit that cannot be made.
+    #[error("{0}")]
+    RegionEdit(String),
+}
+
+impl From<crate::regions::RegionError> for EditorError {
+    fn from(e: crate::regions::RegionError) -> Self {
+        EditorError::Regions(e)
+    }
 }
 
 /// Why a screenshot is not saved.
@@ -122,6 +137,8 @@ pub enum ProjectError {
     Format(String),
     #[error("its boundary: {0}")]
     Boundary(BoundaryError),
+    #[error("its regions: {0}")]
+    Regions(ReadError),
     #[error("step {step} does not replay: {cause}")]
     Replay { step: usize, cause: MeshError },
     #[error("the project's mesh differs from its replayed steps")]

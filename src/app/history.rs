@@ -124,6 +124,15 @@ impl History {
                     self.undo.push(Entry::Steps(n - 1));
                 }
                 if !doc.undo_step() {
+                    // A document of regions undoes steps within the face
+                    // being meshed only: the steps of finished faces are
+                    // dropped, and undo goes on to the edit before them.
+                    if doc.regions.is_some() {
+                        if n > 1 {
+                            self.undo.pop();
+                        }
+                        return self.undo(doc, project);
+                    }
                     return None;
                 }
                 push_steps(&mut self.redo, 1);

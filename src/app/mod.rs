@@ -25,6 +25,8 @@ pub mod history;
 pub mod job;
 pub mod model_panel;
 pub mod quality_panel;
+pub mod regions;
+pub mod regions_panel;
 pub mod samples_panel;
 pub mod smooth_panel;
 pub mod step_panel;
@@ -45,6 +47,7 @@ pub use history::History;
 use job::{Job, JobDone, Record, Work};
 use model_panel::ModelPanel;
 use quality_panel::{MeshStats, QualityPanel};
+use regions_panel::RegionsPanel;
 use samples_panel::SamplesPanel;
 use serde::{Deserialize, Serialize};
 use smooth_panel::SmoothPanel;
@@ -311,6 +314,8 @@ pub struct Panels {
     pub smooth: SmoothPanel,
     pub quality: QualityPanel,
     pub compare: ComparePanel,
+    /// The Regions panel and tools (a document of several regions).
+    pub regions: RegionsPanel,
     pub tab: Tab,
     pub show_left: bool,
     pub show_right: bool,
@@ -342,6 +347,76 @@ pub struct Background {
     fit: Option<FitJob>,
     /// The last comparison made.
     comparison: Option<Comparison>,
+    /// A run of a document of regions.
+    region_run: Option<RegionRun>,
+}
+
+/// A run of a document of regions in a thread: its faces stepped on a
+/// copy of the stepper, taken into the document when it ends (a
+/// cancelled run is dropped, the mesh stays as before it).
+struct RegionRun {
+    handle: std::thread::JoinHandle<RegionRunDone>,
+    cancel: Arc<std::sync::atomic::AtomicBool>,
+    steps: Arc<std::sync::atomic::AtomicUsize>,
+    face: Arc<std::sync::atomic::AtomicUsize>,
+    faces: usize,
+    started: std::time::Instant,
+}
+
+/// What a run of a document of regions gives back.
+struct RegionRunDone {
+    stepper: crate::regions::RegionStepper,
+    steps: usize,
+    last: Option<crate::extract::StepReport>,
+    error: Option<crate::regions::RegionError>,
+    /// The merged mesh, when every face is meshed.
+    mesh: Option<Result<crate::regions::RegionMesh, crate::regions::RegionError>>,
+}
+
+impl RegionRun {
+    /// Steps `stepper` up to `max` steps (to the end with `usize::MAX`).
+    fn start(mut stepper: crate::regions::RegionStepper, max: usize) -> RegionRun {
+        use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+        let cancel = Arc::new(AtomicBool::new(false));
+        let steps = Arc::new(AtomicUsize::new(0));
+        let face = Arc::new(AtomicUsize::new(stepper.current()));
+        let faces = stepper.faces().len();
+        let (c, st, f) = (cancel.clone(), steps.clone(), face.clone());
+        let handle = std::thread::spawn(move || {
+            let (mut k, mut last, mut error) = (0, None, None);
+            while !stepper.is_done() && k < max && !c.load(Ordering::Relaxed) {
+                match stepper.step() {
+                    Ok(crate::extract::StepOutcome::Stepped(r)) => {
+                        last = Some(*r);
+                        k += 1;
+                        st.store(k, Ordering::Relaxed);
+                        f.store(stepper.current(), Ordering::Relaxed);
+                    }
+                    Ok(crate::extract::StepOutcome::Done) => {}
+                    Err(e) => {
+                        error = Some(e);
+                        break;
+                    }
+                }
+            }
+            let mesh = stepper.is_done().then(|| stepper.clone().finish());
+            RegionRunDone {
+                stepper,
+                steps: k,
+                last,
+                error,
+                mesh,
+            }
+        });
+        RegionRun {
+            handle,
+            cancel,
+            steps,
+            face,
+            faces,
+            started: std::time::Instant::now(),
+        }
+    }
 }
 
 /// The global fit of a refit, made in a thread ([`Document::pending_fit`]):
@@ -493,6 +568,18 @@ fn shown_of<'a>(
             kind: MeshKind::Imported,
         };
     }
+    if let Some(r) = &doc.regions {
+        // Each face is finished as it is meshed: the merged mesh is the
+        // finished one.
+        return Shown {
+            mesh: r.shown_mesh(),
+            kind: if r.is_done() {
+                MeshKind::Finished
+            } else {
+                MeshKind::Stepped
+            },
+        };
+    }
     if doc.is_done() {
         if let Some(f) = finished
             .as_ref()
@@ -570,6 +657,7 @@ impl App {
                 smooth: SmoothPanel::default(),
                 quality: QualityPanel::default(),
                 compare: ComparePanel::default(),
+                regions: RegionsPanel::default(),
                 tab: Tab::default(),
                 show_left: true,
                 show_right: true,
@@ -587,6 +675,7 @@ impl App {
                 compare: None,
                 fit: None,
                 comparison: None,
+                region_run: None,
             },
             window: Window {
                 status: String::new(),
@@ -689,7 +778,9 @@ impl App {
 
     /// True while a run goes on in the background.
     pub fn busy(&self) -> bool {
-        self.background.job.as_ref().is_some_and(Job::is_run) || self.background.fit.is_some()
+        self.background.job.as_ref().is_some_and(Job::is_run)
+            || self.background.fit.is_some()
+            || self.background.region_run.is_some()
     }
 
     /// True while the Model panel measures the model in the background.
@@ -714,6 +805,9 @@ impl App {
         if let Some(mut j) = self.background.job.take() {
             let done = j.wait();
             self.job_done(j, done);
+        }
+        if let Some(r) = self.background.region_run.take() {
+            self.region_run_done(r);
         }
         self.compare_done();
         if self.document.doc.has_mesh() && self.document.doc.imported().is_none() {
@@ -872,10 +966,18 @@ impl App {
                 _ => "the mesh is complete".into(),
             }),
             Command::StepN(n) if self.background.threads && n > BACKGROUND_STEPS => {
+                if self.document.doc.regions.is_some() {
+                    self.start_region_run(n)?;
+                    return Ok(format!("taking {n} steps…"));
+                }
                 self.start_run(n, "stepping", Record::Steps)?;
                 Ok(format!("taking {n} steps…"))
             }
             Command::StepN(n) => self.step_sync(n).map(|k| plural(k, "step")),
+            Command::RunToEnd if self.background.threads && self.document.doc.regions.is_some() => {
+                self.start_region_run(usize::MAX)?;
+                Ok("running every region to the end…".into())
+            }
             Command::RunToEnd if self.background.threads => {
                 self.start_run(usize::MAX, "running to the end", Record::Steps)?;
                 Ok("running to the end…".into())
@@ -884,7 +986,7 @@ impl App {
                 .step_sync(usize::MAX)
                 .map(|k| format!("{} to the end", plural(k, "step"))),
             Command::Animate(on) => {
-                if on && self.document.doc.meshing.is_none() {
+                if on && !self.document.doc.can_step() {
                     return Err(self.no_boundary());
                 }
                 self.background.animating = on.then_some(0.0);
@@ -916,6 +1018,7 @@ impl App {
                 }
                 let left = self.document.doc.steps();
                 Ok(match what {
+                    None if self.document.doc.regions.is_some() => "nothing to undo in this face (undo goes back within the face being meshed; Reset starts every face again)".into(),
                     None => "nothing to undo".into(),
                     // Steps undo one by one (to go back to an element to
                     // correct); the way back to the start is Reset.
@@ -1133,6 +1236,23 @@ impl App {
                 d.collect_from_file(&p)
                     .map(|n| format!("{} collected from {}", plural(n, "sample"), p.display()))
             }),
+            Command::ToRegions => self.edit("regions", |d| {
+                d.to_regions()?;
+                Ok("a document of regions: split it with the interface tool, name its groups and regions in the Regions panel".into())
+            }),
+            Command::SplitRegion { from, through, to } => self.graph_edit("interface", |g| {
+                regions::with_interface(g, from, &through, to)
+            }),
+            Command::NameGroup {
+                segments,
+                name,
+                tag,
+            } => self.graph_edit("name group", |g| {
+                regions::with_group(g, &segments, &name, tag)
+            }),
+            Command::NameRegion { at, name, tag } => self.graph_edit("name region", |g| {
+                regions::with_region(g, at, &name, tag)
+            }),
             Command::SetDraft { draft, what } => self.edit(what, |d| {
                 d.set_draft(draft)?;
                 Ok(match &d.problem {
@@ -1142,6 +1262,88 @@ impl App {
                 })
             }),
         }
+    }
+
+    /// An edit of a document of regions: the new graph from the current
+    /// one, validated (an invalid graph is kept with its problem).
+    fn graph_edit(
+        &mut self,
+        what: &'static str,
+        f: impl FnOnce(&crate::pslg::Pslg) -> Result<crate::pslg::Pslg, EditorError>,
+    ) -> Result<String, EditorError> {
+        let graph = match &self.document.doc.regions {
+            Some(r) => f(&r.graph)?,
+            None => {
+                return Err(EditorError::RegionEdit(
+                    "regions and groups are edited in a document of regions (open a file with several regions)".into(),
+                ))
+            }
+        };
+        self.edit(what, |d| {
+            d.set_graph(graph)?;
+            let r = d.regions.as_ref().ok_or(EditorError::NotFinished)?;
+            Ok(match &r.problem {
+                None => format!(
+                    "{what}: {} in {}; mesh restarted",
+                    plural(r.faces.len(), "face"),
+                    plural(r.legend.len(), "region")
+                ),
+                Some(e) => format!("{what}: not a valid graph yet: {e}"),
+            })
+        })
+    }
+
+    /// Starts a run of a document of regions in the background (without
+    /// threads: on this thread, at once).
+    fn start_region_run(&mut self, max: usize) -> Result<(), EditorError> {
+        let r = self
+            .document
+            .doc
+            .regions
+            .as_ref()
+            .ok_or_else(|| self.no_boundary())?;
+        let stepper = r.stepper.clone().ok_or_else(|| r.no_graph())?;
+        let run = RegionRun::start(stepper, max);
+        if self.background.threads {
+            self.background.region_run = Some(run);
+        } else {
+            self.region_run_done(run);
+        }
+        Ok(())
+    }
+
+    /// Takes a finished run of a document of regions into the document.
+    fn region_run_done(&mut self, run: RegionRun) {
+        let faces = run.faces;
+        let Ok(done) = run.handle.join() else {
+            self.window.status = format!("error: {}", EditorError::JobPanicked);
+            return;
+        };
+        let Some(r) = self.document.doc.regions.as_mut() else {
+            return;
+        };
+        r.take_run(done.stepper, done.steps, done.last);
+        let mut error = done.error.map(EditorError::from);
+        match done.mesh {
+            Some(Ok(m)) => r.mesh = Some(Arc::new(m)),
+            Some(Err(e)) => error = Some(e.into()),
+            None => {}
+        }
+        r.sync_shown();
+        let complete = r.is_done();
+        self.document.history.steps(done.steps);
+        if done.steps > 0 {
+            self.changed(true);
+        }
+        self.window.status = match error {
+            Some(e) => format!("error after {}: {e}", plural(done.steps, "step")),
+            None if complete => format!(
+                "{} taken, mesh complete ({} meshed)",
+                plural(done.steps, "step"),
+                plural(faces, "face")
+            ),
+            None => plural(done.steps, "step") + " taken",
+        };
     }
 
     /// Starts meshing the boundary with each of the models `names` (the
@@ -1247,6 +1449,19 @@ impl App {
         if self.panels.tools.drop_drawing() {
             return "dropped the loop being drawn".into();
         }
+        if self.panels.regions.drop_curve() {
+            return "dropped the curve being drawn".into();
+        }
+        if let Some(run) = self.background.region_run.take() {
+            run.cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+            let steps = run.steps.load(std::sync::atomic::Ordering::Relaxed);
+            // The thread stops after the step it takes.
+            let _ = run.handle.join();
+            return format!(
+                "cancelled: the run is dropped ({} taken), the mesh is as before it",
+                plural(steps, "step")
+            );
+        }
         match self.background.job.take() {
             Some(j) if j.is_run() => {
                 let (steps, _, _) = j.progress();
@@ -1274,7 +1489,11 @@ impl App {
 
     /// Steps on the UI thread; records them for undo.
     fn step_sync(&mut self, n: usize) -> Result<usize, EditorError> {
-        if self.document.doc.meshing.is_none() {
+        if let Some(r) = &self.document.doc.regions {
+            if r.stepper.is_none() {
+                return Err(r.no_graph());
+            }
+        } else if self.document.doc.meshing.is_none() {
             return Err(self.no_boundary());
         }
         let before = (n == 1)
@@ -1446,7 +1665,22 @@ impl App {
     /// Exports the finished mesh; while the finishing pass runs, the export
     /// waits for it.
     fn export(&mut self, path: PathBuf) -> Result<String, EditorError> {
-        crate::io::MeshFormat::from_path(&path)?;
+        let format = crate::io::MeshFormat::from_path(&path)?;
+        if let Some(r) = &self.document.doc.regions {
+            // The regions as physical surfaces, the groups as physical
+            // curves (or the format's sets and arrays).
+            let m = r.mesh.clone().ok_or(EditorError::NotFinished)?;
+            crate::io::write_atomic(&path, format.render_regions(&m).as_bytes())?;
+            self.window.recent.push(&path);
+            self.panels.export_path = path.display().to_string();
+            return Ok(format!(
+                "wrote {} ({}, {}, {})",
+                path.display(),
+                plural(m.mesh.quads.len(), "quad"),
+                plural(m.regions.len(), "region"),
+                plural(m.groups.len(), "group")
+            ));
+        }
         let key = self.finish_key();
         let pending =
             self.background.job.as_ref().is_some_and(|j| {
@@ -1577,7 +1811,11 @@ impl App {
     /// settings are being changed).
     fn refresh_finished(&mut self, ctx: &egui::Context) {
         let doc = &self.document.doc;
-        if !doc.is_done() || doc.imported().is_some() || self.background.job.is_some() {
+        if !doc.is_done()
+            || doc.imported().is_some()
+            || doc.regions.is_some()
+            || self.background.job.is_some()
+        {
             return;
         }
         let key = self.finish_key();
@@ -1734,6 +1972,20 @@ impl App {
         self.background.orphans.retain(|h| !h.is_finished());
         if self
             .background
+            .region_run
+            .as_ref()
+            .is_some_and(|r| r.handle.is_finished())
+        {
+            if let Some(r) = self.background.region_run.take() {
+                self.region_run_done(r);
+            }
+        }
+        if let Some(r) = self.document.doc.regions.as_mut() {
+            r.sync_shown();
+            self.panels.regions.sync(r);
+        }
+        if self
+            .background
             .compare
             .as_ref()
             .is_some_and(CompareJob::is_finished)
@@ -1833,9 +2085,25 @@ impl App {
                         export_box(ui, &mut self.panels.export_path, doc, &mut out);
                         ui.separator();
                         let figures = figures_of(&self.document, &self.view);
-                        out.extend(self.panels.train.ui(ui, doc, figures));
-                        ui.separator();
-                        out.extend(self.panels.tools.ui(ui, doc, ()));
+                        if doc.regions.is_some() {
+                            out.extend(self.panels.regions.ui(ui, doc, ()));
+                        } else {
+                            out.extend(self.panels.train.ui(ui, doc, figures));
+                            ui.separator();
+                            out.extend(self.panels.tools.ui(ui, doc, ()));
+                            ui.separator();
+                            if ui
+                                .add_enabled(
+                                    doc.boundary().is_some(),
+                                    egui::Button::new("Regions and groups…"),
+                                )
+                                .on_hover_text("Make this boundary a document of regions: split it into regions with interface curves, name boundary groups and regions (the steps taken are dropped)")
+                                .on_disabled_hover_text("Needs a valid boundary")
+                                .clicked()
+                            {
+                                out.push(Command::ToRegions);
+                            }
+                        }
                         cmds.extend(out);
                     });
                 });
@@ -1897,7 +2165,11 @@ impl App {
                     let kind = self.shown().kind;
                     let targets = targets_of(&self.document, &self.view);
                     let doc = &self.document.doc;
-                    cmds.extend(self.panels.tools.toolbar(ui, doc, kind, targets));
+                    if doc.regions.is_some() {
+                        self.panels.regions.toolbar(ui);
+                    } else {
+                        cmds.extend(self.panels.tools.toolbar(ui, doc, kind, targets));
+                    }
                 });
                 self.canvas(ui, &mut cmds);
             });
@@ -1936,10 +2208,24 @@ impl App {
         *canvas_rect = rect;
         let d = &self.document;
         let doc = &d.doc;
-        let bbox = Aabb::of(doc.draft.loops.iter().flatten().copied());
+        let bbox = match &doc.regions {
+            Some(r) => Aabb::of(r.graph.points.iter().copied()),
+            None => Aabb::of(doc.draft.loops.iter().flatten().copied()),
+        };
         view.update(rect, bbox);
         let pointer = canvas::Pointer::of(&resp, ui).in_view(view);
-        let taken = {
+        if let Some(r) = &doc.regions {
+            // Shift-click adds to the picked segments (the release's own
+            // modifiers count too).
+            let shift = ui.input(|i| {
+                i.modifiers.shift
+                    || i.events.iter().any(|e| {
+                        matches!(e, egui::Event::PointerButton { modifiers, .. } if modifiers.shift)
+                    })
+            });
+            self.panels.regions.input(r, view, &pointer, shift, cmds);
+        }
+        let taken = doc.regions.is_none() && {
             let at = tools::OnCanvas {
                 view,
                 pointer: &pointer,
@@ -1996,8 +2282,17 @@ impl App {
             front: if stepped { &front.1 } else { &[] },
             // The finished mesh is renumbered: the last step's node ids
             // belong to the mesh as stepped.
-            last: if stepped { doc.last() } else { None },
-            metric: self.panels.quality.metric,
+            last: if stepped && doc.regions.is_none() {
+                doc.last()
+            } else {
+                None
+            },
+            // A document of regions is coloured by region unless asked.
+            metric: if doc.regions.is_none() || self.panels.regions.plain_quality {
+                self.panels.quality.metric
+            } else {
+                None
+            },
         };
         let hovered_quad = canvas::draw(ui, &painter, view, mesh_cache, &overlay, &pointer);
         if let Some(metric) = overlay.metric.filter(|_| !shown.mesh.quads.is_empty()) {
@@ -2017,6 +2312,11 @@ impl App {
                 ));
             }
         }
+        if let Some(r) = &doc.regions {
+            if !self.panels.regions.plain_quality || shown.mesh.quads.is_empty() {
+                self.panels.regions.draw(ui, &painter, view, r, *hover);
+            }
+        }
         let at = tools::OnCanvas {
             view,
             pointer: &pointer,
@@ -2026,7 +2326,10 @@ impl App {
             drag,
         };
         self.panels.tools.draw(ui, &painter, &at);
-        if doc.draft.loops.is_empty() && self.panels.tools.drawing.is_empty() {
+        if doc.draft.loops.is_empty()
+            && doc.regions.is_none()
+            && self.panels.tools.drawing.is_empty()
+        {
             painter.text(
                 rect.center(),
                 egui::Align2::CENTER_CENTER,
@@ -2035,7 +2338,12 @@ impl App {
                 ui.visuals().weak_text_color(),
             );
         }
-        if let (Some(k), None) = (hovered_quad, self.panels.tools.hover) {
+        // (Not in a screenshot: the pointer is wherever the display left it.)
+        if let (Some(k), None, None) = (
+            hovered_quad,
+            self.panels.tools.hover,
+            &self.window.screenshot,
+        ) {
             canvas::quad_hover(ui, &resp, k, &stats.per_quad);
         }
     }
@@ -2057,12 +2365,12 @@ impl App {
         };
         let doc = &self.document.doc;
         let (has_draft, has_mesh, has_samples) = (
-            !doc.draft.loops.is_empty(),
+            !doc.draft.loops.is_empty() || doc.regions.is_some(),
             doc.has_mesh(),
             !doc.training.is_empty(),
         );
-        let can = doc.meshing.is_some() && !doc.is_done();
-        let can_reset = doc.meshing.is_some();
+        let can = doc.can_step() && !doc.is_done();
+        let can_reset = doc.can_step();
         let can_finish = doc.is_done() && self.view.finish_failed.is_some();
         ui.menu_button("File", |ui| {
             item(
@@ -2290,6 +2598,22 @@ impl App {
                     ui,
                     j.elapsed(),
                     "Stop (Esc): a run is dropped, the mesh stays as before it",
+                    cmds,
+                );
+            }
+            if let Some(r) = &self.background.region_run {
+                use std::sync::atomic::Ordering;
+                ui.spinner();
+                ui.label(format!(
+                    "meshing the regions: face {} of {}, {}",
+                    (r.face.load(Ordering::Relaxed) + 1).min(r.faces),
+                    r.faces,
+                    plural(r.steps.load(Ordering::Relaxed), "step")
+                ));
+                cancel_button(
+                    ui,
+                    r.started.elapsed().as_secs_f64(),
+                    "Stop (Esc): the run is dropped, the mesh stays as before it",
                     cmds,
                 );
             }

@@ -138,6 +138,10 @@ impl super::View for QualityPanel {
         let stepped = doc.mesher().map_or(0, |m| m.mesh().quads.len());
         let (what, note) = match s.kind {
             MeshKind::Imported => ("The mesh read from the file", String::new()),
+            MeshKind::Finished if doc.regions.is_some() => (
+                "The mesh of every region (each face finished as it was meshed; the Regions panel has each region's figures)",
+                String::new(),
+            ),
             MeshKind::Finished => (
                 "The finished mesh (cleaned up, coarsened, remeshed and smoothed)",
                 format!(

@@ -165,7 +165,7 @@ impl super::View for StepPanel {
             out.push(Command::SetSettings(s));
         }
         ui.separator();
-        let can_step = doc.meshing.is_some() && !doc.is_done();
+        let can_step = doc.can_step() && !doc.is_done();
         button_enabled(
             ui,
             can_step,
@@ -223,7 +223,7 @@ impl super::View for StepPanel {
             );
             button_enabled(
                 ui,
-                doc.meshing.is_some(),
+                doc.can_step(),
                 "Reset",
                 "Start the mesh again (undo brings the steps back)",
                 Command::Reset,
@@ -258,6 +258,11 @@ impl super::View for StepPanel {
             );
         });
         ui.separator();
+        if let Some(r) = &doc.regions {
+            regions_status(ui, r);
+            last_step(ui, doc);
+            return out;
+        }
         let Some(mesher) = doc.mesher() else {
             ui.label("No mesh: the boundary is not valid yet (see Boundary below).");
             return out;
@@ -294,6 +299,59 @@ impl super::View for StepPanel {
             ui.label(format!("model predictions valid: {ok} of {all}"));
         }
         ui.separator();
+        last_step(ui, doc);
+        out
+    }
+}
+
+/// Where the meshing of a document of regions stands: the region and
+/// face being meshed, the counts.
+fn regions_status(ui: &mut Ui, r: &super::regions::Regions) {
+    let Some(s) = &r.stepper else {
+        ui.label("No mesh: the graph of regions is not valid yet (see Regions below).");
+        return;
+    };
+    let n = s.faces().len();
+    match &r.mesh {
+        Some(m) => {
+            ui.label(format!(
+                "{} meshed: {}, {} in {}",
+                super::plural(n, "face"),
+                super::plural(r.steps, "step"),
+                super::plural(m.mesh.quads.len(), "quad"),
+                super::plural(m.regions.len(), "region"),
+            ));
+            ui.colored_label(egui::Color32::LIGHT_GREEN, "mesh complete");
+        }
+        None => {
+            ui.label(
+                egui::RichText::new(format!(
+                    "region {}, face {} of {n}",
+                    s.current_region(),
+                    s.current() + 1
+                ))
+                .strong(),
+            )
+            .on_hover_text("The faces are meshed one by one, each with its boundary nodes fixed, so that the meshes of two faces meet node to node");
+            ui.label(format!(
+                "{}, {} as stepped, {} left in this face",
+                super::plural(r.steps, "step"),
+                super::plural(r.shown_mesh().quads.len(), "quad"),
+                super::plural(r.front_left(), "front node"),
+            ));
+            ui.label(
+                egui::RichText::new(
+                    "Undo goes back within the face being meshed; Reset starts every face again.",
+                )
+                .weak(),
+            );
+        }
+    }
+}
+
+/// The last step's table.
+fn last_step(ui: &mut Ui, doc: &Document) {
+    {
         ui.label(egui::RichText::new("Last step").strong());
         match doc.last() {
             None => {
@@ -349,7 +407,6 @@ impl super::View for StepPanel {
                 }
             }
         }
-        out
     }
 }
 
