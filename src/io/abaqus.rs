@@ -17,6 +17,23 @@ pub(super) fn list(out: &mut String, ids: impl IntoIterator<Item = usize>) {
     out.push('\n');
 }
 
+/// An element-based surface `name`: an ELSET of the elements whose face
+/// `k + 1` lies on it for each face number, then the SURFACE over them.
+pub(super) fn surface(out: &mut String, name: &str, by_face: &[Vec<usize>; 4]) {
+    for (f, els) in by_face.iter().enumerate() {
+        if !els.is_empty() {
+            let _ = writeln!(out, "*ELSET, ELSET={name}_S{}", f + 1);
+            list(out, els.iter().copied());
+        }
+    }
+    let _ = writeln!(out, "*SURFACE, TYPE=ELEMENT, NAME={name}");
+    for (f, els) in by_face.iter().enumerate() {
+        if !els.is_empty() {
+            let _ = writeln!(out, "{name}_S{}, S{}", f + 1, f + 1);
+        }
+    }
+}
+
 /// Renders the mesh as an Abaqus input file.
 pub fn write_inp(mesh: &QuadMesh) -> String {
     let mut out = String::with_capacity(40 * mesh.nodes.len() + 40 * mesh.quads.len());
@@ -61,18 +78,7 @@ pub fn write_inp(mesh: &QuadMesh) -> String {
                 by_face[f - 1].push(el);
             }
         }
-        for (f, els) in by_face.iter().enumerate() {
-            if !els.is_empty() {
-                let _ = writeln!(out, "*ELSET, ELSET={name}_S{}", f + 1);
-                list(&mut out, els.iter().copied());
-            }
-        }
-        let _ = writeln!(out, "*SURFACE, TYPE=ELEMENT, NAME={name}");
-        for (f, els) in by_face.iter().enumerate() {
-            if !els.is_empty() {
-                let _ = writeln!(out, "{name}_S{}, S{}", f + 1, f + 1);
-            }
-        }
+        surface(&mut out, &name, &by_face);
     }
     out
 }

@@ -12,7 +12,7 @@
 //!   group lines with a `marker` array (0 on quads, as `region` is 0 on
 //!   lines).
 
-use super::abaqus::list;
+use super::abaqus::{list, surface};
 use super::msh::xyz;
 use super::{fmt_f64, svg, vtk};
 use crate::geom::Point;
@@ -296,18 +296,7 @@ pub fn write_inp(m: &Labelled) -> String {
                 by_face[f - 1].push(el);
             }
         }
-        for (f, els) in by_face.iter().enumerate() {
-            if !els.is_empty() {
-                let _ = writeln!(out, "*ELSET, ELSET={name}_S{}", f + 1);
-                list(&mut out, els.iter().copied());
-            }
-        }
-        let _ = writeln!(out, "*SURFACE, TYPE=ELEMENT, NAME={name}");
-        for (f, els) in by_face.iter().enumerate() {
-            if !els.is_empty() {
-                let _ = writeln!(out, "{name}_S{}, S{}", f + 1, f + 1);
-            }
-        }
+        surface(&mut out, &name, &by_face);
     }
     out
 }
@@ -449,15 +438,7 @@ pub fn write_vtu(m: &Labelled) -> String {
         out.push_str("</DataArray>\n");
     }
     for (name, v) in [("scaled_jacobian", &c.sj), ("min_angle", &c.angle)] {
-        let _ = writeln!(
-            out,
-            "<DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">"
-        );
-        for &x in v {
-            fmt_f64(&mut out, x);
-            out.push('\n');
-        }
-        out.push_str("</DataArray>\n");
+        vtk::vtu_floats(&mut out, name, v);
     }
     out.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     out

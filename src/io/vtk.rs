@@ -51,6 +51,19 @@ pub fn write_legacy(mesh: &QuadMesh) -> String {
     out
 }
 
+/// A VTK XML data array of floats, one a line.
+pub(super) fn vtu_floats(out: &mut String, name: &str, values: &[f64]) {
+    let _ = writeln!(
+        out,
+        "<DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">"
+    );
+    for &x in values {
+        fmt_f64(out, x);
+        out.push('\n');
+    }
+    out.push_str("</DataArray>\n");
+}
+
 /// VTK XML unstructured grid, ASCII.
 pub fn write_vtu(mesh: &QuadMesh) -> String {
     let mut out = String::with_capacity(48 * mesh.nodes.len() + 80 * mesh.quads.len());
@@ -85,15 +98,7 @@ pub fn write_vtu(mesh: &QuadMesh) -> String {
     out.push_str("</DataArray>\n</Cells>\n<CellData Scalars=\"scaled_jacobian\">\n");
     let (sj, ang) = cell_fields(mesh);
     for (name, v) in [("scaled_jacobian", &sj), ("min_angle", &ang)] {
-        let _ = writeln!(
-            out,
-            "<DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">"
-        );
-        for &x in v {
-            fmt_f64(&mut out, x);
-            out.push('\n');
-        }
-        out.push_str("</DataArray>\n");
+        vtu_floats(&mut out, name, v);
     }
     out.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     out
