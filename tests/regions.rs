@@ -20,6 +20,19 @@ fn graph(name: &str) -> Pslg {
     io::read_graph(&case(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
+/// `quadex mesh INPUT -o OUT`.
+fn quadex_mesh(input: &std::path::Path, out: &std::path::Path) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
+        .args([
+            "mesh".as_ref(),
+            input.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ])
+        .output()
+        .unwrap()
+}
+
 fn mesh(g: &Pslg) -> RegionMesh {
     let model = Arc::new(quadex::model::default_model().unwrap());
     mesh_regions(g, model, &Params::DEFAULT, |_| {}).unwrap()
@@ -254,15 +267,7 @@ fn a_plain_boundary_is_written_as_before() {
     let input = common::bench().join("boundaries/plate_hole.poly");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("p.msh");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
-        .args([
-            "mesh".as_ref(),
-            input.as_os_str(),
-            "-o".as_ref(),
-            out.as_os_str(),
-        ])
-        .output()
-        .unwrap();
+    let o = quadex_mesh(&input, &out);
     assert!(o.status.success());
     let b = io::read_boundary(&input).unwrap();
     let model = Arc::new(quadex::model::default_model().unwrap());
@@ -303,15 +308,7 @@ fn broken_graphs_are_refused_with_one_line() {
     ] {
         let input = case("bad").join(file);
         let out = dir.path().join("out.msh");
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
-            .args([
-                "mesh".as_ref(),
-                input.as_os_str(),
-                "-o".as_ref(),
-                out.as_os_str(),
-            ])
-            .output()
-            .unwrap();
+        let o = quadex_mesh(&input, &out);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{file}: {err}");
         assert_eq!(err.trim_end().lines().count(), 1, "{file}: {err}");
