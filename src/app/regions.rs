@@ -536,34 +536,9 @@ fn sorted(v: &[usize]) -> Vec<usize> {
 mod tests {
     use super::*;
 
+    /// The unit square, n nodes a side, as a graph.
     fn square(n: usize) -> Pslg {
-        // The unit square, n nodes a side.
-        let mut points = Vec::new();
-        for k in 0..n {
-            points.push(Point::new(k as f64 / n as f64, 0.0));
-        }
-        for k in 0..n {
-            points.push(Point::new(1.0, k as f64 / n as f64));
-        }
-        for k in 0..n {
-            points.push(Point::new(1.0 - k as f64 / n as f64, 1.0));
-        }
-        for k in 0..n {
-            points.push(Point::new(0.0, 1.0 - k as f64 / n as f64));
-        }
-        let m = points.len();
-        Pslg {
-            labels: (1..=m as i64).collect(),
-            segments: (0..m)
-                .map(|k| Segment {
-                    a: k,
-                    b: (k + 1) % m,
-                    marker: 0,
-                })
-                .collect(),
-            points,
-            ..Pslg::default()
-        }
+        Pslg::from_boundary(&crate::Boundary::unit_square(n))
     }
 
     #[test]
