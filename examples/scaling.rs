@@ -1,7 +1,9 @@
 //! Prints time per element for growing meshes: generated unit squares
-//! (n × n boundary segments a side) and the benchmark disks, meshed with
-//! the default model and parameters. Median of `RUNS` runs (3 unless
-//! given), release build.
+//! (n × n boundary segments a side), the benchmark disks, and perforated
+//! plates of k × k round holes (a tube sheet's pattern: ligaments 2.5
+//! sizes wide between holes of 12 nodes), meshed with the default model
+//! and parameters. Median of `RUNS` runs (3 unless given), release build.
+//! The plates show how the cost grows with the number of loops.
 //!
 //! `cargo run --release --example scaling [MAX_SIDE] [RUNS]`
 
@@ -65,6 +67,17 @@ fn main() {
             continue;
         };
         match time(&b, &model, runs) {
+            Ok((q, t, s)) => println!(
+                "| {name} | {q} | {t:.3} | {:.2} | {:.0}% |",
+                1e6 * t / q as f64,
+                100.0 * s
+            ),
+            Err(e) => println!("| {name} | – | did not finish: {e} | | |"),
+        }
+    }
+    for k in [5, 10, 16, 22] {
+        let name = format!("plate, {} holes", k * k);
+        match time(&quadex::domains::perforated_plate(k), &model, runs) {
             Ok((q, t, s)) => println!(
                 "| {name} | {q} | {t:.3} | {:.2} | {:.0}% |",
                 1e6 * t / q as f64,

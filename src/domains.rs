@@ -22,6 +22,41 @@ use std::fmt;
 
 pub use crate::rng::SplitMix64;
 
+/// A tube sheet's pattern: a square plate `k` pitches a side with a round
+/// hole of radius 0.3 pitch in each pitch cell (`k`² holes of 12 nodes,
+/// ligaments 0.4 pitch wide, about 2.5 boundary segments), its outline cut
+/// into 4 segments a pitch. For measuring how the cost grows with the
+/// number of loops.
+pub fn perforated_plate(k: usize) -> Boundary {
+    let k = k.max(1);
+    let side = 4 * k;
+    let t = |i: usize| i as f64 / 4.0;
+    let w = k as f64;
+    let mut pts: Vec<Point> = Vec::new();
+    pts.extend((0..side).map(|i| Point::new(t(i), 0.0)));
+    pts.extend((0..side).map(|i| Point::new(w, t(i))));
+    pts.extend((0..side).map(|i| Point::new(w - t(i), w)));
+    pts.extend((0..side).map(|i| Point::new(0.0, w - t(i))));
+    let mut loops = vec![(0..pts.len()).collect::<Vec<usize>>()];
+    for i in 0..k {
+        for j in 0..k {
+            let c = Point::new(i as f64 + 0.5, j as f64 + 0.5);
+            let start = pts.len();
+            pts.extend((0..12).map(|n| {
+                let a = -(n as f64) * TAU / 12.0;
+                c + 0.3 * Point::new(a.cos(), a.sin())
+            }));
+            loops.push((start..pts.len()).collect());
+        }
+    }
+    let labels = (1..=pts.len() as i64).collect();
+    Boundary {
+        points: pts,
+        loops,
+        labels,
+    }
+}
+
 /// One SplitMix64 output for `x`: a seed mixer.
 fn mix(x: u64) -> u64 {
     SplitMix64::new(x).next_u64()

@@ -361,7 +361,12 @@ impl Mesher {
                 self.mesh.nodes[v as usize] = old;
             } else if at != old {
                 moved = true;
-                self.memo.clear();
+                // What moved: the node, its two front edges and the quads
+                // around it.
+                let near = nbs.iter().map(|&u| self.mesh.nodes[u as usize]);
+                if let Some(bb) = crate::geom::Aabb::of([old, at, pp, pn].into_iter().chain(near)) {
+                    self.memo.changed(bb.min, bb.max);
+                }
             }
             self.front.refile_edges_at(s, v, &self.mesh.nodes);
         }

@@ -157,6 +157,7 @@ impl Mesher {
             super::session::grid_cell(&self.size),
         );
         self.queue.clear();
+        self.parked.clear();
         self.version.clear();
         for s in 0..self.front.slots.len() as SlotId {
             self.push(s);
@@ -352,6 +353,10 @@ impl Mesher {
         }
         let mut rep = self.report(StepKind::Seam);
         rep.reference = Some(self.front.node(s));
+        self.seam_box = crate::geom::Aabb::of(
+            cut.into_iter()
+                .chain(ends.iter().map(|&w| self.mesh.nodes[w as usize])),
+        );
         self.front.remove_pair(s, &self.mesh.nodes);
         self.front.unfile_edges_at(l);
         self.mesh.nodes[keep as usize] = pos;

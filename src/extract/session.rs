@@ -96,6 +96,13 @@ pub struct Mesher {
     pub(super) mesh: QuadMesh,
     pub(super) front: Front,
     pub(super) queue: BinaryHeap<Entry>,
+    /// Reference points whose element the memory holds as impossible,
+    /// out of the queue until the memory forgets them (see
+    /// [`Mesher::wake_parked`]).
+    pub(super) parked: std::collections::BTreeMap<SlotId, Entry>,
+    /// The box of the front the last seam changed (its corner, the edges
+    /// beside it and the mesh edges at the merged node), for the memory.
+    pub(super) seam_box: Option<crate::geom::Aabb>,
     pub(super) version: Vec<u32>,
     pub(super) seq: u64,
     pub(super) history: Vec<Action>,
@@ -222,6 +229,8 @@ impl Mesher {
             mesh,
             front,
             queue: BinaryHeap::new(),
+            parked: Default::default(),
+            seam_box: None,
             version: Vec::new(),
             seq: 0,
             history: Vec::new(),
@@ -403,19 +412,30 @@ impl Mesher {
                 return Err(e);
             }
         };
-        match r.kind {
-            StepKind::Element | StepKind::Transition if r.removed == 0 => {
-                let corners = r
-                    .quads
+        // The memory forgets what the step may have changed: the box of
+        // the quads it made (an element, a transition, a small loop or a
+        // narrow rectangle closed, a row's first square), the region a
+        // seam gave up, or everything after any other step.
+        let seam_box = self.seam_box.take();
+        let local = match r.kind {
+            _ if r.removed > 0 => None,
+            StepKind::Element
+            | StepKind::Transition
+            | StepKind::Close4
+            | StepKind::Close6
+            | StepKind::Mapped
+            | StepKind::Square => crate::geom::Aabb::of(
+                r.quads
                     .iter()
                     .flatten()
-                    .map(|&v| self.mesh.nodes[v as usize]);
-                match crate::geom::Aabb::of(corners) {
-                    Some(bb) => self.memo.changed(bb.min, bb.max),
-                    None => self.memo.clear(),
-                }
-            }
-            _ => self.memo.clear(),
+                    .map(|&v| self.mesh.nodes[v as usize]),
+            ),
+            StepKind::Seam => seam_box,
+            _ => None,
+        };
+        match local {
+            Some(bb) => self.memo.changed(bb.min, bb.max),
+            None => self.memo.clear(),
         }
         r.rejected = std::mem::take(&mut self.rejected);
         if r.kind != StepKind::Relax {
