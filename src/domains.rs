@@ -84,6 +84,21 @@ pub enum Family {
     /// An outline with spikes, notches, grading or unbalanced sides and
     /// holes, a slot or a near-touching pair inside.
     Mixed,
+    /// Real-like: a thin band between two fine loops of unequal node
+    /// counts (an electric machine's air gap: a ring 0.7 to 3 sizes wide,
+    /// or a curved sliver between two arcs), the counts 2 to 15 % apart.
+    Band,
+    /// Real-like: a ring whose outline is a zig-zag of 120° turns in and
+    /// out (a reactor core bounded by hexagonal assemblies), each zig or
+    /// zag cut into 1 to 4 segments, round a round or zig-zag hole.
+    Zigzag,
+    /// Real-like: a tube sheet, a plate pierced by a grid of 16 to 196
+    /// round holes, its ligaments 1.2 to 4 sizes wide.
+    TubeSheet,
+    /// Real-like: a quadrilateral with one side graded towards both ends
+    /// (end segments 10 to 100 times finer than the middle), the other
+    /// sides uniform.
+    GradedSide,
 }
 
 impl Family {
@@ -97,6 +112,15 @@ impl Family {
         Family::Mixed,
     ];
 
+    /// The real-like families: shapes real parts have that the others
+    /// miss ([`real_like_domains`]).
+    pub const REAL_LIKE: [Family; 4] = [
+        Family::Band,
+        Family::Zigzag,
+        Family::TubeSheet,
+        Family::GradedSide,
+    ];
+
     /// Lower-case name, used in domain names.
     pub fn name(self) -> &'static str {
         match self {
@@ -107,12 +131,19 @@ impl Family {
             Family::NearTouching => "near",
             Family::Unbalanced => "unbalanced",
             Family::Mixed => "mixed",
+            Family::Band => "band",
+            Family::Zigzag => "zigzag",
+            Family::TubeSheet => "tubesheet",
+            Family::GradedSide => "gradedside",
         }
     }
 
     /// The family of a [`Family::name`].
     pub fn from_name(s: &str) -> Option<Family> {
-        Family::ALL.into_iter().find(|f| f.name() == s)
+        Family::ALL
+            .into_iter()
+            .chain(Family::REAL_LIKE)
+            .find(|f| f.name() == s)
     }
 }
 
@@ -179,14 +210,25 @@ fn generate_counted(family: Family, seed: u64) -> (Domain, u64) {
 /// seeds from its own start (so every four domains of a family include one
 /// with extreme parameters). Named `NNN_family_seed`.
 pub fn suite_domains(n: usize, seed: u64) -> Vec<Domain> {
-    let starts: Vec<u64> = (0..Family::ALL.len() as u64)
-        .map(|f| mix(seed ^ mix(f + 0x5EED)))
+    families_suite(&Family::ALL, n, seed)
+}
+
+/// [`suite_domains`] over the [`Family::REAL_LIKE`] families: thin bands
+/// of unequal counts, zig-zag outlines, tube sheets and graded sides.
+pub fn real_like_domains(n: usize, seed: u64) -> Vec<Domain> {
+    families_suite(&Family::REAL_LIKE, n, seed)
+}
+
+fn families_suite(families: &[Family], n: usize, seed: u64) -> Vec<Domain> {
+    let starts: Vec<u64> = families
+        .iter()
+        .map(|&f| mix(seed ^ mix(f as u64 + 0x5EED)))
         .collect();
     (0..n)
         .map(|i| {
-            let f = i % Family::ALL.len();
-            let k = (i / Family::ALL.len()) as u64;
-            let mut d = generate(Family::ALL[f], starts[f].wrapping_add(k));
+            let f = i % families.len();
+            let k = (i / families.len()) as u64;
+            let mut d = generate(families[f], starts[f].wrapping_add(k));
             d.name = format!("{i:03}_{}", d.name);
             d
         })
@@ -715,7 +757,227 @@ fn draw_family(family: Family, rng: &mut SplitMix64, extreme: bool) -> Drawn {
         Family::NearTouching => near_touching(rng, extreme),
         Family::Unbalanced => unbalanced(rng, extreme),
         Family::Mixed => mixed(rng, extreme),
+        Family::Band => band(rng, extreme),
+        Family::Zigzag => zigzag(rng, extreme),
+        Family::TubeSheet => tube_sheet(rng, extreme),
+        Family::GradedSide => graded_side(rng, extreme),
     }
+}
+
+/// `n` points on the circle of centre `c` and radius `r`, from angle `a0`,
+/// counter-clockwise (`ccw`) or clockwise.
+fn ring_points(c: Point, r: f64, n: usize, a0: f64, ccw: bool) -> Vec<Point> {
+    let sign = if ccw { 1.0 } else { -1.0 };
+    (0..n)
+        .map(|k| {
+            let a = a0 + sign * TAU * k as f64 / n as f64;
+            c + Point::new(a.cos(), a.sin()) * r
+        })
+        .collect()
+}
+
+/// The even number nearest `x`, at least `least`.
+fn even(x: f64, least: usize) -> usize {
+    ((x / 2.0).round() as usize * 2).max(least)
+}
+
+fn band(rng: &mut SplitMix64, extreme: bool) -> Drawn {
+    let n_outer = even(rng.uni(60.0, 400.0), 8);
+    let apart = if extreme { 0.15 } else { rng.uni(0.02, 0.15) };
+    let finer = rng.chance(0.5);
+    let h = TAU / n_outer as f64;
+    let gap = if extreme { 0.7 } else { rng.uni(0.7, 3.0) } * h;
+    if rng.chance(0.5) {
+        // A ring: two circles.
+        let n_inner = even(
+            n_outer as f64 * if finer { 1.0 + apart } else { 1.0 - apart },
+            8,
+        );
+        let outer = ring_points(Point::ZERO, 1.0, n_outer, 0.0, true);
+        let inner = ring_points(Point::ZERO, 1.0 - gap, n_inner, rng.uni(0.0, TAU), false);
+        Some((
+            vec![outer, inner],
+            format!(
+                "ring band {gap:.4} wide ({:.2} sizes), {n_outer} against {n_inner} nodes",
+                gap / h
+            ),
+        ))
+    } else {
+        // A sliver between two arcs, closed by one segment at each end.
+        let sweep = rng.uni(0.5, 1.6);
+        let m_outer = ((sweep / h).round() as usize).max(4);
+        let m_inner = ((m_outer as f64 * if finer { 1.0 + apart } else { 1.0 - apart }).round()
+            as usize)
+            .max(2);
+        // The loop has m_outer + m_inner + 2 nodes: one more on the inner
+        // arc when that is odd.
+        let m_inner = m_inner + (m_outer + m_inner) % 2;
+        let m_inner = match m_inner.cmp(&m_outer) {
+            std::cmp::Ordering::Equal if finer => m_inner + 2,
+            std::cmp::Ordering::Equal => m_inner - 2,
+            _ => m_inner,
+        };
+        let r_in = 1.0 - gap;
+        let mut pts: Vec<Point> = (0..=m_outer)
+            .map(|k| {
+                let a = sweep * k as f64 / m_outer as f64;
+                Point::new(a.cos(), a.sin())
+            })
+            .collect();
+        pts.extend((0..=m_inner).map(|k| {
+            let a = sweep * (1.0 - k as f64 / m_inner as f64);
+            Point::new(a.cos(), a.sin()) * r_in
+        }));
+        Some((
+            vec![pts],
+            format!(
+                "sliver band {gap:.4} wide ({:.2} sizes) over {sweep:.2} rad, {m_outer} against {m_inner} segments",
+                gap / h
+            ),
+        ))
+    }
+}
+
+/// A hexagon's outline as a zig-zag: each of its six sides is `teeth`
+/// zigs and zags at ±30° to the side (so every turn is 120° in or out),
+/// each cut into `cuts` segments, counter-clockwise (`ccw`) or clockwise.
+fn zigzag_hexagon(radius: f64, teeth: usize, cuts: usize, ccw: bool) -> Vec<Point> {
+    let corners: Vec<Point> = (0..6)
+        .map(|k| {
+            let a = TAU * k as f64 / 6.0;
+            Point::new(a.cos(), a.sin()) * radius
+        })
+        .collect();
+    let mut pts = Vec::new();
+    for k in 0..6 {
+        let (a, b) = (corners[k], corners[(k + 1) % 6]);
+        let along = (b - a) / (2 * teeth) as f64;
+        // Outwards, for a counter-clockwise hexagon: the side's right.
+        let out = Point::new(along.y, -along.x) * (30f64.to_radians().tan());
+        for z in 0..2 * teeth {
+            let p = a + along * z as f64 + if z % 2 == 1 { out } else { Point::ZERO };
+            let q = a + along * (z + 1) as f64 + if z % 2 == 0 { out } else { Point::ZERO };
+            for c in 0..cuts {
+                pts.push(p + (q - p) * (c as f64 / cuts as f64));
+            }
+        }
+    }
+    if !ccw {
+        pts.reverse();
+    }
+    pts
+}
+
+fn zigzag(rng: &mut SplitMix64, extreme: bool) -> Drawn {
+    let teeth = rng.int(2, 6);
+    let cuts = if extreme { 1 } else { rng.int(1, 4) };
+    let outer = zigzag_hexagon(1.0, teeth, cuts, true);
+    let zig = 1.0 / (2 * teeth) as f64 / 30f64.to_radians().cos();
+    let h = zig / cuts as f64;
+    let r_hole = rng.uni(0.3, 0.6);
+    let hole = if rng.chance(0.5) {
+        let teeth_in = ((teeth as f64 * r_hole).round() as usize).max(1);
+        let cuts_in = rng.int(1, 4);
+        zigzag_hexagon(r_hole, teeth_in, cuts_in, false)
+    } else {
+        let n = even(TAU * r_hole / h, 8);
+        ring_points(Point::ZERO, r_hole, n, 0.0, false)
+    };
+    Some((
+        vec![outer, hole],
+        format!(
+            "zig-zag hexagon, {teeth} teeth a side, {cuts} segments a zig, hole radius {r_hole:.2}"
+        ),
+    ))
+}
+
+fn tube_sheet(rng: &mut SplitMix64, extreme: bool) -> Drawn {
+    let k = if extreme { 14 } else { rng.int(4, 14) };
+    let per_hole = 2 * rng.int(4, 8);
+    // Ligament width in hole segments.
+    let lig = if extreme { 1.2 } else { rng.uni(1.2, 4.0) };
+    // Pitch 1: hole segment length h = 2πr / per_hole, ligament 1 - 2r.
+    let r = 1.0 / (2.0 + lig * TAU / per_hole as f64);
+    let h = TAU * r / per_hole as f64;
+    let w = k as f64;
+    let side = ((1.0 / h).round() as usize).max(1) * k;
+    let t = |i: usize| w * i as f64 / side as f64;
+    let mut outer: Vec<Point> = Vec::new();
+    outer.extend((0..side).map(|i| Point::new(t(i), 0.0)));
+    outer.extend((0..side).map(|i| Point::new(w, t(i))));
+    outer.extend((0..side).map(|i| Point::new(w - t(i), w)));
+    outer.extend((0..side).map(|i| Point::new(0.0, w - t(i))));
+    let mut loops = vec![outer];
+    for i in 0..k {
+        for j in 0..k {
+            let c = Point::new(i as f64 + 0.5, j as f64 + 0.5);
+            loops.push(ring_points(c, r, per_hole, 0.0, false));
+        }
+    }
+    Some((
+        loops,
+        format!(
+            "tube sheet, {} holes of {per_hole} nodes, ligament {lig:.2} sizes",
+            k * k
+        ),
+    ))
+}
+
+fn graded_side(rng: &mut SplitMix64, extreme: bool) -> Drawn {
+    let ratio = if extreme {
+        100.0
+    } else {
+        rng.log_uni(10.0, 100.0)
+    };
+    let (w, hgt) = (rng.uni(1.0, 3.0), rng.uni(0.5, 1.5));
+    let n_side = rng.int(6, 20);
+    let h = hgt / n_side as f64;
+    // The bottom side: segments growing geometrically from h / ratio at
+    // both ends to the middle, as long as the side asks.
+    let grow: f64 = rng.uni(1.1, 1.4);
+    let mut half: Vec<f64> = Vec::new();
+    let mut len = h / ratio;
+    let mut sum = 0.0;
+    while sum + len < 0.5 * w {
+        half.push(len);
+        sum += len;
+        len = (len * grow).min(h * 3.0);
+    }
+    let scale = 0.5 * w / sum;
+    let mut segs: Vec<f64> = half.iter().map(|l| l * scale).collect();
+    let mirrored: Vec<f64> = segs.iter().rev().copied().collect();
+    segs.extend(mirrored);
+    let mut bottom = vec![Point::new(0.0, 0.0)];
+    let mut x = 0.0;
+    for l in &segs[..segs.len() - 1] {
+        x += l;
+        bottom.push(Point::new(x, 0.0));
+    }
+    let n_top = ((w / h).round() as usize).max(2);
+    let mut pts = bottom;
+    let skew = rng.uni(-0.3, 0.3) * w;
+    let corners = [
+        Point::new(w, 0.0),
+        Point::new(w + skew, hgt),
+        Point::new(skew, hgt),
+    ];
+    pts.extend(
+        (0..n_side).map(|k| corners[0] + (corners[1] - corners[0]) * (k as f64 / n_side as f64)),
+    );
+    pts.extend(
+        (0..n_top).map(|k| corners[1] + (corners[2] - corners[1]) * (k as f64 / n_top as f64)),
+    );
+    let n_left = n_side + (pts.len() + n_side) % 2;
+    pts.extend(
+        (0..n_left).map(|k| corners[2] + (Point::ZERO - corners[2]) * (k as f64 / n_left as f64)),
+    );
+    Some((
+        vec![pts],
+        format!(
+            "graded side 1:{ratio:.0} over {} segments, {n_side} on the sides, {n_top} on top",
+            segs.len()
+        ),
+    ))
 }
 
 fn many_holes(rng: &mut SplitMix64, extreme: bool) -> Drawn {

@@ -238,3 +238,54 @@ fn settling_a_small_loop_never_collapses_an_edge() {
         d.description
     );
 }
+
+/// The real-like families draw what they say: a band's two sides differ in
+/// node count, a zig-zag outline turns by 60° at every node that is not a
+/// cut point (120° in or out), a tube sheet has 16 to 196 holes, and a
+/// graded side's end segments are ten times finer or more than its
+/// middle. Every draw is a valid boundary of even loops.
+#[test]
+fn real_like_families_draw_what_they_say() {
+    use quadex::domains::{real_like_domains, Family};
+    let domains = real_like_domains(40, 3);
+    assert_eq!(domains.len(), 40);
+    for d in &domains {
+        let b = &d.boundary;
+        let pts = |l: &Vec<usize>| -> Vec<quadex::geom::Point> {
+            l.iter().map(|&i| b.points[i]).collect()
+        };
+        assert!(b.loops.iter().all(|l| l.len() % 2 == 0), "{}", d.name);
+        match d.family {
+            Family::Band if b.loops.len() == 2 => {
+                assert_ne!(b.loops[0].len(), b.loops[1].len(), "{}", d.description);
+            }
+            Family::Band => assert!(d.description.starts_with("sliver"), "{}", d.description),
+            Family::Zigzag => {
+                let p = pts(&b.loops[0]);
+                let n = p.len();
+                let sharp = (0..n)
+                    .filter(|&k| {
+                        let (a, c) = (p[(k + n - 1) % n], p[(k + 1) % n]);
+                        let turn = (p[k] - a).angle_to(c - p[k]).abs().to_degrees();
+                        (turn - 60.0).abs() < 1e-6
+                    })
+                    .count();
+                // Six sides of at least two teeth, two turns a tooth.
+                assert!(sharp >= 24, "{}: {sharp} turns of 60°", d.description);
+            }
+            Family::TubeSheet => {
+                assert!((17..=197).contains(&b.loops.len()), "{}", d.description);
+            }
+            Family::GradedSide => {
+                let p = pts(&b.loops[0]);
+                let first = p[0].distance(p[1]);
+                let longest = p
+                    .windows(2)
+                    .map(|w| w[0].distance(w[1]))
+                    .fold(0.0f64, f64::max);
+                assert!(longest > 10.0 * first, "{}", d.description);
+            }
+            f => panic!("{f} is not a real-like family"),
+        }
+    }
+}
