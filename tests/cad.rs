@@ -219,7 +219,7 @@ fn seeded_drawings_mesh_with_every_region_even() {
             arc(rad, rad, 2.0 * Q),
         ];
         for (i, c) in corners.iter().enumerate() {
-            add(*c, "outline");
+            add(c.clone(), "outline");
             let (a, b) = (c.at(1.0), corners[(i + 1) % 4].at(0.0));
             // The bottom (i = 3) and top (i = 1) sides meet the interface
             // at x = w / 2.
