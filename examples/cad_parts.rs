@@ -32,7 +32,9 @@ fn line(a: (f64, f64), b: (f64, f64)) -> EntityType {
 }
 
 fn main() {
-    let dir = std::env::args().nth(1).unwrap_or_else(|| "tests/data/cad".into());
+    let dir = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| "tests/data/cad".into());
     let mut d = Drawing::new();
     d.header.version = dxf::enums::AcadVersion::R2013;
     // The plate: three LINEs and a cubic spline from (100, 40) to (0, 40).

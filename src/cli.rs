@@ -294,9 +294,7 @@ fn parse_size_at(s: &str) -> Result<(f64, f64, f64), String> {
 }
 
 fn parse_size_on(s: &str) -> Result<(String, f64), String> {
-    let (layer, h) = s
-        .rsplit_once('=')
-        .ok_or("a layer size is LAYER=H")?;
+    let (layer, h) = s.rsplit_once('=').ok_or("a layer size is LAYER=H")?;
     match h.trim().parse::<f64>() {
         Ok(h) if h.is_finite() && h > 0.0 => Ok((layer.to_string(), h)),
         _ => Err("a layer size is LAYER=H with H a positive number".into()),
@@ -657,7 +655,10 @@ fn run(c: Command) -> Result<()> {
                 .is_some_and(|e| e.eq_ignore_ascii_case("dxf"));
             let is_geometry = is_dxf || quadex::cad::is_geometry_file(&input);
             if serendipity && order != 2 {
-                return Err(InputError(anyhow!("--serendipity asks for 8-node quads: add --order 2")).into());
+                return Err(InputError(anyhow!(
+                    "--serendipity asks for 8-node quads: add --order 2"
+                ))
+                .into());
             }
             let mut drawing = None;
             let graph = if is_geometry {
@@ -691,7 +692,11 @@ fn run(c: Command) -> Result<()> {
                 drawing = Some(d);
                 Some(graph)
             } else {
-                if size.is_some() || !size_at.is_empty() || !size_on.is_empty() || gradation.is_some() {
+                if size.is_some()
+                    || !size_at.is_empty()
+                    || !size_on.is_empty()
+                    || gradation.is_some()
+                {
                     return Err(at(
                         &"--size, --size-at, --size-on and --gradation apply to drawings (.dxf, geometry .json); for boundary nodes use --resample H",
                     )

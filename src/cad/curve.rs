@@ -75,10 +75,7 @@ impl Nurbs {
             weights
         };
         if weights.len() != n {
-            return Err(format!(
-                "{} weights for {n} control points",
-                weights.len()
-            ));
+            return Err(format!("{} weights for {n} control points", weights.len()));
         }
         if weights.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
             return Err("the weights must be positive".into());
@@ -296,7 +293,10 @@ impl Curve {
         let (s, bound) = match self {
             Curve::Line { a, b } => {
                 let l = (*b - *a).length();
-                (t.iter().map(|t| t * l).collect(), vec![f64::INFINITY; n + 1])
+                (
+                    t.iter().map(|t| t * l).collect(),
+                    vec![f64::INFINITY; n + 1],
+                )
             }
             Curve::Arc { radius, sweep, .. } => {
                 let l = radius * sweep.abs();

@@ -209,10 +209,8 @@ pub fn parse_geometry_json(text: &str) -> Result<CadDocument, CadError> {
                     start: start.to_radians(),
                     sweep: ccw_sweep(start, end),
                 },
-                ArcDoc::Through { through: [a, m, b] } => {
-                    arc_through(point(a), point(m), point(b))
-                        .ok_or_else(|| bad("the arc's three points are on one line".into()))?
-                }
+                ArcDoc::Through { through: [a, m, b] } => arc_through(point(a), point(m), point(b))
+                    .ok_or_else(|| bad("the arc's three points are on one line".into()))?,
             }
         } else if let Some(ci) = c.circle {
             Curve::Arc {
@@ -255,7 +253,9 @@ pub fn parse_geometry_json(text: &str) -> Result<CadDocument, CadError> {
             Curve::Spline(_) => true,
         };
         if !finite {
-            return Err(bad("its numbers must be finite (and a radius positive)".into()));
+            return Err(bad(
+                "its numbers must be finite (and a radius positive)".into()
+            ));
         }
         out.geometry.curves.push(LayerCurve {
             curve,
@@ -289,7 +289,8 @@ pub fn read_geometry_json(path: &std::path::Path) -> Result<CadDocument, CadErro
 /// True for a `.json` file holding a geometry document
 /// ([`is_geometry_json`]).
 pub fn is_geometry_file(path: &std::path::Path) -> bool {
-    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
         && std::fs::read(path).is_ok_and(|b| {
             is_geometry_json(&crate::io::normalise_text(&crate::io::decode_text(&b)))
         })
@@ -308,7 +309,10 @@ mod tests {
 
     #[test]
     fn clamped_knots_repeat_the_ends() {
-        assert_eq!(clamped_knots(4, 3), [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]);
+        assert_eq!(
+            clamped_knots(4, 3),
+            [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]
+        );
         assert_eq!(
             clamped_knots(5, 2),
             [0.0, 0.0, 0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0, 1.0, 1.0]

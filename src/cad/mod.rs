@@ -34,7 +34,9 @@ mod curve;
 pub mod json;
 
 pub use curve::{arc_through, Curve, Nurbs, MAX_ARC_ANGLE};
-pub use json::{is_geometry_file, is_geometry_json, parse_geometry_json, read_geometry_json, CadDocument};
+pub use json::{
+    is_geometry_file, is_geometry_json, parse_geometry_json, read_geometry_json, CadDocument,
+};
 
 /// Two curve ends closer than this times the drawing's extent are one
 /// vertex.
@@ -91,7 +93,11 @@ impl SizeSpec {
         if bad(self.gradation) {
             return Err(CadError::BadGradation(self.gradation));
         }
-        if let Some(p) = self.points.iter().find(|p| bad(p.size) || !p.at.is_finite()) {
+        if let Some(p) = self
+            .points
+            .iter()
+            .find(|p| bad(p.size) || !p.at.is_finite())
+        {
             return Err(CadError::BadSize(p.size));
         }
         if let Some((_, &h)) = self.layers.iter().find(|(_, &h)| bad(h)) {
@@ -271,11 +277,13 @@ pub fn geometry_of(drawing: &dxf::Drawing) -> Result<Geometry, CadError> {
                 } else {
                     sp.weight_values.clone()
                 };
-                let nurbs = Nurbs::new(degree, sp.knot_values.clone(), points, weights)
-                    .map_err(|why| CadError::BadSpline {
-                        index: index + 1,
-                        layer: layer.clone(),
-                        why,
+                let nurbs =
+                    Nurbs::new(degree, sp.knot_values.clone(), points, weights).map_err(|why| {
+                        CadError::BadSpline {
+                            index: index + 1,
+                            layer: layer.clone(),
+                            why,
+                        }
                     })?;
                 push(Curve::Spline(Arc::new(nurbs)))
             }
@@ -449,7 +457,9 @@ impl Cut {
                     let w = x - j as f64;
                     self.samples.s[j] * (1.0 - w) + self.samples.s[j + 1] * w
                 };
-                let mid = self.samples.invert(&self.samples.s, 0.5 * (s(ends[k]) + s(ends[k + 1])));
+                let mid = self
+                    .samples
+                    .invert(&self.samples.s, 0.5 * (s(ends[k]) + s(ends[k + 1])));
                 [ends[k], mid.clamp(ends[k], ends[k + 1]), ends[k + 1]]
             })
             .collect()
@@ -552,7 +562,8 @@ impl Geometry {
                 let integral = |f: &dyn Fn(usize) -> f64| {
                     let mut acc = vec![0.0; samples.s.len()];
                     for i in 1..acc.len() {
-                        acc[i] = acc[i - 1] + 0.5 * (f(i - 1) + f(i)) * (samples.s[i] - samples.s[i - 1]);
+                        acc[i] = acc[i - 1]
+                            + 0.5 * (f(i - 1) + f(i)) * (samples.s[i] - samples.s[i - 1]);
                     }
                     acc
                 };
@@ -560,9 +571,9 @@ impl Geometry {
                 let curvature = integral(&|i| 1.0 / samples.bound[i]);
                 let fewest = ((curvature[curvature.len() - 1] - 1e-9).ceil().max(1.0) as usize)
                     .max(if closed { 3 } else { 1 });
-                let (lo, hi) = size
-                    .iter()
-                    .fold((f64::INFINITY, 0.0f64), |(lo, hi), &h| (lo.min(h), hi.max(h)));
+                let (lo, hi) = size.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &h| {
+                    (lo.min(h), hi.max(h))
+                });
                 let uniform = matches!(c.curve, Curve::Line { .. } | Curve::Arc { .. })
                     && hi - lo <= 1e-12 * hi;
                 let density = if uniform {
