@@ -1,7 +1,13 @@
-//! Writes the drawings with splines and ellipses the tests mesh
-//! (`tests/data/cad/curves.dxf`) with the `dxf` crate, as a CAD program
-//! would save them:
+//! Writes the drawings the tests and the Gmsh comparison mesh
+//! (`tests/data/cad/part.dxf`, `tests/data/cad/curves.dxf`) with the `dxf`
+//! crate, as a CAD program would save them.
 //!
+//! `part.dxf`: a 100 × 60 plate with corners rounded to radius 10 (an
+//! LWPOLYLINE with bulges, layer `plate`), a bolt hole of radius 8 at
+//! (25, 30) (a CIRCLE, layer `bolt`) and a slot from (55, 25) to (80, 25),
+//! 10 wide, with round ends (LINEs and ARCs, layer `slot`).
+//!
+//! `curves.dxf`:
 //! - a 100 × 40 plate whose top edge is a cubic B-spline (layer `wave`),
 //!   the other sides LINEs (layer `outline`);
 //! - a hole bounded by a full ELLIPSE, its major axis tilted (layer
@@ -11,10 +17,10 @@
 //! - a slot of two half-ELLIPSEs (one with its normal along -z, as
 //!   mirrored drawings have) and two LINEs (layer `slot`).
 //!
-//! `cargo run --release --example cad_parts -- DIR` writes DIR/curves.dxf.
+//! `cargo run --release --example cad_parts -- DIR` writes both into DIR.
 
-use dxf::entities::{Ellipse, Entity, EntityType, Line, Spline};
-use dxf::{Drawing, Point, Vector};
+use dxf::entities::{Arc, Circle, Ellipse, Entity, EntityType, Line, LwPolyline, Spline};
+use dxf::{Drawing, LwPolylineVertex, Point, Vector};
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
 
 fn on_layer(specific: EntityType, layer: &str) -> Entity {

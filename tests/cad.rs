@@ -185,9 +185,12 @@ fn an_open_outline_is_refused_with_the_gap() {
 }
 
 /// Seeded drawings no case was tuned on: a rounded rectangle with random
-/// corner radii and sides, cut in two by a straight interface half the
-/// time, a random number of round holes away from it and a random target
-/// size. Every one meshes all-quad, conforming, with no odd region.
+/// corner radii and sides, cut in two half the time by an interface
+/// (straight, or a cubic B-spline), a random number of holes away from it
+/// (circles or tilted ellipses, a third of the time with a finer layer
+/// size) and a random target size, meshed with the interior at the size
+/// field as the command line meshes. Every one meshes all-quad,
+/// conforming, with no odd region.
 #[test]
 fn seeded_drawings_mesh_with_every_region_even() {
     use quadex::cad::{Geometry, LayerCurve};
@@ -233,33 +236,58 @@ fn seeded_drawings_mesh_with_every_region_even() {
         }
         if split {
             two += 1;
-            add(
-                Curve::Line {
-                    a: p(w / 2.0, 0.0),
-                    b: p(w / 2.0, hgt),
-                },
-                "interface",
-            );
+            // A straight interface, or a cubic B-spline wavering across
+            // the middle.
+            let (a, b) = (p(w / 2.0, 0.0), p(w / 2.0, hgt));
+            if r.chance(0.5) {
+                add(Curve::Line { a, b }, "interface");
+            } else {
+                let s = r.uni(-0.08, 0.08) * w;
+                let nurbs = quadex::cad::Nurbs::new(
+                    3,
+                    vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+                    vec![a, p(w / 2.0 + s, hgt / 3.0), p(w / 2.0 - s, 2.0 * hgt / 3.0), b],
+                    Vec::new(),
+                )
+                .unwrap();
+                add(Curve::Spline(std::sync::Arc::new(nurbs)), "interface");
+            }
         }
         let holes = r.int(0, 3);
         for j in 0..holes {
-            // Hole centres in the quarters, clear of the interface.
+            // Hole centres in the quarters, clear of the interface: circles
+            // or tilted ellipses.
             let cx = w * [0.25, 0.75, 0.25][j];
             let cy = hgt * [0.5, 0.5, 0.25][j];
             let hr = r.uni(0.03, 0.1) * w.min(hgt);
-            add(
+            let hole = if r.chance(0.5) {
                 Curve::Arc {
                     centre: p(cx, cy),
                     radius: hr,
                     start: 0.0,
                     sweep: 4.0 * Q,
-                },
-                "holes",
-            );
+                }
+            } else {
+                let (tilt, ratio) = (r.uni(0.0, 4.0 * Q), r.uni(0.4, 1.0));
+                let major = p(tilt.cos(), tilt.sin()) * hr;
+                Curve::Ellipse {
+                    centre: p(cx, cy),
+                    major,
+                    minor: p(-major.y, major.x) * ratio,
+                    start: 0.0,
+                    sweep: 4.0 * Q,
+                }
+            };
+            add(hole, "holes");
         }
         let h = r.uni(0.03, 0.12) * w.min(hgt);
+        // A finer size on the holes a third of the time.
+        let mut spec = quadex::cad::SizeSpec::uniform(h);
+        if holes > 0 && r.chance(0.33) {
+            spec.layers.insert("holes".into(), h * r.uni(0.2, 0.6));
+        }
         let d = g
-            .discretise(h)
+            .discretise_with(&spec)
             .unwrap_or_else(|e| panic!("drawing {k}: {e}"));
         fixes += d.parity_fixes.len();
         let faces = d
@@ -267,8 +295,9 @@ fn seeded_drawings_mesh_with_every_region_even() {
             .faces()
             .unwrap_or_else(|e| panic!("drawing {k}: {e}"));
         assert_eq!(faces.len(), 1 + usize::from(split), "drawing {k}");
-        let model = std::sync::Arc::new(quadex::model::default_model().unwrap());
-        let m = quadex::regions::mesh_regions(&d.graph, model, &quadex::Params::DEFAULT, |_| {})
+        let mut params = quadex::Params::DEFAULT;
+        params.extract.size_target = Some(d.size_target());
+        let m = quadex::regions::mesh_regions(&d.graph, model(), &params, |_| {})
             .unwrap_or_else(|e| panic!("drawing {k}: {e}"));
         m.check_conforming().unwrap();
         assert!(m.quality().sj_min > 0.0, "drawing {k}");
@@ -762,4 +791,62 @@ fn serendipity_quads_are_written_without_their_centres() {
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--order 2"));
+}
+
+/// Local sizes from the command line: `--size-on bolt=1` cuts the bolt
+/// hole (radius 8) at 1 where H = 4 cut it at 4 (13 segments), and the
+/// spacing grows away from it; `--size-at 10,0,0.5` refines the boundary near its
+/// point; a layer the drawing lacks, or a bad gradation, is refused.
+#[test]
+fn local_sizes_from_the_command_line() {
+    let path = data("tests/data/cad/part.dxf");
+    let dir = tempfile::tempdir().unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
+            .args(["mesh".as_ref(), path.as_os_str(), "-o".as_ref(), out.as_os_str()])
+            .args(["--size", "4"])
+            .args(extra)
+            .output()
+            .unwrap();
+        (o, out)
+    };
+    let bolt_nodes = |m: &quadex::mesh::QuadMesh| {
+        let c = quadex::geom::Point::new(25.0, 30.0);
+        m.loops
+            .iter()
+            .find(|l| l.iter().all(|&v| ((m.nodes[v as usize] - c).length() - 8.0).abs() < 1e-9))
+            .map(Vec::len)
+            .unwrap()
+    };
+    let (o, plain) = run("plain.msh", &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let plain = quadex::io::read_mesh(&plain).unwrap();
+    let (o, fine) = run("fine.msh", &["--size-on", "bolt=1", "--size-at", "10,0,0.5"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let fine = quadex::io::read_mesh(&fine).unwrap();
+    assert_eq!(bolt_nodes(&plain), 13);
+    assert!((49..=52).contains(&bolt_nodes(&fine)), "{}", bolt_nodes(&fine));
+    // Near (0, 0) the boundary spacing is about the point's size.
+    let near_corner = |m: &quadex::mesh::QuadMesh| {
+        let l = &m.loops[0];
+        (0..l.len())
+            .map(|k| (m.nodes[l[k] as usize], m.nodes[l[(k + 1) % l.len()] as usize]))
+            .filter(|(a, _)| a.length() < 12.0)
+            .map(|(a, b)| (a - b).length())
+            .fold(f64::INFINITY, f64::min)
+    };
+    assert!(near_corner(&fine) < 1.0 && near_corner(&plain) > 2.0);
+    assert!(fine.quads.len() > plain.quads.len());
+    for (extra, says) in [
+        (&["--size-on", "nothere=1"][..], "no curve is on layer \"nothere\""),
+        (&["--gradation", "0"][..], "gradation"),
+        (&["--size-at", "1,2"][..], "X,Y,H"),
+    ] {
+        let (o, out) = run("bad.msh", extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains(says), "{err}");
+        assert!(!out.exists());
+    }
 }
