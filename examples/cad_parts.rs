@@ -37,10 +37,63 @@ fn line(a: (f64, f64), b: (f64, f64)) -> EntityType {
     })
 }
 
+/// The rounded plate with a bolt hole and a slot.
+fn part() -> Drawing {
+    let mut d = Drawing::new();
+    // LWPOLYLINE exists from R14 on; the crate writes R12 by default.
+    d.header.version = dxf::enums::AcadVersion::R2013;
+    let r = 10.0;
+    let b = (PI / 8.0).tan(); // a quarter circle
+    let v = |x: f64, y: f64, bulge: f64| LwPolylineVertex {
+        x,
+        y,
+        bulge,
+        ..Default::default()
+    };
+    let mut pl = LwPolyline {
+        vertices: vec![
+            v(r, 0.0, 0.0),
+            v(100.0 - r, 0.0, b),
+            v(100.0, r, 0.0),
+            v(100.0, 60.0 - r, b),
+            v(100.0 - r, 60.0, 0.0),
+            v(r, 60.0, b),
+            v(0.0, 60.0 - r, 0.0),
+            v(0.0, r, b),
+        ],
+        ..Default::default()
+    };
+    pl.set_is_closed(true);
+    d.add_entity(on_layer(EntityType::LwPolyline(pl), "plate"));
+    let c = Circle {
+        center: Point::new(25.0, 30.0, 0.0),
+        radius: 8.0,
+        ..Default::default()
+    };
+    d.add_entity(on_layer(EntityType::Circle(c), "bolt"));
+    d.add_entity(on_layer(line((55.0, 20.0), (80.0, 20.0)), "slot"));
+    d.add_entity(on_layer(line((80.0, 30.0), (55.0, 30.0)), "slot"));
+    let arc = |cx: f64, start: f64, end: f64| Arc {
+        center: Point::new(cx, 25.0, 0.0),
+        radius: 5.0,
+        start_angle: start,
+        end_angle: end,
+        ..Default::default()
+    };
+    d.add_entity(on_layer(EntityType::Arc(arc(80.0, 270.0, 90.0)), "slot"));
+    d.add_entity(on_layer(EntityType::Arc(arc(55.0, 90.0, 270.0)), "slot"));
+    d
+}
+
 fn main() {
     let dir = std::env::args()
         .nth(1)
         .unwrap_or_else(|| "tests/data/cad".into());
+    let path = std::path::Path::new(&dir).join("part.dxf");
+    part().save_file(&path).expect("write the drawing");
+    println!("wrote {}", path.display());
+    // (Each run writes the same entities; only the header's dates of
+    // creation and update change.)
     let mut d = Drawing::new();
     d.header.version = dxf::enums::AcadVersion::R2013;
     // The plate: three LINEs and a cubic spline from (100, 40) to (0, 40).
