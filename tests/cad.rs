@@ -246,7 +246,12 @@ fn seeded_drawings_mesh_with_every_region_even() {
                 let nurbs = quadex::cad::Nurbs::new(
                     3,
                     vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
-                    vec![a, p(w / 2.0 + s, hgt / 3.0), p(w / 2.0 - s, 2.0 * hgt / 3.0), b],
+                    vec![
+                        a,
+                        p(w / 2.0 + s, hgt / 3.0),
+                        p(w / 2.0 - s, 2.0 * hgt / 3.0),
+                        b,
+                    ],
                     Vec::new(),
                 )
                 .unwrap();
@@ -709,7 +714,7 @@ fn a_json_geometry_meshes_with_its_layers_and_local_sizes() {
         assert!(d <= 1e-9 * 100.0, "node {q:?} is {d:e} off the curves");
     }
     // The bolt hole (radius 8) at its layer's size 1: about 2π·8 / 1
-    // segments, where H = 4 gave 13.
+    // segments, where H = 4 alone gives 24 (15° a segment).
     let hole = m
         .loops
         .iter()
@@ -794,7 +799,7 @@ fn serendipity_quads_are_written_without_their_centres() {
 }
 
 /// Local sizes from the command line: `--size-on bolt=1` cuts the bolt
-/// hole (radius 8) at 1 where H = 4 cut it at 4 (13 segments), and the
+/// hole (radius 8) at 1 where H = 4 cut it at 15° a segment (24), and the
 /// spacing grows away from it; `--size-at 10,0,0.5` refines the boundary near its
 /// point; a layer the drawing lacks, or a bad gradation, is refused.
 #[test]
@@ -804,7 +809,12 @@ fn local_sizes_from_the_command_line() {
     let run = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
         let o = std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
-            .args(["mesh".as_ref(), path.as_os_str(), "-o".as_ref(), out.as_os_str()])
+            .args([
+                "mesh".as_ref(),
+                path.as_os_str(),
+                "-o".as_ref(),
+                out.as_os_str(),
+            ])
             .args(["--size", "4"])
             .args(extra)
             .output()
@@ -815,23 +825,38 @@ fn local_sizes_from_the_command_line() {
         let c = quadex::geom::Point::new(25.0, 30.0);
         m.loops
             .iter()
-            .find(|l| l.iter().all(|&v| ((m.nodes[v as usize] - c).length() - 8.0).abs() < 1e-9))
+            .find(|l| {
+                l.iter()
+                    .all(|&v| ((m.nodes[v as usize] - c).length() - 8.0).abs() < 1e-9)
+            })
             .map(Vec::len)
             .unwrap()
     };
     let (o, plain) = run("plain.msh", &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let plain = quadex::io::read_mesh(&plain).unwrap();
-    let (o, fine) = run("fine.msh", &["--size-on", "bolt=1", "--size-at", "10,0,0.5"]);
+    let (o, fine) = run(
+        "fine.msh",
+        &["--size-on", "bolt=1", "--size-at", "10,0,0.5"],
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let fine = quadex::io::read_mesh(&fine).unwrap();
-    assert_eq!(bolt_nodes(&plain), 13);
-    assert!((49..=52).contains(&bolt_nodes(&fine)), "{}", bolt_nodes(&fine));
+    assert_eq!(bolt_nodes(&plain), 24);
+    assert!(
+        (49..=52).contains(&bolt_nodes(&fine)),
+        "{}",
+        bolt_nodes(&fine)
+    );
     // Near (0, 0) the boundary spacing is about the point's size.
     let near_corner = |m: &quadex::mesh::QuadMesh| {
         let l = &m.loops[0];
         (0..l.len())
-            .map(|k| (m.nodes[l[k] as usize], m.nodes[l[(k + 1) % l.len()] as usize]))
+            .map(|k| {
+                (
+                    m.nodes[l[k] as usize],
+                    m.nodes[l[(k + 1) % l.len()] as usize],
+                )
+            })
             .filter(|(a, _)| a.length() < 12.0)
             .map(|(a, b)| (a - b).length())
             .fold(f64::INFINITY, f64::min)
@@ -839,7 +864,10 @@ fn local_sizes_from_the_command_line() {
     assert!(near_corner(&fine) < 1.0 && near_corner(&plain) > 2.0);
     assert!(fine.quads.len() > plain.quads.len());
     for (extra, says) in [
-        (&["--size-on", "nothere=1"][..], "no curve is on layer \"nothere\""),
+        (
+            &["--size-on", "nothere=1"][..],
+            "no curve is on layer \"nothere\"",
+        ),
         (&["--gradation", "0"][..], "gradation"),
         (&["--size-at", "1,2"][..], "X,Y,H"),
     ] {
