@@ -181,7 +181,6 @@ fn main() {
             start_parameter: 0.0,
             end_parameter: PI,
             normal: Vector::new(0.0, 0.0, -1.0),
-            ..Default::default()
         }),
         "slot",
     ));
