@@ -675,14 +675,14 @@ fn the_interior_follows_the_size_field() {
     assert!(median0 < median && share0 < share);
 }
 
-/// The JSON geometry form (assets/examples/bracket.json: lines, an arc by
+/// The JSON geometry form (examples/bracket.json: lines, an arc by
 /// centre and angles, one through three points, a spline, a circle and an
 /// ellipse, a layer size and a point size) meshes through the command
 /// line with its layers as physical curves and its nodes on the curves;
 /// the layer size sets the hole's spacing.
 #[test]
 fn a_json_geometry_meshes_with_its_layers_and_local_sizes() {
-    let path = data("assets/examples/bracket.json");
+    let path = data("examples/bracket.json");
     let doc = quadex::cad::read_geometry_json(&path).unwrap();
     assert_eq!(doc.size, Some(4.0));
     assert_eq!(doc.layers.get("bolt"), Some(&1.0));
