@@ -280,7 +280,6 @@ enum Command {
     },
 }
 
-#[cfg(feature = "gui")]
 fn parse_size_at(s: &str) -> Result<(f64, f64, f64), String> {
     let v: Vec<f64> = s
         .split(',')
@@ -301,6 +300,7 @@ fn parse_size_on(s: &str) -> Result<(String, f64), String> {
     }
 }
 
+#[cfg(feature = "gui")]
 fn parse_size(s: &str) -> Result<[f32; 2], String> {
     let (w, h) = s.split_once('x').ok_or("size is WIDTHxHEIGHT")?;
     match (w.parse::<f32>(), h.parse::<f32>()) {
