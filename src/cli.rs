@@ -111,16 +111,34 @@ enum Command {
         /// Write the quality figures and step counts as JSON.
         #[arg(long)]
         report: Option<PathBuf>,
-        /// Target size for a drawing (.dxf): every curve is cut into about
-        /// length / H segments (arcs also into at least one per 15°), the
-        /// counts made even per region.
+        /// Target size for a drawing (.dxf, or a geometry .json that gives
+        /// none itself): every curve is cut at about this spacing (curved
+        /// ones also into at least one segment per 15° of turning), the
+        /// counts made even per region, and the interior meshed to it.
         #[arg(long, value_name = "H")]
         size: Option<f64>,
+        /// A local size at a point of a drawing, X,Y,H (repeatable): the
+        /// size there is H, growing at the gradation away from it.
+        #[arg(long, value_name = "X,Y,H", value_parser = parse_size_at)]
+        size_at: Vec<(f64, f64, f64)>,
+        /// A local size on a drawing's layer, LAYER=H (repeatable): its
+        /// curves are cut at H, and the size grows at the gradation away
+        /// from them.
+        #[arg(long, value_name = "LAYER=H", value_parser = parse_size_on)]
+        size_on: Vec<(String, f64)>,
+        /// How fast the size grows away from a finer local size or curve
+        /// (size per unit length) [default: the file's, else 0.3].
+        #[arg(long, value_name = "G")]
+        gradation: Option<f64>,
         /// Element order: 1 (4-node quads) or 2 (9-node quads, their
         /// boundary midside nodes on a drawing's true curves; 8-node CPS8
         /// in .inp).
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=2))]
         order: u8,
+        /// With --order 2: 8-node (serendipity) quads in every format, the
+        /// centre nodes left out.
+        #[arg(long)]
+        serendipity: bool,
         /// Threads meshing the regions of a file with several (default:
         /// every core). The mesh is the same whatever the count.
         #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
@@ -260,6 +278,26 @@ enum Command {
         #[arg(long)]
         report: Option<PathBuf>,
     },
+}
+
+fn parse_size_at(s: &str) -> Result<(f64, f64, f64), String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| "a point size is X,Y,H (three numbers)".to_string())?;
+    match v[..] {
+        [x, y, h] if x.is_finite() && y.is_finite() && h.is_finite() && h > 0.0 => Ok((x, y, h)),
+        _ => Err("a point size is X,Y,H with H a positive number".into()),
+    }
+}
+
+fn parse_size_on(s: &str) -> Result<(String, f64), String> {
+    let (layer, h) = s.rsplit_once('=').ok_or("a layer size is LAYER=H")?;
+    match h.trim().parse::<f64>() {
+        Ok(h) if h.is_finite() && h > 0.0 => Ok((layer.to_string(), h)),
+        _ => Err("a layer size is LAYER=H with H a positive number".into()),
+    }
 }
 
 #[cfg(feature = "gui")]
@@ -591,7 +629,11 @@ fn run(c: Command) -> Result<()> {
             resample,
             report,
             size,
+            size_at,
+            size_on,
+            gradation,
             order,
+            serendipity,
             threads,
         } => {
             let fmt = MeshFormat::from_path(&output)
@@ -611,20 +653,52 @@ fn run(c: Command) -> Result<()> {
             let is_dxf = input
                 .extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("dxf"));
+            let is_geometry = is_dxf || quadex::cad::is_geometry_file(&input);
+            if serendipity && order != 2 {
+                return Err(InputError(anyhow!(
+                    "--serendipity asks for 8-node quads: add --order 2"
+                ))
+                .into());
+            }
             let mut drawing = None;
-            let graph = if is_dxf {
-                let Some(h) = size else {
+            let graph = if is_geometry {
+                let doc = if is_dxf {
+                    quadex::cad::CadDocument {
+                        geometry: quadex::cad::read_dxf(&input).map_err(|e| at(&e))?,
+                        ..Default::default()
+                    }
+                } else {
+                    quadex::cad::read_geometry_json(&input).map_err(|e| at(&e))?
+                };
+                let points: Vec<quadex::cad::PointSize> = size_at
+                    .iter()
+                    .map(|&(x, y, h)| quadex::cad::PointSize {
+                        at: quadex::geom::Point::new(x, y),
+                        size: h,
+                    })
+                    .collect();
+                let Some(spec) = doc.spec(size, gradation, &points, &size_on) else {
                     return Err(at(&"a drawing needs a target size: add --size H").into());
                 };
-                let g = quadex::cad::read_dxf(&input).map_err(|e| at(&e))?;
-                let d = g.discretise(h).map_err(|e| at(&e))?;
+                let layers = doc.geometry.layers();
+                if let Some((l, _)) = spec.layers.iter().find(|(l, _)| !layers.contains(l)) {
+                    return Err(at(&format!(
+                        "no curve is on layer {l:?} (the layers are {layers:?})"
+                    ))
+                    .into());
+                }
+                let d = doc.geometry.discretise_with(&spec).map_err(|e| at(&e))?;
                 let graph = d.graph.clone();
                 drawing = Some(d);
                 Some(graph)
             } else {
-                if size.is_some() {
+                if size.is_some()
+                    || !size_at.is_empty()
+                    || !size_on.is_empty()
+                    || gradation.is_some()
+                {
                     return Err(at(
-                        &"--size applies to drawings (.dxf); for boundary nodes use --resample H",
+                        &"--size, --size-at, --size-on and --gradation apply to drawings (.dxf, geometry .json); for boundary nodes use --resample H",
                     )
                     .into());
                 }
@@ -664,6 +738,7 @@ fn run(c: Command) -> Result<()> {
                 fill_after_layers: layers.map_or(MeshParams::DEFAULT.fill_after_layers, |l| l.0),
                 transition_ratio: transitions.map_or(MeshParams::DEFAULT.transition_ratio, |t| t.0),
                 mapped_rows: mapped_rows.map_or(MeshParams::DEFAULT.mapped_rows, |m| m.0),
+                size_target: drawing.as_ref().map(|d| d.size_target()),
                 ..MeshParams::DEFAULT
             };
             let finish = FinishParams {
@@ -708,6 +783,7 @@ fn run(c: Command) -> Result<()> {
                     params: &params,
                     threads,
                     order,
+                    serendipity,
                     drawing: drawing.as_ref(),
                     t0,
                 });
@@ -731,7 +807,10 @@ fn run(c: Command) -> Result<()> {
             let q = MeshQuality::of(&mesh);
             let rendered = if order == 2 {
                 let single = quadex::regions::RegionMesh::single(mesh.clone(), stats.clone());
-                let o2 = quadex::order2::Order2::elevate(&single.mesh, &|_, _| None);
+                let mut o2 = quadex::order2::Order2::elevate(&single.mesh, &|_, _| None);
+                if serendipity {
+                    o2 = o2.serendipity();
+                }
                 fmt.render_labelled(&single.labelled_with(Some(&o2)))
             } else {
                 fmt.render(&mesh)
@@ -1136,6 +1215,8 @@ struct MeshGraph<'a> {
     params: &'a pipeline::Params,
     threads: Option<u16>,
     order: u8,
+    /// 8-node quads at second order.
+    serendipity: bool,
     /// The drawing's curves, for midside nodes on them.
     drawing: Option<&'a quadex::cad::Discretised>,
     t0: Instant,
@@ -1194,7 +1275,10 @@ fn mesh_graph(a: MeshGraph) -> Result<()> {
             a.drawing
                 .and_then(|d| d.midside(nodes[u as usize], nodes[v as usize]))
         };
-        let o2 = quadex::order2::Order2::elevate(&m.mesh, &curved);
+        let mut o2 = quadex::order2::Order2::elevate(&m.mesh, &curved);
+        if a.serendipity {
+            o2 = o2.serendipity();
+        }
         let text = a.fmt.render_labelled(&m.labelled_with(Some(&o2)));
         (text, o2.straightened)
     } else {
@@ -1260,7 +1344,10 @@ fn mesh_graph(a: MeshGraph) -> Result<()> {
         outln!("  group {} {:?}: {} edges", g.tag, g.name, g.edges.len());
     }
     if a.order == 2 {
-        outln!("  9-node quads; {straightened} curved quads straightened to keep the Jacobian positive");
+        outln!(
+            "  {}-node quads; {straightened} curved quads straightened to keep the Jacobian positive",
+            if a.serendipity { 8 } else { 9 }
+        );
     }
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! Second-order elements: each quad of a finished mesh becomes a 9-node
 //! quad (Gmsh's and VTK's order: corners, midsides 0–1, 1–2, 2–3, 3–0,
-//! centre) for solvers that want quadratic elements.
+//! centre) for solvers that want quadratic elements, or an 8-node
+//! serendipity quad (the same without the centre).
 //!
 //! A boundary edge's midside node lies on the true curve the edge cuts
 //! (a caller's function gives it, [`crate::cad`] for drawings); every
@@ -32,6 +33,9 @@ pub struct Order2 {
     /// Quads whose curved edges were straightened to keep the Jacobian
     /// positive.
     pub straightened: usize,
+    /// Written as 8-node (serendipity) quads: the centre nodes, the last
+    /// `quads.len()` nodes, left out ([`Order2::serendipity`]).
+    pub serendipity: bool,
 }
 
 /// Quadratic Lagrange shape-function derivatives of the 9-node quad at
@@ -162,6 +166,36 @@ impl Order2 {
             quads,
             midside,
             straightened,
+            serendipity: false,
+        }
+    }
+
+    /// The same quads as 8-node serendipity quads: the centre nodes are
+    /// left out when written. Their geometry is the same: a quad8's
+    /// centre is the blend the 9-node quad's centre was placed at, so the
+    /// Jacobian check holds for both.
+    pub fn serendipity(mut self) -> Order2 {
+        self.serendipity = true;
+        self
+    }
+
+    /// The nodes written: every node, or without the centres for 8-node
+    /// quads.
+    pub fn written_nodes(&self) -> &[Point] {
+        if self.serendipity {
+            &self.nodes[..self.nodes.len() - self.quads.len()]
+        } else {
+            &self.nodes
+        }
+    }
+
+    /// The nodes of quad `k` as written: 9, or 8 for serendipity quads.
+    pub fn element(&self, k: usize) -> &[u32] {
+        let q = &self.quads[k];
+        if self.serendipity {
+            &q[..8]
+        } else {
+            q
         }
     }
 

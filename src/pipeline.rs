@@ -125,7 +125,7 @@ pub fn mesh_boundary(
     progress: impl FnMut(RunProgress),
 ) -> Result<(QuadMesh, StepStats), MeshError> {
     let (local, origin) = boundary.to_local();
-    let mut m = Mesher::new(local, model, params.extract.clone());
+    let mut m = Mesher::new(local, model, params.extract.moved(origin));
     m.run(progress)?;
     let mesh = finish_moved(&m, &params.finish, origin)?;
     Ok((mesh, m.stats().clone()))

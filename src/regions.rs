@@ -165,7 +165,7 @@ impl RegionStepper {
     pub fn new(graph: Pslg, model: Arc<dyn Model>, params: Params) -> Result<Self, RegionError> {
         let faces = graph.faces()?;
         let (local, origin) = faces[0].boundary.to_local();
-        let mesher = Mesher::new(local, model.clone(), params.extract.clone());
+        let mesher = Mesher::new(local, model.clone(), params.extract.moved(origin));
         Ok(RegionStepper {
             graph,
             faces,
@@ -264,7 +264,7 @@ impl RegionStepper {
         self.current = self.finished.len();
         if let Some(f) = self.faces.get(self.current) {
             let (local, origin) = f.boundary.to_local();
-            self.mesher = Mesher::new(local, self.model.clone(), self.params.extract.clone());
+            self.mesher = Mesher::new(local, self.model.clone(), self.params.extract.moved(origin));
             self.origin = origin;
         }
         Ok(true)

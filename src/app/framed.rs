@@ -50,7 +50,7 @@ impl Framed {
 
     fn at(local: Boundary, origin: Point, model: Arc<dyn Model>, params: MeshParams) -> Framed {
         Framed {
-            inner: Mesher::new(local, model, params),
+            inner: Mesher::new(local, model, params.moved(origin)),
             origin,
             world: OnceLock::new(),
         }

@@ -82,6 +82,12 @@ pub struct MeshParams {
     /// one step by a mapped grid ([`super::mapped`]); `None` turns that off
     /// (default 4).
     pub mapped_rows: Option<usize>,
+    /// The size field to follow inside the domain (a drawing's target
+    /// size and local sizes, [`super::size::SizeTarget`]), in the
+    /// boundary's frame; `None` (the default): the boundary's spacing
+    /// interpolated inside.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub size_target: Option<super::size::SizeTarget>,
 }
 
 impl MeshParams {
@@ -103,7 +109,19 @@ impl MeshParams {
         pure_model: false,
         transition_ratio: Some(1.3),
         mapped_rows: Some(4),
+        size_target: None,
     };
+}
+
+impl MeshParams {
+    /// These parameters for a boundary moved by `-origin`
+    /// ([`crate::Boundary::to_local`]): the size target moved with it.
+    pub fn moved(&self, origin: crate::geom::Point) -> MeshParams {
+        MeshParams {
+            size_target: self.size_target.as_ref().map(|t| t.moved(origin)),
+            ..self.clone()
+        }
+    }
 }
 
 impl Default for MeshParams {

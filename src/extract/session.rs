@@ -186,12 +186,16 @@ pub const CHECKPOINT_BEHIND: usize = 512;
 impl Mesher {
     /// A mesher over `boundary` with `model` and `params`.
     pub fn new(boundary: Boundary, model: Arc<dyn Model>, params: MeshParams) -> Mesher {
-        let size = Arc::new(SizeField::of_boundary(&boundary));
+        let size = Arc::new(SizeField::of_boundary_with(
+            &boundary,
+            params.size_target.as_ref(),
+        ));
         Mesher::with_size(boundary, model, params, size)
     }
 
     /// [`Mesher::new`] with the size field given: `size` must be
-    /// [`SizeField::of_boundary`] of `boundary`, built once and shared by
+    /// [`SizeField::of_boundary_with`] of `boundary` and the parameters'
+    /// size target, built once and shared by
     /// the meshers of one boundary (remeshing tries several settings on
     /// one cavity; a replay starts again from the same boundary).
     pub fn with_size(

@@ -15,6 +15,7 @@ use super::guard::is_needle;
 use crate::boundary::Boundary;
 use crate::geom::Point;
 use rustc_hash::{FxHashMap, FxHashSet};
+use serde::{Deserialize, Serialize};
 use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
 
 /// Grid cells along the longer side of the domain's bounding box, at most.
@@ -30,6 +31,35 @@ const MIN_CELLS_PER_SIDE: usize = 256;
 /// from a fine boundary the size rises by at most half the distance, about
 /// a 1.5 ratio from one row to the next.
 const GRADING: f64 = 0.5;
+
+/// A size field asked for from outside (a drawing's target size and its
+/// local sizes, [`crate::cad`]): the size at `p` is
+/// `min(max, h_i + gradation·|p − p_i|)` over the point sizes `(p_i, h_i)`
+/// and over the boundary nodes with their spacing as the size. Given to
+/// [`SizeField::of_boundary_with`], it replaces the interpolation of the
+/// boundary's spacing inside the domain, so the interior follows the size
+/// asked for rather than the boundary's spacing alone.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SizeTarget {
+    /// The size wherever nothing asks for less.
+    pub max: f64,
+    /// The growth of the size with distance from a finer size (size per
+    /// unit length).
+    pub gradation: f64,
+    /// Point sizes: position and size.
+    pub points: Vec<(Point, f64)>,
+}
+
+impl SizeTarget {
+    /// The same target in a frame moved by `-origin` (as
+    /// [`Boundary::to_local`] moves a boundary).
+    pub fn moved(&self, origin: Point) -> SizeTarget {
+        SizeTarget {
+            points: self.points.iter().map(|&(p, h)| (p - origin, h)).collect(),
+            ..self.clone()
+        }
+    }
+}
 
 /// A size field sampled on a grid of cell centres, looked up bilinearly.
 #[derive(Clone, Debug)]
@@ -255,6 +285,12 @@ impl HasPosition for Sized {
 impl SizeField {
     /// The field of `boundary`'s spacing.
     pub fn of_boundary(boundary: &Boundary) -> SizeField {
+        SizeField::of_boundary_with(boundary, None)
+    }
+
+    /// The field of `boundary`'s spacing, or with `target` the field it
+    /// asks for ([`SizeTarget`]); `None` is [`SizeField::of_boundary`].
+    pub fn of_boundary_with(boundary: &Boundary, target: Option<&SizeTarget>) -> SizeField {
         let pts = &boundary.points;
         let mut node_h = vec![0.0; pts.len()];
         for l in &boundary.loops {
@@ -266,8 +302,12 @@ impl SizeField {
         }
         let bb = boundary.bbox();
         let size = bb.size();
-        let lo = node_h.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = node_h.iter().copied().fold(0.0, f64::max);
+        let mut lo = node_h.iter().copied().fold(f64::INFINITY, f64::min);
+        let mut hi = node_h.iter().copied().fold(0.0, f64::max);
+        if let Some(t) = target {
+            lo = t.points.iter().map(|s| s.1).fold(lo, f64::min);
+            hi = hi.max(t.max);
+        }
         let extent = size.max_element().max(f64::MIN_POSITIVE);
         let per_side = (CELLS_PER_NODE * pts.len()).clamp(MIN_CELLS_PER_SIDE, MAX_CELLS_PER_SIDE);
         let cell = (extent / per_side as f64).max(0.5 * lo.min(extent));
@@ -286,10 +326,15 @@ impl SizeField {
         let median = boundary.median_segment();
         if !f.rasterise(boundary, &node_h) {
             f.h.fill(median as f32);
-            f.range = [median, median];
+            if target.is_none() {
+                f.range = [median, median];
+            }
         }
         let inside: Vec<bool> = f.h.iter().map(|v| !v.is_nan()).collect();
-        f.fill_gaps(median);
+        match target {
+            Some(t) => f.follow_target(boundary, &node_h, t),
+            None => f.fill_gaps(median),
+        }
         f.needle_sources(boundary);
         f.limit_grading(GRADING);
         let cell2 = cell * cell;
@@ -337,9 +382,29 @@ impl SizeField {
         self.sources = Sources::new(raw, self.origin, 1.0 / self.inv_cell);
     }
 
+    /// Sets the field to what `target` asks ([`SizeTarget`]): its largest
+    /// size, lowered around every point size and every boundary node (with
+    /// its spacing) and grown from them at the target's gradation.
+    fn follow_target(&mut self, boundary: &Boundary, node_h: &[f64], target: &SizeTarget) {
+        self.h.fill(target.max as f32);
+        let g = target.gradation;
+        for (&p, &h) in boundary.points.iter().zip(node_h) {
+            self.lower_around_at(p, h, g);
+        }
+        for &(p, h) in &target.points {
+            self.lower_around_at(p, h, g);
+        }
+        self.limit_grading(g);
+    }
+
     /// Lowers the samples around `p` to size `h` grown by [`GRADING`] with
     /// their distance from `p` (the grading then spreads it over the grid).
     fn lower_around(&mut self, p: Point, h: f64) {
+        self.lower_around_at(p, h, GRADING);
+    }
+
+    /// [`SizeField::lower_around`] with growth `rate`.
+    fn lower_around_at(&mut self, p: Point, h: f64, rate: f64) {
         let cell = 1.0 / self.inv_cell;
         let g = (p - self.origin) * self.inv_cell;
         let i0 = (g.x.max(0.0) as usize).min(self.nx - 1);
@@ -348,7 +413,7 @@ impl SizeField {
             for i in i0..=(i0 + 1).min(self.nx - 1) {
                 let at = self.origin + Point::new(i as f64, j as f64) * cell;
                 let k = j * self.nx + i;
-                self.h[k] = self.h[k].min((h + GRADING * at.distance(p)) as f32);
+                self.h[k] = self.h[k].min((h + rate * at.distance(p)) as f32);
             }
         }
     }

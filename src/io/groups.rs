@@ -46,13 +46,13 @@ pub struct Labelled<'a> {
 impl Labelled<'_> {
     /// Every node written: the mesh's, then the second-order ones.
     fn points(&self) -> &[Point] {
-        self.order2.map_or(&self.mesh.nodes, |o| &o.nodes)
+        self.order2.map_or(&self.mesh.nodes, |o| o.written_nodes())
     }
 
     /// The nodes of quad `k`: 4, or 9 at second order.
     fn element(&self, k: usize) -> Vec<u32> {
         match self.order2 {
-            Some(o) => o.quads[k].to_vec(),
+            Some(o) => o.element(k).to_vec(),
             None => self.mesh.quads[k].to_vec(),
         }
     }
@@ -67,14 +67,13 @@ impl Labelled<'_> {
 
     /// Gmsh element types of the quads and the lines.
     fn msh_types(&self) -> (u8, u8) {
-        if self.order2.is_some() {
-            (10, 8)
-        } else {
-            (3, 1)
+        match self.order2 {
+            Some(o) if o.serendipity => (16, 8),
+            Some(_) => (10, 8),
+            None => (3, 1),
         }
     }
 }
-
 /// Node numbers (from 1) after a tag, space separated.
 fn numbered(out: &mut String, nodes: &[u32]) {
     for v in nodes {
@@ -237,8 +236,8 @@ fn label(name: &str) -> String {
     s
 }
 
-/// Abaqus input: CPS4 quads (CPS8 at second order: Abaqus has no 9-node
-/// plane element, so the centre node is left out) numbered region by
+/// Abaqus input: CPS4 quads (CPS8 at second order, 9-node or serendipity:
+/// Abaqus has no 9-node plane element, so the centre node is left out) numbered region by
 /// region, an ELSET per region, and per group an NSET and an element
 /// SURFACE (the quad face on each edge; on an interface, the quad on the
 /// left of the segment as given).
@@ -339,11 +338,12 @@ fn cells(m: &Labelled) -> Cells {
 }
 
 /// The VTK cell type of a cell of `n` nodes: line, quadratic line, quad,
-/// biquadratic quad.
+/// quadratic (serendipity) quad, biquadratic quad.
 fn vtk_type(n: usize) -> &'static str {
     match n {
         2 => "3\n",
         3 => "21\n",
+        8 => "23\n",
         9 => "28\n",
         _ => "9\n",
     }

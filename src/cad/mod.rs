@@ -1,117 +1,119 @@
-//! Geometry as CAD users have it: lines and circular arcs on named layers,
-//! read from DXF, and cut into boundary nodes at a target size with every
-//! region's node count made even.
+//! Geometry as CAD users have it: lines, circular and elliptical arcs and
+//! splines on named layers, read from DXF or a JSON geometry file, and cut
+//! into boundary nodes at a target size with every region's node count
+//! made even.
 //!
 //! The method (`../shared/docs/method.md` §1) starts from boundary nodes;
-//! this module places them. [`read_dxf`] reads LINE, ARC, CIRCLE and
-//! LWPOLYLINE / POLYLINE (straight and bulged segments) entities into
-//! [`Curve`]s, joins their ends within [`JOIN_TOLERANCE`] of the drawing's
-//! size and refuses a gap with its position. [`Geometry::discretise`] cuts
-//! each curve into about `length / h` segments (arcs also into at least
-//! one segment per [`MAX_ARC_ANGLE`], which bounds the chord error), then
-//! solves parity over the whole graph: adding one segment to a curve flips
-//! the parity of the two faces beside it, so the curves to refine are the
-//! edges of a spanning forest of the faces (built over the curves with the
-//! most segments first, where one more changes the spacing least), and
-//! every odd face flips the curve to its parent. A face beside no other
-//! face to mesh (a hole, the outside) takes any parity, so every region
-//! ends even and a user never sees an odd-count refusal. Each layer
-//! becomes a boundary group (a segment marker named after the layer).
+//! this module places them. [`read_dxf`] reads LINE, ARC, CIRCLE, ELLIPSE,
+//! SPLINE and LWPOLYLINE / POLYLINE (straight and bulged segments)
+//! entities into [`Curve`]s, [`read_geometry_json`] the same curves from
+//! JSON; their ends are joined within [`JOIN_TOLERANCE`] of the drawing's
+//! size and a gap is refused with its position. [`Geometry::discretise`]
+//! cuts each curve at the sizes a [`SizeSpec`] asks (a target size, point
+//! sizes, layer sizes, blended at a gradation), no longer than
+//! [`MAX_ARC_ANGLE`] of the local curvature (which bounds the chord
+//! error), and grading from the spacing of the curves meeting at its ends;
+//! then it solves parity over the whole graph: adding one segment to a
+//! curve flips the parity of the two faces beside it, so the curves to
+//! refine are the edges of a spanning forest of the faces (built over the
+//! curves with the most segments first, where one more changes the
+//! spacing least), and every odd face flips the curve to its parent. A
+//! face beside no other face to mesh (a hole, the outside) takes any
+//! parity, so every region ends even and a user never sees an odd-count
+//! refusal. Each layer becomes a boundary group (a segment marker named
+//! after the layer).
 
 use crate::geom::Point;
 use crate::pslg::{Pslg, PslgError, Segment};
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
+use std::sync::Arc;
 use thiserror::Error;
+
+mod curve;
+pub mod json;
+
+pub use curve::{arc_through, Curve, Nurbs, MAX_ARC_ANGLE};
+pub use json::{
+    is_geometry_file, is_geometry_json, parse_geometry_json, read_geometry_json, CadDocument,
+};
 
 /// Two curve ends closer than this times the drawing's extent are one
 /// vertex.
 pub const JOIN_TOLERANCE: f64 = 1e-6;
 
-/// The largest angle an arc segment spans: 15°, a chord error of at most
-/// 0.86 % of the radius.
-pub const MAX_ARC_ANGLE: f64 = PI / 12.0;
+/// Angles (radians) closer than this are one: an elliptical arc whose
+/// sweep is within it of none or of a full turn is a full ellipse.
+pub const ANGLE_TOLERANCE: f64 = 1e-9;
 
-/// A curve of a drawing.
+/// The default growth of the element size with distance from a finer
+/// local size (size per unit length): away from a size `h_i` the size is
+/// `h_i + 0.3·d`, about a 1.3 ratio from one element to the next.
+pub const GRADATION: f64 = 0.3;
+
+/// A point size: the size wanted at `at`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Curve {
-    /// A straight segment from `a` to `b`.
-    Line { a: Point, b: Point },
-    /// A circular arc about `centre` of `radius`, from angle `start` over
-    /// `sweep` radians (positive counter-clockwise; ±2π a full circle).
-    Arc {
-        centre: Point,
-        radius: f64,
-        start: f64,
-        sweep: f64,
-    },
+pub struct PointSize {
+    pub at: Point,
+    pub size: f64,
 }
 
-impl Curve {
-    /// The point at parameter `t` in [0, 1].
-    pub fn at(&self, t: f64) -> Point {
-        match *self {
-            Curve::Line { a, b } => a + (b - a) * t,
-            Curve::Arc {
-                centre,
-                radius,
-                start,
-                sweep,
-            } => {
-                let th = start + sweep * t;
-                centre + Point::new(th.cos(), th.sin()) * radius
-            }
+/// The sizes a drawing is meshed at: the target size `size` everywhere,
+/// finer near point sizes and on the curves of sized layers, blended at
+/// `gradation`: at `p` the size is
+/// `min(size, h_i + gradation·|p − p_i|, h_L + gradation·dist(p, layer L))`
+/// (a curve on a sized layer itself takes its layer's size, coarser or
+/// finer). Along a curve the spacing also grades from its ends' neighbours
+/// at `gradation` and keeps to [`MAX_ARC_ANGLE`] of the local curvature.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SizeSpec {
+    pub size: f64,
+    pub gradation: f64,
+    pub points: Vec<PointSize>,
+    /// Sizes by layer name.
+    pub layers: BTreeMap<String, f64>,
+}
+
+impl SizeSpec {
+    /// Size `h` everywhere, at the default [`GRADATION`].
+    pub fn uniform(h: f64) -> SizeSpec {
+        SizeSpec {
+            size: h,
+            gradation: GRADATION,
+            points: Vec::new(),
+            layers: BTreeMap::new(),
         }
     }
 
-    pub fn length(&self) -> f64 {
-        match *self {
-            Curve::Line { a, b } => (b - a).length(),
-            Curve::Arc { radius, sweep, .. } => radius * sweep.abs(),
+    fn check(&self) -> Result<(), CadError> {
+        let bad = |h: f64| !(h.is_finite() && h > 0.0);
+        if bad(self.size) {
+            return Err(CadError::BadSize(self.size));
         }
-    }
-
-    /// True for a curve that ends where it starts (a full circle).
-    pub fn is_closed(&self) -> bool {
-        matches!(*self, Curve::Arc { sweep, .. } if (sweep.abs() - 2.0 * PI).abs() < 1e-12)
-    }
-
-    /// The fewest segments this curve is cut into: 1 for a line, one per
-    /// [`MAX_ARC_ANGLE`] for an arc (3 at least for a full circle).
-    fn min_segments(&self) -> usize {
-        match *self {
-            Curve::Line { .. } => 1,
-            Curve::Arc { sweep, .. } => {
-                let n = (sweep.abs() / MAX_ARC_ANGLE - 1e-9).ceil().max(1.0) as usize;
-                if self.is_closed() {
-                    n.max(3)
-                } else {
-                    n
-                }
-            }
+        if bad(self.gradation) {
+            return Err(CadError::BadGradation(self.gradation));
         }
+        if let Some(p) = self
+            .points
+            .iter()
+            .find(|p| bad(p.size) || !p.at.is_finite())
+        {
+            return Err(CadError::BadSize(p.size));
+        }
+        if let Some((_, &h)) = self.layers.iter().find(|(_, &h)| bad(h)) {
+            return Err(CadError::BadSize(h));
+        }
+        Ok(())
     }
 
-    /// The distance from `p` to the curve.
-    pub fn distance(&self, p: Point) -> f64 {
-        match *self {
-            Curve::Line { a, b } => crate::geom::point_segment_distance(p, a, b),
-            Curve::Arc {
-                centre,
-                radius,
-                start,
-                sweep,
-            } => {
-                let d = p - centre;
-                let th = d.y.atan2(d.x);
-                // The angle of p measured along the sweep from the start.
-                let along = ((th - start) * sweep.signum()).rem_euclid(2.0 * PI);
-                if along <= sweep.abs() + 1e-12 {
-                    (d.length() - radius).abs()
-                } else {
-                    (p - self.at(0.0)).length().min((p - self.at(1.0)).length())
-                }
-            }
+    /// The size field this asks the mesher to follow inside
+    /// ([`crate::extract::size::SizeTarget`]); the sized layers reach it
+    /// through the boundary nodes' spacing.
+    pub fn target(&self) -> crate::extract::size::SizeTarget {
+        crate::extract::size::SizeTarget {
+            max: self.size,
+            gradation: self.gradation,
+            points: self.points.iter().map(|p| (p.at, p.size)).collect(),
         }
     }
 }
@@ -134,13 +136,17 @@ pub struct Geometry {
 pub enum CadError {
     #[error("cannot read the DXF file: {0}")]
     Dxf(String),
-    #[error("the drawing has no lines, arcs, circles or polylines")]
+    #[error("cannot read the geometry file: {0}")]
+    Json(String),
+    #[error("the drawing has no lines, arcs, circles, ellipses, splines or polylines")]
     Empty,
-    #[error("{kind} entities are not read (entity {index} on layer {layer:?}): draw the outline with lines, arcs, circles and polylines")]
-    Unsupported {
-        kind: &'static str,
+    #[error("the SPLINE (entity {index} on layer {layer:?}) has fit points only: save it with its control points (as a NURBS)")]
+    FitPointsOnly { index: usize, layer: String },
+    #[error("the spline (entity {index} on layer {layer:?}) cannot be evaluated: {why}")]
+    BadSpline {
         index: usize,
         layer: String,
+        why: String,
     },
     #[error(
         "the outline is open: the end at ({x}, {y}) meets no other curve's end (within {tol:.1e})"
@@ -150,6 +156,8 @@ pub enum CadError {
     Degenerate { layer: String, x: f64, y: f64 },
     #[error("a size must be a positive number, not {0}")]
     BadSize(f64),
+    #[error("the gradation must be a positive number, not {0}")]
+    BadGradation(f64),
     #[error("{0}")]
     Graph(#[from] PslgError),
 }
@@ -255,18 +263,47 @@ pub fn geometry_of(drawing: &dxf::Drawing) -> Result<Geometry, CadError> {
                     push(bulge_curve(p2(&a.location), p2(&b.location), a.bulge));
                 }
             }
-            E::Spline(_) => {
-                return Err(CadError::Unsupported {
-                    kind: "SPLINE",
-                    index: index + 1,
-                    layer,
-                })
+            E::Spline(sp) => {
+                if sp.control_points.is_empty() {
+                    return Err(CadError::FitPointsOnly {
+                        index: index + 1,
+                        layer,
+                    });
+                }
+                let degree = usize::try_from(sp.degree_of_curve).unwrap_or(0);
+                let points = sp.control_points.iter().map(p2).collect();
+                let weights = if sp.weight_values.iter().all(|&w| w == 1.0) {
+                    Vec::new()
+                } else {
+                    sp.weight_values.clone()
+                };
+                let nurbs =
+                    Nurbs::new(degree, sp.knot_values.clone(), points, weights).map_err(|why| {
+                        CadError::BadSpline {
+                            index: index + 1,
+                            layer: layer.clone(),
+                            why,
+                        }
+                    })?;
+                push(Curve::Spline(Arc::new(nurbs)))
             }
-            E::Ellipse(_) => {
-                return Err(CadError::Unsupported {
-                    kind: "ELLIPSE",
-                    index: index + 1,
-                    layer,
+            E::Ellipse(el) => {
+                let major = Point::new(el.major_axis.x, el.major_axis.y);
+                // The minor axis is the normal crossed with the major one:
+                // a normal along -z runs the ellipse clockwise.
+                let side = if el.normal.z < 0.0 { -1.0 } else { 1.0 };
+                let minor = Point::new(-major.y, major.x) * (el.minor_axis_ratio * side);
+                // DXF writers round the parameters: a sweep within
+                // ANGLE_TOLERANCE of none or of a turn is a full turn.
+                let sweep = (el.end_parameter - el.start_parameter).rem_euclid(2.0 * PI);
+                let full = sweep <= ANGLE_TOLERANCE || sweep >= 2.0 * PI - ANGLE_TOLERANCE;
+                let sweep = if full { 2.0 * PI } else { sweep };
+                push(Curve::Ellipse {
+                    centre: p2(&el.center),
+                    major,
+                    minor,
+                    start: el.start_parameter,
+                    sweep,
                 })
             }
             _ => {}
@@ -344,8 +381,11 @@ pub struct Discretised {
     pub counts: Vec<usize>,
     /// The curves given one segment more to make every region even.
     pub parity_fixes: Vec<usize>,
-    /// The curve parameters of each segment's ends.
-    params: Vec<(f64, f64)>,
+    /// The sizes the nodes were placed at.
+    pub sizes: SizeSpec,
+    /// The curve parameters of each segment's start, arc-length middle and
+    /// end.
+    params: Vec<[f64; 3]>,
     /// The segment between two node positions, either way round.
     by_ends: std::collections::HashMap<(Key, Key), usize>,
     curves: Vec<Curve>,
@@ -359,13 +399,70 @@ fn key(p: Point) -> Key {
 }
 
 impl Discretised {
-    /// The point halfway along its curve between the nodes at `a` and `b`,
-    /// when they are the ends of one of the graph's segments: where a
-    /// second-order boundary edge puts its midside node.
+    /// The point halfway along its curve (by arc length) between the nodes
+    /// at `a` and `b`, when they are the ends of one of the graph's
+    /// segments: where a second-order boundary edge puts its midside node.
     pub fn midside(&self, a: Point, b: Point) -> Option<Point> {
         let &s = self.by_ends.get(&(key(a), key(b)))?;
-        let (ta, tb) = self.params[s];
-        Some(self.curves[self.curve_of[s]].at(0.5 * (ta + tb)))
+        Some(self.curves[self.curve_of[s]].at(self.params[s][1]))
+    }
+
+    /// The size field the mesher is to follow inside ([`SizeSpec::target`]).
+    pub fn size_target(&self) -> crate::extract::size::SizeTarget {
+        self.sizes.target()
+    }
+}
+
+/// How a curve is cut: its samples, the cumulative density of nodes
+/// (the integral of 1 / size over arc length) at each, and whether the
+/// density is uniform on a curve whose parameter is proportional to arc
+/// length (cut at equal parameter steps then, exactly).
+struct Cut {
+    samples: curve::Samples,
+    density: Vec<f64>,
+    uniform: bool,
+    /// The fewest segments the curvature bound allows.
+    fewest: usize,
+}
+
+impl Cut {
+    /// The curve parameters of `n` segments' ends and middles.
+    fn params(&self, n: usize) -> Vec<[f64; 3]> {
+        let nf = n as f64;
+        if self.uniform {
+            return (0..n)
+                .map(|k| {
+                    let k = k as f64;
+                    [k / nf, (k + 0.5) / nf, (k + 1.0) / nf]
+                })
+                .collect();
+        }
+        let total = self.density[self.density.len() - 1];
+        let ends: Vec<f64> = (0..=n)
+            .map(|k| match k {
+                0 => 0.0,
+                k if k == n => 1.0,
+                k => self.samples.invert(&self.density, total * k as f64 / nf),
+            })
+            .collect();
+        (0..n)
+            .map(|k| {
+                // The middle by arc length: half way between the ends'
+                // lengths, read back from the samples.
+                let s = |t: f64| {
+                    // The samples are at equal parameter steps.
+                    let last = self.samples.t.len() - 1;
+                    let x = t * last as f64;
+                    let j = (x.floor() as usize).min(last - 1);
+                    let w = x - j as f64;
+                    self.samples.s[j] * (1.0 - w) + self.samples.s[j + 1] * w
+                };
+                let mid = self
+                    .samples
+                    .invert(&self.samples.s, 0.5 * (s(ends[k]) + s(ends[k + 1])));
+                [ends[k], mid.clamp(ends[k], ends[k + 1]), ends[k + 1]]
+            })
+            .collect()
     }
 }
 
@@ -381,27 +478,142 @@ impl Geometry {
     /// Boundary nodes on every curve at about size `h`, every face to
     /// mesh with an even node count.
     pub fn discretise(&self, h: f64) -> Result<Discretised, CadError> {
-        if !(h.is_finite() && h > 0.0) {
-            return Err(CadError::BadSize(h));
-        }
+        self.discretise_with(&SizeSpec::uniform(h))
+    }
+
+    /// Boundary nodes on every curve at the sizes `spec` asks, every face
+    /// to mesh with an even node count.
+    pub fn discretise_with(&self, spec: &SizeSpec) -> Result<Discretised, CadError> {
+        spec.check()?;
         let (ends, vertices) = join_ends(self)?;
-        let mut counts: Vec<usize> = self
+        let samples: Vec<curve::Samples> = self.curves.iter().map(|c| c.curve.samples()).collect();
+        // The points of each sized layer's curves, to measure the distance
+        // to the layer by.
+        let mut layer_points: BTreeMap<&str, Vec<Point>> = BTreeMap::new();
+        for (c, s) in self.curves.iter().zip(&samples) {
+            if spec.layers.contains_key(&c.layer) {
+                layer_points.entry(&c.layer).or_default().extend(&s.p);
+            }
+        }
+        let g = spec.gradation;
+        // The size asked at `p` on a curve of layer `own`.
+        let asked = |p: Point, own: &str| -> f64 {
+            let mut h = spec.layers.get(own).copied().unwrap_or(spec.size);
+            for q in &spec.points {
+                h = h.min(q.size + g * (p - q.at).length());
+            }
+            for (layer, pts) in &layer_points {
+                if *layer == own {
+                    continue;
+                }
+                let d = pts
+                    .iter()
+                    .map(|&q| (p - q).length_squared())
+                    .fold(f64::INFINITY, f64::min)
+                    .sqrt();
+                h = h.min(spec.layers[*layer] + g * d);
+            }
+            h
+        };
+        // The size along each curve before grading from its ends.
+        let own: Vec<Vec<f64>> = self
             .curves
             .iter()
-            .map(|c| ((c.curve.length() / h).round() as usize).max(c.curve.min_segments()))
+            .zip(&samples)
+            .map(|(c, s)| {
+                s.p.iter()
+                    .zip(&s.bound)
+                    .map(|(&p, &b)| asked(p, &c.layer).min(b))
+                    .collect()
+            })
             .collect();
-        let first = self.build(&ends, &vertices, &counts);
+        // The spacing at each vertex: the least of the sizes the curves
+        // meeting there have at it, and of their lengths (a curve shorter
+        // than its size is one segment).
+        let mut at_vertex = vec![f64::INFINITY; vertices.len()];
+        for (ci, e) in ends.iter().enumerate() {
+            let s = &samples[ci];
+            let len = s.s[s.s.len() - 1];
+            let h = &own[ci];
+            at_vertex[e[0]] = at_vertex[e[0]].min(h[0]).min(len);
+            at_vertex[e[1]] = at_vertex[e[1]].min(h[h.len() - 1]).min(len);
+        }
+        let cuts: Vec<Cut> = samples
+            .into_iter()
+            .zip(&own)
+            .zip(&ends)
+            .zip(&self.curves)
+            .map(|(((samples, own), e), c)| {
+                let len = samples.s[samples.s.len() - 1];
+                let closed = c.curve.is_closed() || e[0] == e[1];
+                let size: Vec<f64> = samples
+                    .s
+                    .iter()
+                    .zip(own)
+                    .map(|(&s, &h)| {
+                        if closed {
+                            h
+                        } else {
+                            h.min(at_vertex[e[0]] + g * s)
+                                .min(at_vertex[e[1]] + g * (len - s))
+                        }
+                    })
+                    .collect();
+                let integral = |f: &dyn Fn(usize) -> f64| {
+                    let mut acc = vec![0.0; samples.s.len()];
+                    for i in 1..acc.len() {
+                        acc[i] = acc[i - 1]
+                            + 0.5 * (f(i - 1) + f(i)) * (samples.s[i] - samples.s[i - 1]);
+                    }
+                    acc
+                };
+                let density = integral(&|i| 1.0 / size[i]);
+                let curvature = integral(&|i| 1.0 / samples.bound[i]);
+                let fewest = ((curvature[curvature.len() - 1] - 1e-9).ceil().max(1.0) as usize)
+                    .max(if closed { 3 } else { 1 });
+                let (lo, hi) = size.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &h| {
+                    (lo.min(h), hi.max(h))
+                });
+                let uniform = matches!(c.curve, Curve::Line { .. } | Curve::Arc { .. })
+                    && hi - lo <= 1e-12 * hi;
+                let density = if uniform {
+                    // Exactly length / size at the end.
+                    let total = len / hi;
+                    samples.t.iter().map(|t| t * total).collect()
+                } else {
+                    density
+                };
+                Cut {
+                    samples,
+                    density,
+                    uniform,
+                    fewest,
+                }
+            })
+            .collect();
+        let mut counts: Vec<usize> = cuts
+            .iter()
+            .map(|c| (c.density[c.density.len() - 1].round() as usize).max(c.fewest))
+            .collect();
+        let first = self.build(&ends, &vertices, &counts, &cuts, spec);
         let fixes = parity_fixes(&first, self.curves.len())?;
         for &c in &fixes {
             counts[c] += 1;
         }
-        let mut d = self.build(&ends, &vertices, &counts);
+        let mut d = self.build(&ends, &vertices, &counts, &cuts, spec);
         d.parity_fixes = fixes;
         Ok(d)
     }
 
     /// The graph of the curves cut into `counts` segments each.
-    fn build(&self, ends: &[[usize; 2]], vertices: &[Point], counts: &[usize]) -> Discretised {
+    fn build(
+        &self,
+        ends: &[[usize; 2]],
+        vertices: &[Point],
+        counts: &[usize],
+        cuts: &[Cut],
+        spec: &SizeSpec,
+    ) -> Discretised {
         let layers = self.layers();
         let mut g = Pslg {
             points: vertices.to_vec(),
@@ -417,12 +629,13 @@ impl Geometry {
         for (ci, (c, e)) in self.curves.iter().zip(ends).enumerate() {
             let marker = layers.binary_search(&c.layer).map_or(0, |k| k as i64 + 1);
             let n = counts[ci];
+            let cut = cuts[ci].params(n);
             let mut prev = e[0];
-            for k in 1..=n {
-                let id = if k == n {
+            for (k, t) in cut.into_iter().enumerate() {
+                let id = if k + 1 == n {
                     e[1]
                 } else {
-                    g.points.push(c.curve.at(k as f64 / n as f64));
+                    g.points.push(c.curve.at(t[2]));
                     g.labels.push(g.points.len() as i64);
                     g.points.len() - 1
                 };
@@ -432,7 +645,7 @@ impl Geometry {
                     marker,
                 });
                 curve_of.push(ci);
-                params.push(((k - 1) as f64 / n as f64, k as f64 / n as f64));
+                params.push(t);
                 prev = id;
             }
         }
@@ -447,9 +660,10 @@ impl Geometry {
             curve_of,
             counts: counts.to_vec(),
             parity_fixes: Vec::new(),
+            sizes: spec.clone(),
             params,
             by_ends,
-            curves: self.curves.iter().map(|c| c.curve).collect(),
+            curves: self.curves.iter().map(|c| c.curve.clone()).collect(),
         }
     }
 }
