@@ -537,6 +537,8 @@ fn a_refitted_model_is_work_to_save_after_a_reset() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     h.state_mut().apply(Command::Reset);
     h.state_mut().apply(Command::OpenExample("square.poly"));
     h.run();
@@ -554,6 +556,8 @@ fn the_compare_panel_says_when_a_compared_model_is_gone() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     let name = h.state().doc().models[0].name.clone();
     h.get_by_label("Compare").click();
     h.run();
@@ -595,6 +599,8 @@ fn a_refit_on_samples_the_reference_set_holds_says_they_add_nothing() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     assert!(!h.state().busy(), "{}", status(&h));
     let f = h
         .state()
@@ -635,12 +641,13 @@ fn a_refit_that_must_fit_again_does_so_in_the_background() {
     h.step();
     assert_eq!(
         status(&h),
-        "refit: a new global fit is made first (the refit follows)"
+        "refitting the quadratic form in the background…"
     );
     assert!(h.state().busy());
     assert!(h.state().doc().last_refit.is_none());
-    // The window goes on drawing meanwhile: the status bar shows the fit.
-    h.get_by_label_contains("fitting the quadratic form on");
+    // The window goes on drawing meanwhile: the status bar names the
+    // refit's phase.
+    h.get_by_label_contains("refit: ");
     settle(&mut h);
     assert!(
         status(&h).starts_with("refit made fitted (quadratic) 1 from "),
@@ -656,11 +663,13 @@ fn a_refit_that_must_fit_again_does_so_in_the_background() {
     assert_eq!(f.corrections, 0);
     let base = quadex::app::document::reference_samples(7).unwrap().len();
     assert!(f.samples > base && f.samples <= base + collected, "{f:?}");
-    // The fit is kept: a refit again (nothing new) is taken at once.
+    // A refit again (nothing new) takes the kept fit.
     h.state_mut().apply(Command::Refit {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     assert!(
         status(&h).starts_with("refit made fitted (quadratic) 2 from "),
         "{}",
@@ -876,6 +885,8 @@ fn undo_and_redo_every_edit() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     let fitted = |h: &Harness<'static, App>| {
         h.state()
             .doc()
@@ -900,6 +911,8 @@ fn a_project_saves_and_opens_whole() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     h.state_mut().apply(Command::StepN(3));
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("annulus.quadex.json");
@@ -1283,6 +1296,8 @@ fn issue17_undo_carries_on_after_reopening_a_project() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     h.state_mut().apply(Command::StepN(3));
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("a.quadex.json");
@@ -1990,6 +2005,8 @@ fn issue17_every_glyph_exists_and_counts_read_as_english() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     h.run();
     let mut texts = Vec::new();
     for tab in ["Quality", "Model", "Training set", "Smoothing"] {
@@ -2419,4 +2436,116 @@ fn refinished(h: &mut Harness<'static, App>, quads: usize) -> usize {
         );
         std::thread::sleep(Duration::from_millis(10));
     }
+}
+
+/// The phases and labels the status bar showed while the background work
+/// went on, frame by frame, and the longest frame (the window answers
+/// between frames only).
+fn watch_background(h: &mut Harness<'static, App>) -> (Vec<String>, Duration) {
+    let (mut seen, mut longest) = (Vec::<String>::new(), Duration::ZERO);
+    let t = Instant::now();
+    loop {
+        let f = Instant::now();
+        h.step();
+        longest = longest.max(f.elapsed());
+        for (text, _, _) in painted(h) {
+            if (text.starts_with("refit: ")
+                || text.contains("finishing: ")
+                || text.contains(": extraction, "))
+                && seen.last() != Some(&text)
+            {
+                seen.push(text);
+            }
+        }
+        let s = h.state();
+        if !s.busy() && !s.finishing() {
+            break;
+        }
+        assert!(
+            t.elapsed().as_secs() < 300,
+            "the background work did not end"
+        );
+        std::thread::sleep(Duration::from_millis(30));
+    }
+    h.run();
+    (seen, longest)
+}
+
+/// Refit on disk1600 after one correction of a step's Pn (y nudged by
+/// 0.003): the refit runs in the background, the window answers every
+/// frame, the status bar names each phase (the refit's, extraction, and
+/// the parts of finishing), Step and Run are greyed out meanwhile, and the
+/// report judges the mesh by its quad count against the size field, its
+/// taper and aspect and how far the correction reached, with those
+/// figures shown.
+#[test]
+fn a_refit_on_a_large_mesh_keeps_the_window_answering_and_judges_the_whole_mesh() {
+    let mut h = harness(open(&boundary("disk1600.poly")));
+    h.run();
+    // The first element step that makes a new node.
+    let (pn, kind) = loop {
+        h.state_mut().apply(Command::Step);
+        let d = h.state().doc();
+        let r = d.last().unwrap();
+        if let (Some(v), Some(t), StepKind::Element) = (r.pn_node(), r.element_type, r.kind) {
+            break (d.mesher().unwrap().mesh().nodes[v as usize], t);
+        }
+        assert!(d.steps() < 50, "no element step");
+    };
+    h.run();
+    h.state_mut().apply(Command::CorrectLast {
+        element_type: kind,
+        pn: pn + quadex::Point::new(0.0, 0.003),
+        snap_to: None,
+    });
+    h.run();
+    assert_eq!(h.state().doc().training.len(), 1, "{}", status(&h));
+    let t = Instant::now();
+    h.get_by_label("Refit").click();
+    h.step();
+    let answered = t.elapsed();
+    assert!(h.state().busy(), "{}", status(&h));
+    assert!(
+        answered < Duration::from_secs(1),
+        "the click took {answered:?}"
+    );
+    h.step();
+    // Step, Run and Run to end are greyed out while the refit goes on.
+    for label in ["Step  (Space)", "Run  (P)", "Run to end  (Ctrl+Enter)"] {
+        assert!(
+            h.get_by_label(label).accesskit_node().is_disabled(),
+            "{label} enabled during the refit"
+        );
+    }
+    let (seen, longest) = watch_background(&mut h);
+    eprintln!("phases seen: {seen:#?}\nlongest frame {longest:?}");
+    assert!(longest < Duration::from_secs(1), "a frame took {longest:?}");
+    let has = |p: &str| seen.iter().any(|s| s.contains(p));
+    for p in [
+        "refit: measuring both models on the samples",
+        "refit: meshing the boundary from the start with the model before",
+        "refit: meshing the boundary from the start with the refitted model",
+        "meshing the rest: extraction, ",
+        "finishing: cleanup and smoothing",
+        "finishing: remeshing bad regions",
+    ] {
+        assert!(has(p), "no {p:?} among {seen:#?}");
+    }
+    let f = h.state().doc().last_refit.clone().expect("the refit");
+    let (before, after) = f.meshed.clone().expect("meshed from the start");
+    eprintln!(
+        "before {} taper {:.2} aspect {:.2} irregular {}; after {} taper {:.2} aspect {:.2} irregular {}; memory {:?}; worse {:?}; status {}",
+        before.count_line(), before.taper_max, before.aspect_max, before.irregular,
+        after.count_line(), after.taper_max, after.aspect_max, after.irregular,
+        f.memory_reach, f.worse, status(&h)
+    );
+    let (changed, calls) = f.memory_reach.expect("the corrections' reach");
+    assert!(calls > 1000 && changed <= calls, "{changed} of {calls}");
+    h.get_by_label_contains("the corrections changed ");
+    h.get_by_label(&before.count_line());
+    h.get_by_label(&after.count_line());
+    h.get_by_label("max taper");
+    h.get_by_label("max aspect");
+    assert!(h.state().doc().is_done());
+    assert_eq!(h.state().shown_kind(), MeshKind::Finished);
 }

@@ -75,6 +75,9 @@ pub enum EditorError {
     UnknownExample(String),
     #[error("the background run stopped unexpectedly")]
     JobPanicked,
+    /// A refit made in the background failed (its error, as text).
+    #[error("the refit failed: {0}")]
+    Refit(String),
     #[error("{}: cannot save the screenshot: {cause}", path.display())]
     Screenshot {
         path: PathBuf,

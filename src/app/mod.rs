@@ -123,6 +123,9 @@ pub struct Figures<'a> {
     pub stats: &'a MeshStats,
     /// Changes whenever the mesh as stepped does.
     pub mesh_version: u64,
+    /// A run or refit goes on in the background (the panels' commands
+    /// wait for it).
+    pub busy: bool,
 }
 
 /// What the stepping panel shows of the editor: the animated run, and
@@ -130,6 +133,9 @@ pub struct Figures<'a> {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RunState {
     pub animating: bool,
+    /// A run or refit goes on in the background: stepping, undo and
+    /// reset wait for it (Cancel stops it).
+    pub busy: bool,
     pub can_undo: bool,
     pub can_redo: bool,
 }
@@ -343,8 +349,8 @@ pub struct Background {
     settings_changed: Option<std::time::Instant>,
     /// A comparison of models being made.
     compare: Option<CompareJob>,
-    /// A refit's global fit being made, and the refit that follows it.
-    fit: Option<FitJob>,
+    /// A refit being made.
+    refit: Option<RefitJob>,
     /// The last comparison made.
     comparison: Option<Comparison>,
     /// A run of a document of regions.
@@ -419,13 +425,23 @@ impl RegionRun {
     }
 }
 
-/// The global fit of a refit, made in a thread ([`Document::pending_fit`]):
-/// the refit itself follows when it is done.
-struct FitJob {
-    handle: std::thread::JoinHandle<Result<(), String>>,
-    then: Command,
-    what: String,
+/// A refit made in a thread ([`document::RefitTask::run`]), taken into
+/// the document when it is done (a cancelled one is dropped).
+struct RefitJob {
+    handle: std::thread::JoinHandle<Result<document::RefitDone, String>>,
+    phase: Arc<std::sync::Mutex<document::RefitPhase>>,
+    /// Mesh the rest with the refitted model once it is taken.
+    mesh_rest: bool,
     started: std::time::Instant,
+}
+
+impl RefitJob {
+    /// What the refit is doing now.
+    fn phase(&self) -> String {
+        self.phase
+            .lock()
+            .map_or_else(|_| String::new(), |p| p.describe())
+    }
 }
 
 /// A question the editor asks before going on.
@@ -617,6 +633,7 @@ fn figures_of<'a>(d: &'a DocumentState, v: &'a ViewState) -> Figures<'a> {
         kind: shown_of(d, &v.finished, &v.empty).kind,
         stats: &v.stats,
         mesh_version: d.mesh_version,
+        busy: false,
     }
 }
 
@@ -673,7 +690,7 @@ impl App {
                 threads: true,
                 settings_changed: None,
                 compare: None,
-                fit: None,
+                refit: None,
                 comparison: None,
                 region_run: None,
             },
@@ -779,7 +796,7 @@ impl App {
     /// True while a run goes on in the background.
     pub fn busy(&self) -> bool {
         self.background.job.as_ref().is_some_and(Job::is_run)
-            || self.background.fit.is_some()
+            || self.background.refit.is_some()
             || self.background.region_run.is_some()
     }
 
@@ -802,6 +819,9 @@ impl App {
     /// Waits for the background work, if any, and takes its result; then
     /// finishes the mesh if it is complete (as the frames would).
     pub fn wait(&mut self) {
+        if let Some(r) = self.background.refit.take() {
+            self.refit_joined(r);
+        }
         if let Some(mut j) = self.background.job.take() {
             let done = j.wait();
             self.job_done(j, done);
@@ -1128,73 +1148,31 @@ impl App {
                 })
             }
             Command::Refit { form, mesh_rest } => {
+                let task = self.document.doc.refit_task(form)?;
                 if self.background.threads {
-                    if let Some(task) = self.document.doc.pending_fit(form)? {
-                        let what = format!(
-                            "fitting the {} form on {}",
-                            form.name(),
-                            plural(task.samples(), "sample")
-                        );
-                        self.background.fit = Some(FitJob {
-                            handle: std::thread::spawn(move || task.run()),
-                            then: Command::Refit { form, mesh_rest },
-                            what,
-                            started: std::time::Instant::now(),
-                        });
-                        return Ok(
-                            "refit: a new global fit is made first (the refit follows)".into()
-                        );
-                    }
-                }
-                let f = self.edit("refit", |d| d.refit(form))?;
-                let mut msg = format!(
-                    "refit made {} from {} and {} of yours: Xn R {} to {}, Yn R {} to {}",
-                    f.model,
-                    plural(f.samples, "sample"),
-                    plural(f.corrections, "correction"),
-                    figure(f.before.1.r, 3),
-                    figure(f.after.1.r, 3),
-                    figure(f.before.2.r, 3),
-                    figure(f.after.2.r, 3),
-                );
-                if f.repeated > 0 {
-                    msg.push_str(&format!(
-                        "; {} of yours {} samples already in the set and {} nothing",
-                        plural(f.repeated, "sample"),
-                        if f.repeated == 1 { "repeats" } else { "repeat" },
-                        if f.repeated == 1 { "adds" } else { "add" },
-                    ));
-                }
-                if !f.worse.is_empty() {
-                    msg.push_str(&format!(
-                        "; it meshes this boundary worse: {}",
-                        f.worse.join(", ")
-                    ));
-                }
-                if mesh_rest && !self.document.doc.is_done() {
-                    if self.background.threads {
-                        self.start_run(usize::MAX, "meshing the rest", Record::WithLastEdit)?;
-                        return Ok(format!("{msg}; meshing the rest…"));
-                    }
-                    // Without threads: the steps join the refit's edit.
-                    let m = self
-                        .document
-                        .doc
-                        .meshing
-                        .as_mut()
-                        .ok_or(EditorError::NoStep)?;
-                    let mut last = None;
-                    let res = m.mesher.run_with(|r, _| {
-                        last = Some(r.clone());
-                        std::ops::ControlFlow::Continue(())
+                    let phase = Arc::new(std::sync::Mutex::new(document::RefitPhase::Collecting));
+                    let p = phase.clone();
+                    let handle = std::thread::spawn(move || {
+                        task.run(|at| {
+                            if let Ok(mut now) = p.lock() {
+                                *now = at;
+                            }
+                        })
+                        .map_err(|e| e.to_string())
                     });
-                    if last.is_some() {
-                        m.last = last;
-                    }
-                    self.changed(true);
-                    res?;
+                    self.background.refit = Some(RefitJob {
+                        handle,
+                        phase,
+                        mesh_rest,
+                        started: std::time::Instant::now(),
+                    });
+                    return Ok(format!(
+                        "refitting the {} form in the background…",
+                        form.name()
+                    ));
                 }
-                Ok(msg)
+                let done = task.run(|_| {})?;
+                self.refit_done(done, mesh_rest)
             }
             Command::SaveModel(path) => {
                 let name = self.document.doc.save_model(&path)?;
@@ -1261,6 +1239,77 @@ impl App {
                     Some(e) => format!("not a valid boundary yet: {e}"),
                 })
             }),
+        }
+    }
+
+    /// Takes a refit made into the document (one undo takes it back, and
+    /// the rest it meshes).
+    fn refit_done(
+        &mut self,
+        done: document::RefitDone,
+        mesh_rest: bool,
+    ) -> Result<String, EditorError> {
+        let f = self.edit("refit", |d| d.take_refit(done))?;
+        let mut msg = format!(
+            "refit made {} from {} and {} of yours: Xn R {} to {}, Yn R {} to {}",
+            f.model,
+            plural(f.samples, "sample"),
+            plural(f.corrections, "correction"),
+            figure(f.before.1.r, 3),
+            figure(f.after.1.r, 3),
+            figure(f.before.2.r, 3),
+            figure(f.after.2.r, 3),
+        );
+        if f.repeated > 0 {
+            msg.push_str(&format!(
+                "; {} of yours {} samples already in the set and {} nothing",
+                plural(f.repeated, "sample"),
+                if f.repeated == 1 { "repeats" } else { "repeat" },
+                if f.repeated == 1 { "adds" } else { "add" },
+            ));
+        }
+        if !f.worse.is_empty() {
+            msg.push_str(&format!(
+                "; it meshes this boundary worse: {}",
+                f.worse.join(", ")
+            ));
+        }
+        if mesh_rest && !self.document.doc.is_done() {
+            if self.background.threads {
+                self.start_run(usize::MAX, "meshing the rest", Record::WithLastEdit)?;
+                return Ok(format!("{msg}; meshing the rest…"));
+            }
+            // Without threads: the steps join the refit's edit.
+            let m = self
+                .document
+                .doc
+                .meshing
+                .as_mut()
+                .ok_or(EditorError::NoStep)?;
+            let mut last = None;
+            let res = m.mesher.run_with(|r, _| {
+                last = Some(r.clone());
+                std::ops::ControlFlow::Continue(())
+            });
+            if last.is_some() {
+                m.last = last;
+            }
+            self.changed(true);
+            res?;
+        }
+        Ok(msg)
+    }
+
+    /// Takes a refit's thread's result (its error to the status line).
+    fn refit_joined(&mut self, r: RefitJob) {
+        let res = match r.handle.join() {
+            Ok(Ok(done)) => self.refit_done(done, r.mesh_rest),
+            Ok(Err(e)) => Err(EditorError::Refit(e)),
+            Err(_) => Err(EditorError::JobPanicked),
+        };
+        match res {
+            Ok(msg) => self.window.status = msg,
+            Err(e) => self.window.status = format!("error: {e}"),
         }
     }
 
@@ -1441,10 +1490,10 @@ impl App {
     /// finishing pass, or the animation.
     fn cancel(&mut self) -> String {
         let was_animating = self.background.animating.take().is_some();
-        if self.background.fit.take().is_some() {
-            // The thread cannot be stopped; the fit it makes is kept for
-            // the next refit.
-            return "cancelled the refit (the fit goes on in the background and the next refit takes it)".into();
+        if self.background.refit.take().is_some() {
+            // The thread cannot be stopped; a global fit it makes is kept
+            // for the next refit, the rest is dropped.
+            return "cancelled the refit: the model is as before it".into();
         }
         if self.panels.tools.drop_drawing() {
             return "dropped the loop being drawn".into();
@@ -1848,7 +1897,7 @@ impl App {
         self.background.job = Some(Job::start(
             mesher,
             Work::Finish(key.params),
-            "finishing (cleanup, coarsening, remeshing, smoothing)",
+            "finishing",
             Record::Steps,
             key,
         ));
@@ -1994,16 +2043,12 @@ impl App {
         }
         if self
             .background
-            .fit
+            .refit
             .as_ref()
             .is_some_and(|f| f.handle.is_finished())
         {
-            if let Some(f) = self.background.fit.take() {
-                match f.handle.join() {
-                    Ok(Ok(())) => self.apply_now(f.then),
-                    Ok(Err(e)) => self.window.status = format!("error: {e}"),
-                    Err(_) => self.window.status = format!("error: {}", EditorError::JobPanicked),
-                }
+            if let Some(r) = self.background.refit.take() {
+                self.refit_joined(r);
             }
         }
         let mut cmds = Vec::new();
@@ -2076,6 +2121,7 @@ impl App {
                         let doc = &self.document.doc;
                         let run = RunState {
                             animating: self.background.animating.is_some(),
+                            busy,
                             can_undo: self.document.history.can_undo(),
                             can_redo: self.document.history.can_redo(),
                         };
@@ -2084,7 +2130,10 @@ impl App {
                         ui.separator();
                         export_box(ui, &mut self.panels.export_path, doc, &mut out);
                         ui.separator();
-                        let figures = figures_of(&self.document, &self.view);
+                        let figures = Figures {
+                            busy,
+                            ..figures_of(&self.document, &self.view)
+                        };
                         if doc.regions.is_some() {
                             out.extend(self.panels.regions.ui(ui, doc, ()));
                         } else {
@@ -2369,8 +2418,11 @@ impl App {
             doc.has_mesh(),
             !doc.training.is_empty(),
         );
-        let can = doc.can_step() && !doc.is_done();
-        let can_reset = doc.can_step();
+        // While a run or refit goes on, stepping, undo and reset wait for
+        // it (the commands would be refused).
+        let busy = self.busy();
+        let can = doc.can_step() && !doc.is_done() && !busy;
+        let can_reset = doc.can_step() && !busy;
         let can_finish = doc.is_done() && self.view.finish_failed.is_some();
         ui.menu_button("File", |ui| {
             item(
@@ -2490,8 +2542,22 @@ impl App {
             let h = &self.document.history;
             let undo = h.undo_name().map_or("Undo".into(), |n| format!("Undo {n}"));
             let redo = h.redo_name().map_or("Redo".into(), |n| format!("Redo {n}"));
-            item(ui, &undo, "Also Ctrl+Z", Command::Undo, h.can_undo(), cmds);
-            item(ui, &redo, "Also Ctrl+Y", Command::Redo, h.can_redo(), cmds);
+            item(
+                ui,
+                &undo,
+                "Also Ctrl+Z",
+                Command::Undo,
+                h.can_undo() && !busy,
+                cmds,
+            );
+            item(
+                ui,
+                &redo,
+                "Also Ctrl+Y",
+                Command::Redo,
+                h.can_redo() && !busy,
+                cmds,
+            );
             ui.separator();
             item(
                 ui,
@@ -2519,7 +2585,7 @@ impl App {
                 if anim { "Pause" } else { "Run (animated)" },
                 "Steps on their own at the panel's speed",
                 Command::Animate(!anim),
-                can || anim,
+                can || (anim && !busy),
                 cmds,
             );
             item(
@@ -2535,7 +2601,7 @@ impl App {
                 "Cancel the run",
                 "The run is dropped: the mesh stays as before it",
                 Command::Cancel,
-                self.background.job.is_some(),
+                self.background.job.is_some() || busy,
                 cmds,
             );
             item(
@@ -2569,30 +2635,44 @@ impl App {
 
     fn status_bar(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
         ui.horizontal(|ui| {
-            if let Some(f) = &self.background.fit {
+            if let Some(f) = &self.background.refit {
                 ui.spinner();
-                ui.label(&f.what);
+                ui.label(format!("refit: {}", f.phase()));
                 let secs = f.started.elapsed().as_secs_f64();
-                cancel_button(ui, secs, "Stop waiting (Esc): the refit is not taken", cmds);
+                cancel_button(ui, secs, "Stop (Esc): the refit is dropped, the model stays as before it", cmds);
             }
             if let Some(j) = &self.background.job {
                 let (steps, front, frac) = j.progress();
-                if j.is_run() {
-                    ui.add(
-                        egui::ProgressBar::new(frac)
-                            .desired_width(120.0)
-                            .show_percentage(),
-                    )
-                    .on_hover_text("The share of the domain's area meshed so far");
-                    ui.label(format!(
-                        "{}: {}, {} left",
-                        j.what,
-                        plural(steps, "step"),
-                        plural(front, "front node")
-                    ));
-                } else {
-                    ui.spinner();
-                    ui.label(j.what);
+                match j.phase() {
+                    None if j.is_run() => {
+                        ui.add(
+                            egui::ProgressBar::new(frac)
+                                .desired_width(120.0)
+                                .show_percentage(),
+                        )
+                        .on_hover_text("The share of the domain's area meshed so far");
+                        ui.label(format!(
+                            "{}: extraction, {}, {} left",
+                            j.what,
+                            plural(steps, "step"),
+                            plural(front, "front node")
+                        ));
+                    }
+                    // Extraction is over: the part of finishing going on
+                    // (the share meshed would stand at 100 % meanwhile).
+                    phase => {
+                        ui.spinner();
+                        let what = if j.is_run() {
+                            format!("{}: {} taken; finishing", j.what, plural(steps, "step"))
+                        } else {
+                            "finishing".into()
+                        };
+                        ui.label(format!(
+                            "{what}: {}",
+                            phase.map_or("starting", crate::pipeline::FinishPhase::name)
+                        ))
+                        .on_hover_text("Finishing the mesh: cleanup and smoothing, coarsening, remeshing bad regions, smoothing, checking");
+                    }
                 }
                 cancel_button(
                     ui,

@@ -127,7 +127,7 @@ impl super::View for TrainPanel {
             }
             button_enabled(
                 ui,
-                doc.meshing.is_some(),
+                doc.meshing.is_some() && !s.busy,
                 "Refit",
                 "Fit the model on the reference meshes' samples and yours, and mesh with it",
                 Command::Refit {
@@ -209,23 +209,24 @@ fn refit_outcome(ui: &mut Ui, f: &super::RefitFigures) {
         super::sideways_table(ui, "corrections scroll", |ui| corrections_grid(ui, f));
     }
     if let Some((before, after)) = &f.meshed {
-        let line = |o: &crate::compare::Outcome| {
-            if o.finished {
-                format!(
-                    "{} quads, SJ min {:.3} mean {:.3}{}",
-                    o.quads,
-                    o.sj_min,
-                    o.sj_mean,
-                    if o.fill { ", region fill" } else { "" }
-                )
-            } else {
-                "does not finish".into()
-            }
-        };
-        ui.label(format!("meshed from the start before: {}", line(before)));
-        ui.label(format!("meshed from the start now: {}", line(after)));
+        ui.label("meshed from the start, before and now:");
+        super::sideways_table(ui, "refit meshed scroll", |ui| {
+            meshed_grid(ui, before, after)
+        });
+        if let Some((changed, calls)) = f.memory_reach {
+            ui.label(format!(
+                "the corrections changed {} of {} predictions ({:.1} %)",
+                crate::compare::grouped(changed),
+                crate::compare::grouped(calls),
+                100.0 * changed as f64 / calls.max(1) as f64
+            ))
+            .on_hover_text(format!(
+                "Meshing the boundary from the start with the refitted model: the predictions where the corrections' memory gave another element than the fit alone; more than {:.0} % counts as reaching too far",
+                100.0 * super::document::WORSE_MEMORY_SHARE
+            ));
+        }
         if f.worse.is_empty() {
-            ui.label("the refitted model meshes this boundary no worse");
+            ui.label("the refitted model meshes this boundary no worse (quality, quad count against the size field, taper, aspect, irregular nodes)");
         } else {
             ui.colored_label(
                 ui.visuals().warn_fg_color,
@@ -236,6 +237,48 @@ fn refit_outcome(ui: &mut Ui, f: &super::RefitFigures) {
             );
         }
     }
+}
+
+/// The boundary meshed from the start with the model before the refit and
+/// the refitted one, figure by figure.
+fn meshed_grid(ui: &mut Ui, before: &crate::compare::Outcome, after: &crate::compare::Outcome) {
+    use crate::compare::grouped;
+    egui::Grid::new("refit meshed")
+        .num_columns(3)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.label("");
+            ui.label("before");
+            ui.label("now");
+            ui.end_row();
+            let rows: [(&str, fn(&crate::compare::Outcome) -> String); 6] = [
+                ("quads", |o| o.count_line()),
+                ("SJ min / mean", |o| {
+                    format!("{:.3} / {:.3}", o.sj_min, o.sj_mean)
+                }),
+                ("irregular nodes", |o| {
+                    format!(
+                        "{} ({:.1} %)",
+                        grouped(o.irregular),
+                        100.0 * o.irregular_share
+                    )
+                }),
+                ("max taper", |o| format!("{:.1}", o.taper_max)),
+                ("max aspect", |o| format!("{:.1}", o.aspect_max)),
+                ("region fill", |o| if o.fill { "yes" } else { "no" }.into()),
+            ];
+            for (name, value) in rows {
+                ui.label(name);
+                for o in [before, after] {
+                    if o.finished {
+                        ui.label(value(o));
+                    } else {
+                        ui.label("does not finish");
+                    }
+                }
+                ui.end_row();
+            }
+        });
 }
 
 /// The refitted model's element at each correction, before and now.
