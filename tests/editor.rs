@@ -2141,11 +2141,11 @@ fn issue17_menus_ticks_tooltips_and_export_path() {
     // held a path of the user's.
     h.state_mut().apply(Command::OpenExample("lshape.poly"));
     h.run();
-    let p = PathBuf::from(&h.state().panels.export_path);
-    assert_eq!(p.file_name().unwrap(), "lshape.msh");
-    // A built-in example has no folder of its own: its Export box (and so
-    // its dialogs) start where the last file was written, not in the
-    // working directory.
+    // A built-in example has no folder of its own, and nothing was
+    // exported yet: no path (not the folder plate_hole came from).
+    assert_eq!(h.state().panels.export_path, "");
+    // Once a mesh is exported, its Export box (and so its dialogs) start
+    // where the last mesh was written.
     let written = dir.path().join("lshape.msh");
     h.state_mut().apply(Command::RunToEnd);
     settle(&mut h);
@@ -2548,4 +2548,238 @@ fn a_refit_on_a_large_mesh_keeps_the_window_answering_and_judges_the_whole_mesh(
     h.get_by_label("max aspect");
     assert!(h.state().doc().is_done());
     assert_eq!(h.state().shown_kind(), MeshKind::Finished);
+}
+
+/// A new document (File ▸ New, a built-in example) proposes no path from
+/// the folder another document was opened from: its Export box is empty
+/// (Export mesh greyed out) and its dialogs start in the working
+/// directory, until a mesh is exported; then they start in that folder.
+#[test]
+fn a_new_document_proposes_no_path_from_the_last_file_opened() {
+    let shared = tempfile::tempdir().unwrap();
+    let file = shared.path().join("annulus.poly");
+    std::fs::copy(boundary("annulus.poly"), &file).unwrap();
+    let mut h = harness(example());
+    h.state_mut().window.native_dialogs = false;
+    h.run();
+    h.state_mut().apply(Command::Open(file.clone()));
+    h.run();
+    assert_eq!(
+        PathBuf::from(&h.state().panels.export_path),
+        shared.path().join("annulus.msh")
+    );
+    let in_shared = |h: &Harness<'static, App>| {
+        let dir = shared.path().display().to_string();
+        h.state().panels.export_path.starts_with(&dir)
+            || h.query_all_by_role(egui::accesskit::Role::TextInput)
+                .any(|n| n.value().is_some_and(|v| v.starts_with(&dir)))
+    };
+    // File ▸ New with the pointer.
+    h.get_by_label("File").click();
+    h.run();
+    h.get_by_label_contains("New").click();
+    h.run();
+    assert_eq!(h.state().doc().name, "untitled");
+    assert_eq!(h.state().panels.export_path, "");
+    assert!(!in_shared(&h));
+    h.state_mut()
+        .apply(Command::Dialog(quadex::app::command::Dialog::SaveProjectAs));
+    h.run();
+    assert!(
+        !in_shared(&h),
+        "the project prompt starts in the shared folder"
+    );
+    h.key_press(egui::Key::Escape);
+    h.run();
+    // A built-in example, from the menu.
+    h.get_by_label("File").click();
+    h.run();
+    h.get_by_label_contains("Open an example").hover();
+    h.run();
+    h.get_by_label("square.poly").click();
+    h.run();
+    assert_eq!(h.state().doc().name, "square.poly");
+    assert_eq!(h.state().panels.export_path, "");
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    assert!(h.get_by_label("Export mesh").accesskit_node().is_disabled());
+    h.state_mut()
+        .apply(Command::Dialog(quadex::app::command::Dialog::ExportMesh));
+    h.run();
+    assert!(
+        !in_shared(&h),
+        "the export prompt starts in the shared folder"
+    );
+    h.key_press(egui::Key::Escape);
+    h.run();
+    // An export: the next new document proposes its folder.
+    let mine = tempfile::tempdir().unwrap();
+    h.state_mut()
+        .apply(Command::Export(mine.path().join("square.msh")));
+    settle(&mut h);
+    h.state_mut().apply(Command::New);
+    h.run();
+    assert_eq!(
+        PathBuf::from(&h.state().panels.export_path),
+        mine.path().join("untitled.msh")
+    );
+}
+
+/// The Quality panel counts the quads that miss a criterion: disk1600's
+/// finished mesh has quads with an angle below 45°, few enough that a
+/// share would read 100.0 %.
+#[test]
+fn the_quality_panel_counts_the_quads_outside_the_angle_range() {
+    let mut h = harness(open(&boundary("disk1600.poly")));
+    h.run();
+    h.get_by_label("Quality").click();
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    let mesh = h.state().doc().finished().unwrap();
+    let n = mesh.quads.len();
+    let outside = mesh
+        .quads
+        .iter()
+        .filter(|q| !quadex::quality::QuadQuality::of(mesh.corners(q)).angles_ok())
+        .count();
+    assert!(
+        outside > 0 && (outside as f64) < 0.0005 * n as f64,
+        "{outside} of {n}"
+    );
+    let want = format!("{} of {} outside", outside, quadex::compare::grouped(n));
+    h.get_by_label(&want);
+    assert!(
+        h.query_by_label("100.0 %").is_none(),
+        "a share reads 100.0 % with {outside} quads outside"
+    );
+}
+
+/// A plate drawn by hand with few nodes is resampled loop by loop no
+/// more: "all loops" (the choice a document starts with) cuts every loop
+/// at the size H in one click, and the plate meshes finer.
+#[test]
+fn resample_all_loops_at_one_size() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::New);
+    h.run();
+    let r = h.state().view.canvas_rect;
+    let c = r.center();
+    // A plate of 8 outer nodes (corners and midpoints) and a square hole.
+    for (half, midpoints) in [(150.0, true), (50.0, false)] {
+        let mut corners = vec![
+            c + egui::vec2(-half, half),
+            c + egui::vec2(half, half),
+            c + egui::vec2(half, -half),
+            c + egui::vec2(-half, -half),
+        ];
+        if midpoints {
+            corners = (0..4)
+                .flat_map(|k| [corners[k], corners[k].lerp(corners[(k + 1) % 4], 0.5)])
+                .collect();
+        }
+        for &p in &corners {
+            click_at(&mut h, p);
+        }
+        click_at(&mut h, corners[0]);
+    }
+    assert!(
+        h.state().doc().problem.is_none(),
+        "{:?}",
+        h.state().doc().problem
+    );
+    assert_eq!(h.state().doc().draft.node_count(), 12);
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    let coarse = h.state().doc().finished().unwrap().quads.len();
+    // The Boundary section offers all loops, and starts with them.
+    assert!(
+        h.query_all_by_value("all loops (12 nodes)").count() > 0
+            || h.query_by_label("all loops (12 nodes)").is_some(),
+        "no all loops choice"
+    );
+    let side = {
+        let l = &h.state().doc().draft.loops[0];
+        quadex::geom::polygon_area(l.iter().copied()).abs().sqrt()
+    };
+    h.state_mut().panels.tools.resample_h = side / 12.0;
+    h.run();
+    h.get_by_label("Resample").click();
+    h.run();
+    let d = h.state().doc();
+    assert!(d.problem.is_none(), "{:?}", d.problem);
+    assert_eq!(d.draft.loops[0].len(), 48, "{}", status(&h));
+    assert_eq!(d.draft.loops[1].len(), 16, "{}", status(&h));
+    // One undo takes the resample back.
+    h.state_mut().apply(Command::Undo);
+    assert_eq!(h.state().doc().draft.node_count(), 12);
+    h.state_mut().apply(Command::Redo);
+    assert_eq!(h.state().doc().draft.node_count(), 64);
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    let fine = h.state().doc().finished().unwrap().quads.len();
+    assert!(fine > 4 * coarse, "{coarse} quads, then {fine}");
+}
+
+/// A drawing (`.dxf`) opens with its curves drawn as curves over the
+/// nodes cut from them; the size box cuts them again at another size and
+/// meshes from the start; the mesh runs to the end and exports.
+#[test]
+fn a_drawing_opens_with_its_curves_and_a_size_box() {
+    let dxf = bench().join("cad/annulus.dxf");
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::Open(dxf.clone()));
+    h.run();
+    let (size, nodes) = {
+        let d = h.state().doc();
+        let dr = d
+            .drawing
+            .as_ref()
+            .unwrap_or_else(|| panic!("{}", status(&h)));
+        assert_eq!(dr.geometry.curves.len(), 2);
+        (dr.size, d.regions.as_ref().unwrap().graph.points.len())
+    };
+    // Two circles, each one path of many more points than its nodes.
+    assert_eq!(strokes_of(&h, quadex::app::canvas::CURVE_COLOUR), 2);
+    h.get_by_label("Drawing");
+    h.get_by_label_contains(&format!(
+        "0 lines, 2 arcs; cut at size {size} into {nodes} boundary nodes"
+    ));
+    // Half the size, Apply with the pointer.
+    h.state_mut().panels.tools.resample_h = size / 2.0;
+    h.run();
+    h.get_by_label("Apply").click();
+    h.run();
+    let d = h.state().doc();
+    let now = d.regions.as_ref().unwrap().graph.points.len();
+    assert_eq!(d.drawing.as_ref().unwrap().size, size / 2.0);
+    assert!(
+        now > 2 * nodes - 8 && now < 2 * nodes + 8,
+        "{nodes} nodes, then {now}"
+    );
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    assert_eq!(h.state().shown_kind(), MeshKind::Finished, "{}", status(&h));
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("annulus.msh");
+    h.state_mut().apply(Command::Export(out.clone()));
+    let m = quadex::io::read_mesh(&out).unwrap_or_else(|e| panic!("{e}: {}", status(&h)));
+    assert_eq!(m.loops.len(), 2);
+    // The command line cuts and meshes the drawing the same way.
+    let exe = env!("CARGO_BIN_EXE_quadex");
+    let cli = dir.path().join("cli.msh");
+    let st = std::process::Command::new(exe)
+        .args([
+            "mesh",
+            dxf.to_str().unwrap(),
+            "-o",
+            cli.to_str().unwrap(),
+            "--size",
+        ])
+        .arg(format!("{}", size / 2.0))
+        .status()
+        .unwrap();
+    assert!(st.success());
+    assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&cli).unwrap());
 }

@@ -88,6 +88,9 @@ pub enum Command {
     /// The boundary as edited on the canvas (valid or not: an invalid
     /// draft shows its problem and has no mesh until it is fixed).
     SetDraft { draft: Draft, what: &'static str },
+    /// Cut the boundary again at this target size: a drawing's curves, or
+    /// every loop of a boundary of nodes resampled.
+    SetSize(f64),
     /// Turn a document of one valid boundary into a document of regions
     /// (one region, no groups yet) to split and name.
     ToRegions,

@@ -251,6 +251,38 @@ pub struct Document {
     /// empty and `meshing` is `None`: the regions' faces are meshed one
     /// by one).
     pub regions: Option<Regions>,
+    /// The drawing (lines and arcs, `.dxf`) the regions' nodes were cut
+    /// from, and the size they were cut at.
+    pub drawing: Option<Drawing>,
+}
+
+/// A drawing's curves and the target size its boundary nodes are placed
+/// at ([`crate::cad::Geometry::discretise`]).
+#[derive(Clone, Debug)]
+pub struct Drawing {
+    pub geometry: Arc<crate::cad::Geometry>,
+    pub size: f64,
+    /// The curves given one segment more to make every region even.
+    pub parity_fixes: usize,
+}
+
+/// Boundary segments a drawing opens with, about: its first size is the
+/// curves' total length over this, rounded to two significant figures.
+pub const DRAWING_SEGMENTS: f64 = 120.0;
+
+/// The size a drawing opens with ([`DRAWING_SEGMENTS`]).
+pub fn drawing_size(g: &crate::cad::Geometry) -> f64 {
+    let total: f64 = g.curves.iter().map(|c| c.curve.length()).sum();
+    round_figures(total / DRAWING_SEGMENTS, 2)
+}
+
+/// `v` rounded to `k` significant figures.
+pub fn round_figures(v: f64, k: i32) -> f64 {
+    if !(v.is_finite() && v > 0.0) {
+        return v;
+    }
+    let scale = 10f64.powi(k - 1 - v.log10().floor() as i32);
+    (v * scale).round() / scale
 }
 
 /// Figures of the model before and after a refit, on the same samples.
@@ -377,6 +409,7 @@ impl Document {
             last_refit: None,
             models: Vec::new(),
             regions: None,
+            drawing: None,
         }
     }
 
@@ -524,6 +557,19 @@ impl Document {
             let m = io::read_mesh(path).at(path)?;
             return Ok((Document::from_mesh(m, path, settings)?, Vec::new()));
         }
+        if is_drawing(path) {
+            let failed = |cause| EditorError::Drawing {
+                path: Some(path.to_path_buf()),
+                cause,
+            };
+            let g = crate::cad::read_dxf(path).map_err(failed)?;
+            let mut doc = Document::empty(settings);
+            doc.source = Some(path.to_path_buf());
+            doc.name = file_name(path);
+            doc.set_drawing(Arc::new(g), None)?;
+            doc.boundary_edited = false;
+            return Ok((doc, Vec::new()));
+        }
         // A graph that cannot be meshed opens as a document of regions
         // to fix when it names groups or regions (or is a regions
         // document); otherwise it is read as one domain's loops, whose
@@ -548,6 +594,59 @@ impl Document {
 
     pub fn boundary(&self) -> Option<&Boundary> {
         self.meshing.as_ref().map(|m| &m.boundary)
+    }
+
+    /// Cuts the drawing `g` into boundary nodes at `size` (its first size,
+    /// [`drawing_size`], when `None`) and meshes its regions from the
+    /// start. A size the drawing cannot be cut at leaves the document as
+    /// it was.
+    pub fn set_drawing(
+        &mut self,
+        g: Arc<crate::cad::Geometry>,
+        size: Option<f64>,
+    ) -> Result<(), EditorError> {
+        let size = size.unwrap_or_else(|| drawing_size(&g));
+        let cut = g.discretise(size).map_err(|cause| EditorError::Drawing {
+            path: self.source.clone(),
+            cause,
+        })?;
+        if cut.graph.points.len() > crate::boundary_edit::MAX_RESAMPLED_NODES {
+            return Err(EditorError::Size(format!(
+                "a size of {size} cuts the drawing into {} nodes, more than {}: take a larger size",
+                cut.graph.points.len(),
+                crate::boundary_edit::MAX_RESAMPLED_NODES
+            )));
+        }
+        self.set_graph(cut.graph)?;
+        self.meshing = None;
+        self.draft = Draft::default();
+        self.problem = None;
+        self.drawing = Some(Drawing {
+            geometry: g,
+            size,
+            parity_fixes: cut.parity_fixes.len(),
+        });
+        Ok(())
+    }
+
+    /// The document's boundary cut again at target size `h`: a drawing's
+    /// curves ([`Document::set_drawing`]), or every loop of the boundary
+    /// resampled ([`Draft::resample_all`]); the mesh starts again.
+    pub fn set_size(&mut self, h: f64) -> Result<(), EditorError> {
+        if let Some(d) = &self.drawing {
+            let g = d.geometry.clone();
+            return self.set_drawing(g, Some(h));
+        }
+        if self.regions.is_some() {
+            return Err(EditorError::Size(
+                "the nodes of a document of regions are placed in its file: a size applies to drawings and single boundaries".into(),
+            ));
+        }
+        let mut draft = self.draft.clone();
+        draft
+            .resample_all(h)
+            .map_err(|e| EditorError::Size(e.to_string()))?;
+        self.set_draft(draft)
     }
 
     pub fn mesher(&self) -> Option<&Framed> {
@@ -1740,7 +1839,13 @@ pub fn is_mesh_file(path: &Path) -> bool {
 /// ([`is_mesh_file`]). An export to `.vtk`, `.vtu`, `.inp` or `.svg` is
 /// not one.
 pub fn opens(path: &Path) -> bool {
-    io::is_boundary_file(path) || is_mesh_file(path)
+    io::is_boundary_file(path) || is_mesh_file(path) || is_drawing(path)
+}
+
+/// True for a drawing (`.dxf`).
+pub fn is_drawing(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("dxf"))
 }
 
 /// True for a JSON file whose `format` is a project's.

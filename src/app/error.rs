@@ -105,6 +105,15 @@ pub enum EditorError {
     /// A region or group edit that cannot be made.
     #[error("{0}")]
     RegionEdit(String),
+    /// A drawing that cannot be read or cut into boundary nodes.
+    #[error("{}{cause}", path.as_ref().map(|p| format!("{}: ", p.display())).unwrap_or_default())]
+    Drawing {
+        path: Option<PathBuf>,
+        cause: crate::cad::CadError,
+    },
+    /// A size the document cannot take.
+    #[error("{0}")]
+    Size(String),
 }
 
 impl From<crate::regions::RegionError> for EditorError {

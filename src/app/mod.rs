@@ -207,6 +207,9 @@ pub struct Prefs {
     pub show_right: bool,
     /// The widths the user gave the left and right panels.
     pub widths: [f32; 2],
+    /// The folder of the last mesh exported (a document of no file
+    /// proposes it).
+    pub export_dir: Option<PathBuf>,
 }
 
 impl Default for Prefs {
@@ -220,6 +223,7 @@ impl Default for Prefs {
             show_left: true,
             show_right: true,
             widths: PANEL_WIDTHS,
+            export_dir: None,
         }
     }
 }
@@ -472,6 +476,9 @@ pub struct Window {
     /// Close the window on the next frame.
     close_now: bool,
     pub recent: Recent,
+    /// The folder of the last mesh exported: where a document of no file
+    /// (New, a built-in example) proposes to export and save.
+    pub export_dir: Option<PathBuf>,
     close_allowed: bool,
     /// The desktop offers file dialogs (else the prompt in the window).
     pub native_dialogs: bool,
@@ -514,6 +521,20 @@ pub fn plural(n: usize, what: &str) -> String {
         format!("1 {what}")
     } else {
         format!("{n} {what}s")
+    }
+}
+
+/// The quads of `n` that miss a criterion `share` of them meet, as a
+/// count ("3 of 198,007 outside"): a share rounded to 100.0 % would hide
+/// them.
+pub fn missing(share: f64, n: usize, word: &str) -> String {
+    let met = (share * n as f64).round().clamp(0.0, n as f64) as usize;
+    let miss = n - met;
+    let grouped = crate::compare::grouped;
+    if miss == 0 {
+        format!("none of {} {word}", grouped(n))
+    } else {
+        format!("{} of {} {word}", grouped(miss), grouped(n))
     }
 }
 
@@ -701,6 +722,7 @@ impl App {
                 after_save: None,
                 close_now: false,
                 recent: Recent::default(),
+                export_dir: None,
                 close_allowed: false,
                 native_dialogs: files::native_dialogs(),
                 screenshot: None,
@@ -760,12 +782,14 @@ impl App {
             show_left: self.panels.show_left,
             show_right: self.panels.show_right,
             widths: self.panels.widths,
+            export_dir: self.window.export_dir.clone(),
         }
     }
 
     /// Takes the remembered state (the settings are the document's own).
     pub fn set_prefs(&mut self, p: Prefs) {
         self.window.recent = p.recent;
+        self.window.export_dir = p.export_dir;
         // (Lists remembered before the list kept only files Open reads.)
         self.window.recent.0.retain(|f| document::opens(f));
         self.panels.step = p.step;
@@ -1230,6 +1254,17 @@ impl App {
             }),
             Command::NameRegion { at, name, tag } => self.graph_edit("name region", |g| {
                 regions::with_region(g, at, &name, tag)
+            }),
+            Command::SetSize(h) => self.edit("size", |d| {
+                d.set_size(h)?;
+                let nodes = match &d.regions {
+                    Some(r) => r.graph.points.len(),
+                    None => d.draft.node_count(),
+                };
+                Ok(format!(
+                    "cut at size {h}: {}; mesh restarted",
+                    plural(nodes, "boundary node")
+                ))
             }),
             Command::SetDraft { draft, what } => self.edit(what, |d| {
                 d.set_draft(draft)?;
@@ -1721,6 +1756,7 @@ impl App {
             let m = r.mesh.clone().ok_or(EditorError::NotFinished)?;
             crate::io::write_atomic(&path, format.render_regions(&m).as_bytes())?;
             self.window.recent.push(&path);
+            self.note_export(&path);
             self.panels.export_path = path.display().to_string();
             return Ok(format!(
                 "wrote {} ({}, {}, {})",
@@ -1745,6 +1781,7 @@ impl App {
         let mesh = self.finished_mesh()?;
         crate::io::write_mesh(&mesh, &path)?;
         self.window.recent.push(&path);
+        self.note_export(&path);
         // The Export box writes there again.
         self.panels.export_path = path.display().to_string();
         Ok(format!(
@@ -1752,6 +1789,18 @@ impl App {
             path.display(),
             plural(mesh.quads.len(), "quad")
         ))
+    }
+
+    /// Remembers the folder a mesh was exported to.
+    fn note_export(&mut self, path: &Path) {
+        let dir = path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .map(Path::to_path_buf)
+            .or_else(|| std::env::current_dir().ok());
+        if let Some(d) = dir {
+            self.window.export_dir = Some(std::path::absolute(&d).unwrap_or(d));
+        }
     }
 
     fn save(&mut self, path: &Path) -> Result<String, EditorError> {
@@ -1770,20 +1819,30 @@ impl App {
         Ok(format!("saved {}", path.display()))
     }
 
-    /// The folder and file name a dialog starts from: the document's
-    /// folder; for a document of no file (a built-in example, a new
-    /// drawing) the folder of the file last opened or written, and only
-    /// with none of those the working directory.
-    fn dialog_start(&self, d: Dialog) -> (PathBuf, String) {
-        let dir = self
+    /// The folder a document's files go to: the folder of its own file;
+    /// for a document of no file (a built-in example, a new drawing) the
+    /// folder of the last mesh exported, else none (a folder another
+    /// document was opened from is not this one's).
+    fn document_dir(&self) -> Option<PathBuf> {
+        let own = self
             .document
             .project_path
             .as_ref()
-            .or(self.document.doc.source.as_ref())
-            .or(self.window.recent.0.first())
-            .and_then(|p| p.parent())
-            .filter(|p| !p.as_os_str().is_empty())
-            .map(Path::to_path_buf)
+            .or(self.document.doc.source.as_ref());
+        match own {
+            Some(p) => p
+                .parent()
+                .filter(|p| !p.as_os_str().is_empty())
+                .map(Path::to_path_buf),
+            None => self.window.export_dir.clone(),
+        }
+    }
+
+    /// The folder and file name a dialog starts from: [`App::document_dir`],
+    /// else the working directory.
+    fn dialog_start(&self, d: Dialog) -> (PathBuf, String) {
+        let dir = self
+            .document_dir()
             .or_else(|| std::env::current_dir().ok())
             .unwrap_or_default();
         let stem = stem(&self.title());
@@ -1822,8 +1881,13 @@ impl App {
         Some((dir.to_path_buf(), name))
     }
 
-    /// The default export path: beside the document's file, named after it.
+    /// The default export path: beside the document's file, named after
+    /// it; for a document of no file in the folder of the last export,
+    /// and with none, no path.
     fn default_export_path(&self) -> String {
+        if self.document_dir().is_none() {
+            return String::new();
+        }
         let (dir, name) = self.dialog_start(Dialog::ExportMesh);
         dir.join(name).display().to_string()
     }
@@ -2135,6 +2199,7 @@ impl App {
                             ..figures_of(&self.document, &self.view)
                         };
                         if doc.regions.is_some() {
+                            out.extend(self.panels.tools.drawing_ui(ui, doc));
                             out.extend(self.panels.regions.ui(ui, doc, ()));
                         } else {
                             out.extend(self.panels.train.ui(ui, doc, figures));
@@ -2365,6 +2430,9 @@ impl App {
             if !self.panels.regions.plain_quality || shown.mesh.quads.is_empty() {
                 self.panels.regions.draw(ui, &painter, view, r, *hover);
             }
+        }
+        if let Some(dr) = &doc.drawing {
+            canvas::draw_curves(&painter, view, rect, &dr.geometry);
         }
         let at = tools::OnCanvas {
             view,
@@ -2915,14 +2983,23 @@ fn save_png(img: &egui::ColorImage, path: &Path) -> Result<(), EditorError> {
 fn export_box(ui: &mut egui::Ui, path: &mut String, doc: &Document, out: &mut Vec<Command>) {
     ui.label(egui::RichText::new("Export").strong());
     let done = doc.has_mesh();
-    ui.add(egui::TextEdit::singleline(path).desired_width(f32::INFINITY))
-        .on_hover_text("The file to write; its extension picks the format");
+    ui.add(
+        egui::TextEdit::singleline(path)
+            .desired_width(f32::INFINITY)
+            .hint_text("a path, or Export… to choose one"),
+    )
+    .on_hover_text("The file to write; its extension picks the format");
     ui.label(egui::RichText::new(".msh .msh22 .vtk .vtu .inp .svg").weak());
     ui.horizontal(|ui| {
+        let named = !path.trim().is_empty();
         if ui
-            .add_enabled(done, egui::Button::new("Export mesh"))
+            .add_enabled(done && named, egui::Button::new("Export mesh"))
             .on_hover_text("Write the finished mesh to the path above")
-            .on_disabled_hover_text("Run the mesh to the end first")
+            .on_disabled_hover_text(if done {
+                "Type a path above, or choose one with Export…"
+            } else {
+                "Run the mesh to the end first"
+            })
             .clicked()
         {
             out.push(Command::Export(PathBuf::from(path.trim())));
@@ -3010,5 +3087,10 @@ mod tests {
         assert_eq!(figure(0.98765, 3), "0.988");
         assert_eq!(stem("plate.quadex.json"), "plate");
         assert_eq!(stem(""), "untitled");
+        assert_eq!(
+            missing(1.0 - 3.0 / 198_007.0, 198_007, "outside"),
+            "3 of 198,007 outside"
+        );
+        assert_eq!(missing(1.0, 12, "outside"), "none of 12 outside");
     }
 }
