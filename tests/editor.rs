@@ -724,7 +724,8 @@ fn a_correction_sticks_through_refit_and_reset_and_the_model_saves() {
     h.get_by_label_contains("model fitted (quadratic) 1: quadratic, ");
     h.get_by_label_contains("samples, 1 correction");
     h.get_by_label("corrections reproduced: 1 of 1");
-    h.get_by_label_contains("meshed from the start now: ");
+    h.get_by_label("meshed from the start, before and now:");
+    h.get_by_label("meshed now");
     assert!(
         h.query_by_label("the refitted model meshes this boundary no worse")
             .is_some()
@@ -2703,6 +2704,8 @@ fn resample_all_loops_at_one_size() {
         quadex::geom::polygon_area(l.iter().copied()).abs().sqrt()
     };
     h.state_mut().panels.tools.resample_h = side / 12.0;
+    // The boundary tools bring the Boundary section to the top.
+    h.get_by_label("move").click();
     h.run();
     h.get_by_label("Resample").click();
     h.run();
@@ -2782,4 +2785,227 @@ fn a_drawing_opens_with_its_curves_and_a_size_box() {
         .unwrap();
     assert!(st.success());
     assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&cli).unwrap());
+}
+
+/// A bow-tie drawn with the pointer is named as crossing segments (not a
+/// loop of no area), and the nodes' numbers the message gives are on the
+/// canvas.
+#[test]
+fn a_bow_tie_is_named_as_crossing_and_its_nodes_are_numbered() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::New);
+    h.run();
+    let c = h.state().view.canvas_rect.center();
+    let corners = [
+        c + egui::vec2(-100.0, -100.0),
+        c + egui::vec2(100.0, 100.0),
+        c + egui::vec2(100.0, -100.0),
+        c + egui::vec2(-100.0, 100.0),
+    ];
+    for &p in &corners {
+        click_at(&mut h, p);
+    }
+    click_at(&mut h, corners[0]);
+    h.run();
+    let d = h.state().doc();
+    assert_eq!(d.draft.node_count(), 4);
+    let problem = d
+        .problem
+        .as_ref()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(problem.contains("crosses"), "{problem}");
+    assert!(
+        h.query_all_by_label_contains("not a valid boundary yet: loop 0 (segment from node")
+            .count()
+            > 0
+    );
+    let texts: Vec<String> = painted(&h).into_iter().map(|t| t.0).collect();
+    for n in ["1", "2", "3", "4"] {
+        assert!(
+            texts.iter().any(|t| t == n),
+            "no node number {n}: {texts:?}"
+        );
+    }
+}
+
+/// The texts painted in the last frame that were cut short ("…").
+fn elided(h: &Harness<'static, App>) -> Vec<String> {
+    fn walk(s: &egui::Shape, out: &mut Vec<String>) {
+        match s {
+            egui::Shape::Vec(v) => v.iter().for_each(|s| walk(s, out)),
+            egui::Shape::Text(t) if t.galley.elided => out.push(t.galley.job.text.clone()),
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    for c in &h.output().shapes {
+        walk(&c.shape, &mut out);
+    }
+    out
+}
+
+/// At fit view on a large mesh the last step's labels do not pile up
+/// (P0 is ringed); Z (View ▸ Zoom to the last step) zooms to it and the
+/// labels show; the tool bar's hint is not cut off.
+#[test]
+fn the_last_step_is_ringed_at_fit_view_and_zoomed_to_with_z() {
+    let mut h = harness(open(&boundary("disk1600.poly")));
+    h.run();
+    h.state_mut().apply(Command::StepN(3));
+    h.run();
+    let texts = |h: &Harness<'static, App>| -> Vec<String> {
+        painted(h).into_iter().map(|t| t.0).collect()
+    };
+    for l in ["P0", "l1", "r1"] {
+        assert!(!texts(&h).iter().any(|t| t == l), "{l} painted at fit view");
+    }
+    assert!(elided(&h).is_empty(), "cut off: {:?}", elided(&h));
+    let hint = texts(&h)
+        .into_iter()
+        .find(|t| t.starts_with("Click a ringed node") || t.starts_with("Drag Pn"))
+        .expect("the correct tool's hint");
+    assert!(hint.len() > 100, "{hint}");
+    let zoom = h.state().view.canvas.zoom;
+    h.key_press(egui::Key::Z);
+    h.run();
+    assert!(h.state().view.canvas.zoom > 10.0 * zoom, "{}", status(&h));
+    for l in ["P0", "l1", "r1"] {
+        assert!(texts(&h).iter().any(|t| t == l), "{l} not painted after Z");
+    }
+    // The View menu has it too.
+    h.get_by_label("View").click();
+    h.run();
+    h.get_by_label_contains("Zoom to the last step");
+}
+
+/// Reset and Open of a document meshed with the same model do not measure
+/// the model again (5 to 15 s on a shared machine).
+#[test]
+fn the_model_panel_measures_the_same_model_once() {
+    let mut h = harness(example());
+    h.run();
+    h.get_by_label("Model").click();
+    h.step();
+    settle(&mut h);
+    h.state_mut().apply(Command::StepN(3));
+    h.state_mut().apply(Command::Reset);
+    h.step();
+    assert!(!h.state().measuring(), "measuring again after Reset");
+    h.state_mut().apply(Command::Open(boundary("square.poly")));
+    h.step();
+    assert!(!h.state().measuring(), "measuring again after Open");
+    // Another model is measured.
+    let s = Settings {
+        model: "rules".into(),
+        ..Settings::default()
+    };
+    h.state_mut().apply(Command::SetSettings(s));
+    h.step();
+    assert!(h.state().measuring());
+}
+
+/// "Collect from this mesh" says why a small mesh gives so many samples,
+/// and the table shows every input point, so rows of one corner are told
+/// apart.
+#[test]
+fn collected_samples_say_why_so_many_and_show_every_input() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    h.get_by_label("Training set").click();
+    h.run();
+    h.get_by_label_contains("Collect from this mesh").click();
+    h.run();
+    let st = status(&h);
+    assert!(
+        st.contains(
+            " a quad: each corner of a good quad is P0 for each of the three element types"
+        ),
+        "{st}"
+    );
+    let texts: Vec<String> = painted(&h).into_iter().map(|t| t.0).collect();
+    assert!(
+        texts
+            .iter()
+            .any(|t| t.contains("l3") && t.contains("l1") && t.contains("r1") && t.contains("r3")),
+        "{texts:?}"
+    );
+    // Rows carry seven points each (l3..l1 | r1..r3).
+    let row = texts
+        .iter()
+        .find(|t| t.contains(" | ") && t.contains("annulus.poly"))
+        .expect("a sample row");
+    assert_eq!(row.matches('(').count(), 6, "{row}");
+}
+
+/// The Boundary section is in view without scrolling when a boundary
+/// tool is chosen; at 800 × 500 the refit report's "model now" is in view
+/// and the colour legend leaves the canvas most of its room.
+#[test]
+fn a_small_window_keeps_the_refit_report_the_boundary_and_the_canvas_in_view() {
+    // An editing tool chosen with the pointer: the Boundary section comes
+    // right under the Extraction panel, in view.
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(5));
+    h.get_by_label("move").click();
+    h.run();
+    let boundary_heading = h.get_by_label("Boundary").rect();
+    assert!(boundary_heading.bottom() < 860.0, "{boundary_heading:?}");
+    h.get_by_label("Resample");
+    let mut h = harness_sized(example(), 800.0, 500.0);
+    h.run();
+    // A correction, a refit.
+    let (_, _, _) = step_five_and_correct(&mut h, |pn, p0, _| pn + (p0 - pn) * 0.05);
+    h.state_mut().apply(Command::Refit {
+        form: Form::Quadratic,
+        mesh_rest: false,
+    });
+    h.state_mut().wait();
+    h.run();
+    // The left panel ends where the canvas begins.
+    let left = h.state().view.canvas_rect.left();
+    let after = h.state().doc().last_refit.as_ref().unwrap().checks[0].after;
+    let value = format!(
+        "{} ({:.3}, {:.3})",
+        after.element_type.number(),
+        after.pn.x,
+        after.pn.y
+    );
+    // (Found by its node: the report is further down the panel.)
+    // (The corrected element reads the same when it is reproduced.)
+    let found: Vec<_> = h.query_all_by_label(&value).collect();
+    assert!(!found.is_empty(), "no {value}");
+    for n in found {
+        let at = n.rect();
+        assert!(
+            at.right() <= left,
+            "the model now at {at:?}, the panel ends at {left}"
+        );
+    }
+    assert!(h.get_by_label("model now").rect().right() <= left);
+    // The finished mesh coloured: the legend's backdrop takes little of
+    // the canvas.
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    let canvas = h.state().view.canvas_rect;
+    let back = h
+        .output()
+        .shapes
+        .iter()
+        .filter_map(|c| match &c.shape {
+            egui::Shape::Rect(r) if r.fill == egui::Color32::from_black_alpha(170) => Some(r.rect),
+            _ => None,
+        })
+        .next()
+        .expect("the legend");
+    let share = back.area() / canvas.area();
+    assert!(
+        share < 0.2,
+        "the legend takes {:.0} % of the canvas",
+        100.0 * share
+    );
 }

@@ -183,6 +183,33 @@ pub fn load_model(
     if let Some(f) = models.iter().find(|f| f.name == spec) {
         return Ok((Arc::new(f.model()), ModelInfo::of_file(f)));
     }
+    // A built-in model is loaded once and shared: the same model after an
+    // Open or a Reset is the same one (the Model panel measures it once).
+    if model::BUILTIN.contains(&spec) {
+        if let Some(hit) = BUILTIN_MODELS
+            .get_or_init(Default::default)
+            .lock()
+            .ok()
+            .and_then(|c| c.get(spec).cloned())
+        {
+            return Ok(hit);
+        }
+    }
+    let loaded = load_model_afresh(spec)?;
+    if model::BUILTIN.contains(&spec) {
+        if let Ok(mut c) = BUILTIN_MODELS.get_or_init(Default::default).lock() {
+            c.insert(spec.to_string(), loaded.clone());
+        }
+    }
+    Ok(loaded)
+}
+
+/// The built-in models loaded this session, by name.
+type LoadedModel = (Arc<dyn model::Model>, ModelInfo);
+static BUILTIN_MODELS: OnceLock<Mutex<BTreeMap<String, LoadedModel>>> = OnceLock::new();
+
+/// Loads a built-in model or a model file by name or path.
+fn load_model_afresh(spec: &str) -> Result<LoadedModel, EditorError> {
     let failed = |cause| EditorError::Model {
         spec: spec.to_string(),
         cause,

@@ -228,6 +228,10 @@ impl Default for Prefs {
     }
 }
 
+/// The share of the canvas the last step spans after View ▸ Zoom to the
+/// last step.
+const ZOOM_TO_STEP_SHARE: f64 = 0.4;
+
 /// The side panels' widths at first (points): left, right.
 const PANEL_WIDTHS: [f32; 2] = [290.0, 400.0];
 
@@ -1089,6 +1093,26 @@ impl App {
                 self.view.canvas.fit_pending = true;
                 Ok(String::new())
             }
+            Command::ZoomToStep => {
+                let doc = &self.document.doc;
+                let (Some(r), Some(m)) = (doc.last(), doc.mesher()) else {
+                    return Err(EditorError::NoStep);
+                };
+                let mesh = m.mesh();
+                let pts: Vec<Point> = r
+                    .leading
+                    .iter()
+                    .chain(r.reference.iter())
+                    .chain(r.quads.iter().flatten())
+                    .filter_map(|&v| mesh.nodes.get(v as usize).copied())
+                    .collect();
+                let b = Aabb::of(pts.iter().copied()).ok_or(EditorError::NoStep)?;
+                let rect = self.view.canvas_rect;
+                self.view
+                    .canvas
+                    .zoom_to(rect, b.min, b.max, ZOOM_TO_STEP_SHARE);
+                Ok(format!("zoomed to step {} (F fits the view again)", r.index + 1))
+            }
             Command::New => {
                 let settings = self.document.doc.portable_settings();
                 self.replace_document("new", |d| {
@@ -1223,13 +1247,16 @@ impl App {
             }),
             Command::CollectFromMesh => {
                 let mesh = self.finished_mesh()?;
+                let quads = mesh.quads.len();
                 let name = self.document.doc.name.clone();
                 self.edit("collect samples", |d| {
                     d.collect_samples(&name, mesh).map(|n| {
                         let [lo, hi] = crate::reference::DEFAULT_MODEL_TURN;
                         format!(
-                            "{} collected from the mesh (front turns within {lo} to {hi} degrees, as for the shipped model: `quadex samples --turn {lo},{hi}`)",
-                            plural(n, "sample")
+                            "{} collected from the mesh's {} (about {} a quad: each corner of a good quad is P0 for each of the three element types, once for every way the front continues along mesh edges beyond l1 and r1 turning within {lo} to {hi} degrees, as for the shipped model: `quadex samples --turn {lo},{hi}`)",
+                            plural(n, "sample"),
+                            plural(quads, "quad"),
+                            (n as f64 / quads.max(1) as f64).round()
                         )
                     })
                 })
@@ -2042,6 +2069,7 @@ impl App {
         for cmd in [
             Command::Redo,
             Command::Undo,
+            Command::ZoomToStep,
             Command::StepN(n),
             Command::Step,
             Command::RunToEnd,
@@ -2192,19 +2220,37 @@ impl App {
                         let mut out = Vec::new();
                         out.extend(self.panels.step.ui(ui, doc, run));
                         ui.separator();
-                        export_box(ui, &mut self.panels.export_path, doc, &mut out);
-                        ui.separator();
+                        // The section of what the tool bar does comes
+                        // first, in view without scrolling: the boundary
+                        // (or the drawing) with an editing tool, else the
+                        // correction and training.
+                        let editing = self.panels.tools.tool != Tool::Correct;
                         let figures = Figures {
                             busy,
                             ..figures_of(&self.document, &self.view)
                         };
                         if doc.regions.is_some() {
                             out.extend(self.panels.tools.drawing_ui(ui, doc));
-                            out.extend(self.panels.regions.ui(ui, doc, ()));
+                        } else if editing {
+                            out.extend(self.panels.tools.ui(ui, doc, ()));
                         } else {
                             out.extend(self.panels.train.ui(ui, doc, figures));
-                            ui.separator();
-                            out.extend(self.panels.tools.ui(ui, doc, ()));
+                        }
+                        ui.separator();
+                        export_box(ui, &mut self.panels.export_path, doc, &mut out);
+                        ui.separator();
+                        if doc.regions.is_some() {
+                            out.extend(self.panels.regions.ui(ui, doc, ()));
+                        } else {
+                            let figures = Figures {
+                                busy,
+                                ..figures_of(&self.document, &self.view)
+                            };
+                            if editing {
+                                out.extend(self.panels.train.ui(ui, doc, figures));
+                            } else {
+                                out.extend(self.panels.tools.ui(ui, doc, ()));
+                            }
                             ui.separator();
                             if ui
                                 .add_enabled(
@@ -2688,6 +2734,14 @@ impl App {
                 "Fit the boundary into the canvas",
                 Command::FitView,
                 true,
+                cmds,
+            );
+            item(
+                ui,
+                "Zoom to the last step",
+                "Centre the canvas on the last step, zoomed so that its points and their labels show",
+                Command::ZoomToStep,
+                self.document.doc.last().is_some(),
                 cmds,
             );
             ui.checkbox(&mut self.panels.show_left, "Left panel (stepping, tools)");

@@ -206,13 +206,13 @@ impl super::View for QualityPanel {
                         "The quads with an angle outside 45° to 135°, of all",
                     ),
                     (
-                        "thesis criteria",
-                        super::missing(q.frac_thesis_good, q.quads, "miss them"),
+                        "thesis criteria missed",
+                        super::missing(q.frac_thesis_good, q.quads, "quads"),
                         "The quads that miss an angle in [45°, 135°] or aspect or taper at most 10 (thesis §1.2), of all",
                     ),
                     (
-                        "Rs ≥ 0.8",
-                        super::missing(q.frac_rs_ge_0_8, q.quads, "below"),
+                        "Rs below 0.8",
+                        super::missing(q.frac_rs_ge_0_8, q.quads, "quads"),
                         "The quads whose area over the square of their mean edge length is below 0.8 (1 for a square), of all",
                     ),
                     (

@@ -258,6 +258,14 @@ impl super::View for StepPanel {
                 Command::FitView,
                 &mut out,
             );
+            button_enabled(
+                ui,
+                doc.last().is_some(),
+                "Zoom to step",
+                "Centre the canvas on the last step, zoomed so that its points and their labels show",
+                Command::ZoomToStep,
+                &mut out,
+            );
         });
         ui.separator();
         if let Some(r) = &doc.regions {

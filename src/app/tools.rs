@@ -210,6 +210,14 @@ impl Tools {
     }
 }
 
+/// Lines of the tool bar's note under its tools.
+const NOTE_ROWS: usize = 2;
+
+/// Drafts of at most this many nodes show every node's number.
+const NUMBERED_NODES: usize = 400;
+/// Screen points between two numbered nodes, at least.
+const NUMBER_ROOM: f32 = 16.0;
+
 /// The draft's median segment, the default target of a resample.
 fn median_segment(d: &Draft) -> f64 {
     let mut lens: Vec<f64> = d
@@ -562,10 +570,43 @@ impl Tools {
                 painter.galley(Pos2::new(x, y), galley, cyan);
             }
         }
-        if let Some(e) = &at.doc.problem {
-            for (li, k) in draft.marked(e) {
-                if let Some(&p) = draft.loops.get(li).and_then(|l| l.get(k)) {
-                    painter.circle_stroke(to(p), 7.0, Stroke::new(2.0, red));
+        let marked = at
+            .doc
+            .problem
+            .as_ref()
+            .map(|e| draft.marked(e))
+            .unwrap_or_default();
+        for &(li, k) in &marked {
+            if let Some(&p) = draft.loops.get(li).and_then(|l| l.get(k)) {
+                painter.circle_stroke(to(p), 7.0, Stroke::new(2.0, red));
+            }
+        }
+        // The nodes' numbers, as the problems name them (1 up over all
+        // loops): each node at fault, and the others where they have room.
+        let font = egui::FontId::proportional(11.0);
+        let label = |p: Pos2, n: usize, c: Color32| {
+            painter.text(
+                p + egui::vec2(6.0, -6.0),
+                egui::Align2::LEFT_BOTTOM,
+                n.to_string(),
+                font.clone(),
+                c,
+            );
+        };
+        let mut number = 0;
+        let mut last: Option<Pos2> = None;
+        for (li, l) in draft.loops.iter().enumerate() {
+            for (k, &p) in l.iter().enumerate() {
+                number += 1;
+                let s = to(p);
+                if marked.contains(&(li, k)) {
+                    label(s, number, red);
+                } else if draft.node_count() <= NUMBERED_NODES
+                    && rect.contains(s)
+                    && last.is_none_or(|q| q.distance(s) >= NUMBER_ROOM)
+                {
+                    label(s, number, Color32::from_gray(170));
+                    last = Some(s);
                 }
             }
         }
@@ -650,14 +691,12 @@ impl Tools {
         kind: MeshKind,
         targets: &[Target],
     ) -> Vec<Command> {
-        // One row whatever the tool says (a taller bar would shrink the
-        // canvas and move the drawing under the pointer): long texts are
-        // cut, in full on hover (egui's own tooltip of a cut label), so
-        // each starts with what to do.
-        let note = |ui: &mut Ui, text: String, weak: bool| {
-            let t = egui::RichText::new(text);
-            ui.add(egui::Label::new(if weak { t.weak() } else { t }).truncate());
-        };
+        // The tools on one row, what the tool says below in two lines
+        // whatever it says (a bar whose height changed would shrink the
+        // canvas and move the drawing under the pointer): a text longer
+        // than two lines is cut, in full on hover.
+        let mut said: Option<(String, bool)> = None;
+        let mut note = |_: &mut Ui, text: String, weak: bool| said = Some((text, weak));
         ui.horizontal(|ui| {
             ui.label(egui::RichText::new("Tool").strong());
             for t in Tool::ALL {
@@ -710,6 +749,34 @@ impl Tools {
                 t => note(ui, t.hint().to_string(), true),
             }
         });
+        let rows = NOTE_ROWS as f32 * ui.text_style_height(&egui::TextStyle::Body)
+            + ui.spacing().item_spacing.y;
+        let width = ui.available_width();
+        ui.allocate_ui_with_layout(
+            egui::vec2(width, rows),
+            egui::Layout::top_down(egui::Align::Min),
+            |ui| {
+                ui.set_min_size(egui::vec2(width, rows));
+                if let Some((text, weak)) = said {
+                    let color = if weak {
+                        ui.visuals().weak_text_color()
+                    } else {
+                        ui.visuals().text_color()
+                    };
+                    let mut job = egui::text::LayoutJob::single_section(
+                        text.clone(),
+                        egui::TextFormat::simple(egui::TextStyle::Body.resolve(ui.style()), color),
+                    );
+                    job.wrap = egui::text::TextWrapping {
+                        max_width: width,
+                        max_rows: NOTE_ROWS,
+                        break_anywhere: false,
+                        overflow_character: Some('…'),
+                    };
+                    ui.add(egui::Label::new(job)).on_hover_text(text);
+                }
+            },
+        );
         Vec::new()
     }
 }

@@ -204,9 +204,7 @@ fn refit_outcome(ui: &mut Ui, f: &super::RefitFigures) {
             f.checks.len()
         ))
         .on_hover_text("The refitted model's element at each correction's input: the corrected type, and Pn within 0.05 (normalised)");
-        // A scroll area of its own: the table is wider than the panel, and
-        // the panel's lines below wrap at the panel's width, not its.
-        super::sideways_table(ui, "corrections scroll", |ui| corrections_grid(ui, f));
+        corrections_grid(ui, f);
     }
     if let Some((before, after)) = &f.meshed {
         ui.label("meshed from the start, before and now:");
@@ -226,7 +224,8 @@ fn refit_outcome(ui: &mut Ui, f: &super::RefitFigures) {
             ));
         }
         if f.worse.is_empty() {
-            ui.label("the refitted model meshes this boundary no worse (quality, quad count against the size field, taper, aspect, irregular nodes)");
+            ui.label("the refitted model meshes this boundary no worse")
+                .on_hover_text("Judged by finishing, the region fill, scaled Jacobian, irregular nodes, the quad count against the size field, taper, aspect and the corrections' reach");
         } else {
             ui.colored_label(
                 ui.visuals().warn_fg_color,
@@ -248,8 +247,8 @@ fn meshed_grid(ui: &mut Ui, before: &crate::compare::Outcome, after: &crate::com
         .striped(true)
         .show(ui, |ui| {
             ui.label("");
-            ui.label("before");
-            ui.label("now");
+            ui.label("meshed before");
+            ui.label("meshed now");
             ui.end_row();
             let rows: [(&str, fn(&crate::compare::Outcome) -> String); 6] = [
                 ("quads", |o| o.count_line()),
@@ -281,28 +280,33 @@ fn meshed_grid(ui: &mut Ui, before: &crate::compare::Outcome, after: &crate::com
         });
 }
 
-/// The refitted model's element at each correction, before and now.
+/// The refitted model's element at each correction, before and now: a
+/// block of rows per correction, two columns, so that the model now is in
+/// view in a narrow panel too.
 fn corrections_grid(ui: &mut Ui, f: &super::RefitFigures) {
     let pred = |p: &crate::model::Prediction| {
         format!("{} ({:.3}, {:.3})", p.element_type.number(), p.pn.x, p.pn.y)
     };
     egui::Grid::new("corrections")
-        .num_columns(4)
+        .num_columns(2)
         .striped(true)
         .show(ui, |ui| {
-            ui.label("sample");
-            ui.label("corrected");
-            ui.label("model before");
-            ui.label("model now");
-            ui.end_row();
             for c in &f.checks {
-                ui.label(format!("{}", c.sample + 1));
+                ui.strong(format!("sample {}", c.sample + 1));
+                ui.label(if c.reproduced() {
+                    "reproduced"
+                } else {
+                    "not reproduced"
+                });
+                ui.end_row();
+                ui.label("corrected");
                 ui.label(pred(&c.corrected));
+                ui.end_row();
+                ui.label("model before");
                 ui.label(pred(&c.before));
-                let now = ui.label(pred(&c.after));
-                if !c.reproduced() {
-                    now.on_hover_text("not reproduced");
-                }
+                ui.end_row();
+                ui.label("model now");
+                ui.label(pred(&c.after));
                 ui.end_row();
             }
         });
