@@ -992,6 +992,35 @@ fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn 
     }
 }
 
+/// The colour a drawing's curves are drawn in.
+pub const CURVE_COLOUR: egui::Color32 = egui::Color32::from_rgb(255, 170, 60);
+
+/// Screen points an arc is drawn with per radian, at least.
+const ARC_POINTS_PER_RADIAN: f64 = 24.0;
+
+/// The curves of a drawing as they are (arcs as arcs, not as the chords
+/// between the nodes cut from them), over the canvas.
+pub fn draw_curves(
+    painter: &egui::Painter,
+    view: &View,
+    rect: egui::Rect,
+    g: &crate::cad::Geometry,
+) {
+    let stroke = egui::Stroke::new(2.0, CURVE_COLOUR);
+    for c in &g.curves {
+        let n = match c.curve {
+            crate::cad::Curve::Arc { sweep, .. } => {
+                (sweep.abs() * ARC_POINTS_PER_RADIAN).ceil().max(2.0) as usize
+            }
+            _ => 1,
+        };
+        let pts: Vec<egui::Pos2> = (0..=n)
+            .map(|k| view.to_screen(rect, c.curve.at(k as f64 / n as f64)))
+            .collect();
+        painter.add(egui::Shape::line(pts, stroke));
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1034,34 +1063,5 @@ mod tests {
         }
         assert!(hits > 1000, "{hits}");
         assert_eq!(QuadIndex::default().quad_at(&mesh, bb.min), None);
-    }
-}
-
-/// The colour a drawing's curves are drawn in.
-pub const CURVE_COLOUR: egui::Color32 = egui::Color32::from_rgb(255, 170, 60);
-
-/// Screen points an arc is drawn with per radian, at least.
-const ARC_POINTS_PER_RADIAN: f64 = 24.0;
-
-/// The curves of a drawing as they are (arcs as arcs, not as the chords
-/// between the nodes cut from them), over the canvas.
-pub fn draw_curves(
-    painter: &egui::Painter,
-    view: &View,
-    rect: egui::Rect,
-    g: &crate::cad::Geometry,
-) {
-    let stroke = egui::Stroke::new(2.0, CURVE_COLOUR);
-    for c in &g.curves {
-        let n = match c.curve {
-            crate::cad::Curve::Arc { sweep, .. } => {
-                (sweep.abs() * ARC_POINTS_PER_RADIAN).ceil().max(2.0) as usize
-            }
-            _ => 1,
-        };
-        let pts: Vec<egui::Pos2> = (0..=n)
-            .map(|k| view.to_screen(rect, c.curve.at(k as f64 / n as f64)))
-            .collect();
-        painter.add(egui::Shape::line(pts, stroke));
     }
 }

@@ -208,6 +208,12 @@ fn refit_outcome(ui: &mut Ui, f: &super::RefitFigures) {
     }
     if let Some((before, after)) = &f.meshed {
         ui.label("meshed from the start, before and now:");
+        if after.size_quads > 0.0 {
+            ui.label(format!(
+                "(the size field asks for about {} quads)",
+                crate::compare::grouped(after.size_quads.round() as usize)
+            ));
+        }
         super::sideways_table(ui, "refit meshed scroll", |ui| {
             meshed_grid(ui, before, after)
         });
@@ -238,6 +244,9 @@ fn refit_outcome(ui: &mut Ui, f: &super::RefitFigures) {
     }
 }
 
+/// A figure of a mesh made from the start, as the refit report shows it.
+type Figure = fn(&crate::compare::Outcome) -> String;
+
 /// The boundary meshed from the start with the model before the refit and
 /// the refitted one, figure by figure.
 fn meshed_grid(ui: &mut Ui, before: &crate::compare::Outcome, after: &crate::compare::Outcome) {
@@ -247,11 +256,14 @@ fn meshed_grid(ui: &mut Ui, before: &crate::compare::Outcome, after: &crate::com
         .striped(true)
         .show(ui, |ui| {
             ui.label("");
-            ui.label("meshed before");
-            ui.label("meshed now");
+            ui.label("model before");
+            ui.label("refitted");
             ui.end_row();
-            let rows: [(&str, fn(&crate::compare::Outcome) -> String); 6] = [
-                ("quads", |o| o.count_line()),
+            let rows: [(&str, Figure); 7] = [
+                ("quads", |o| grouped(o.quads)),
+                ("of the size field's", |o| {
+                    format!("{:.0} %", 100.0 * o.quads as f64 / o.size_quads.max(1.0))
+                }),
                 ("SJ min / mean", |o| {
                     format!("{:.3} / {:.3}", o.sj_min, o.sj_mean)
                 }),
