@@ -271,6 +271,9 @@ impl Boundary {
             // Below this the sum is rounding noise and its sign means nothing.
             let noise = 4.0 * l.len() as f64 * f64::EPSILON * ext * ext;
             if areas[li].abs() <= noise {
+                // A loop that crosses itself (a bow-tie) can enclose no
+                // net area: its crossing is what to fix, so it is named.
+                check_crossings(&points, &loops, &owner, &labels)?;
                 return Err(BoundaryError::ZeroArea { loop_index: li });
             }
         }

@@ -192,6 +192,36 @@ impl Draft {
         Ok(())
     }
 
+    /// Every loop resampled to target `h` ([`Draft::resample`] loop after
+    /// loop, so the whole draft ends with an even node count); refused as
+    /// a whole, the draft left as it was, when any loop is.
+    pub fn resample_all(&mut self, h: f64) -> Result<(), ResampleError> {
+        let mut d = self.clone();
+        for li in 0..d.loops.len() {
+            d.resample(li, h)?;
+        }
+        *self = d;
+        Ok(())
+    }
+
+    /// The nodes [`Draft::resample_all`] would give the draft (about: one
+    /// more per loop at most for an even count), checked as it checks
+    /// each loop.
+    pub fn resample_all_nodes(&self, h: f64) -> Result<usize, ResampleError> {
+        let mut total = 0;
+        for li in 0..self.loops.len() {
+            total += self.resample_parts(li, h)?.iter().sum::<usize>();
+        }
+        if total > MAX_RESAMPLED_NODES {
+            return Err(ResampleError::TooManyNodes {
+                loop_index: self.loops.len().saturating_sub(1),
+                h,
+                nodes: total as f64,
+            });
+        }
+        Ok(total)
+    }
+
     /// The parts each segment of loop `li` is cut into by
     /// [`Draft::resample`], checked as it checks them.
     pub fn resample_parts(&self, li: usize, h: f64) -> Result<Vec<usize>, ResampleError> {

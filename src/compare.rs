@@ -4,7 +4,8 @@
 //! whether a refitted model meshes the boundary worse than the model
 //! before it.
 
-use crate::extract::{Remedy, StepKind};
+use crate::extract::size::SizeField;
+use crate::extract::{Remedy, RunProgress, StepKind};
 use crate::io::svg::{write_svg, SvgOptions};
 use crate::mesh::QuadMesh;
 use crate::model::Model;
@@ -42,6 +43,14 @@ pub struct Outcome {
     /// Element steps where the guard used another element (snapped, another
     /// type, a moved Pn, the rules), as a share.
     pub replaced_share: f64,
+    /// Interior nodes whose valence is not 4.
+    pub irregular: usize,
+    /// The largest aspect ratio and taper of a quad.
+    pub aspect_max: f64,
+    pub taper_max: f64,
+    /// About how many quads a mesh following the boundary's size field has
+    /// ([`SizeField::quad_estimate`]).
+    pub size_quads: f64,
     /// The finished mesh.
     #[serde(skip)]
     pub mesh: Option<QuadMesh>,
@@ -54,7 +63,20 @@ pub fn mesh_with(
     model: Arc<dyn Model>,
     params: &Params,
 ) -> Outcome {
-    match mesh_boundary(boundary, model, params, |_| {}) {
+    mesh_with_progress(name, boundary, model, params, |_| {})
+}
+
+/// [`mesh_with`], `progress` called after every extraction step with how
+/// far it has got.
+pub fn mesh_with_progress(
+    name: &str,
+    boundary: &Boundary,
+    model: Arc<dyn Model>,
+    params: &Params,
+    progress: impl FnMut(RunProgress),
+) -> Outcome {
+    let size_quads = SizeField::of_boundary(&boundary.to_local().0).quad_estimate();
+    match mesh_boundary(boundary, model, params, progress) {
         Ok((mesh, stats)) => {
             let q = MeshQuality::of(&mesh);
             let elements = stats.count(StepKind::Element);
@@ -73,6 +95,10 @@ pub fn mesh_with(
                 accepted_share: share(accepted),
                 rescaled_share: share(rescaled),
                 replaced_share: share(elements.saturating_sub(accepted + rescaled)),
+                irregular: q.irregular_interior,
+                aspect_max: q.aspect_max,
+                taper_max: q.taper_max,
+                size_quads,
                 mesh: Some(mesh),
             }
         }
@@ -88,6 +114,10 @@ pub fn mesh_with(
             accepted_share: 0.0,
             rescaled_share: 0.0,
             replaced_share: 0.0,
+            irregular: 0,
+            aspect_max: 0.0,
+            taper_max: 0.0,
+            size_quads,
             mesh: None,
         },
     }
@@ -97,13 +127,27 @@ pub fn mesh_with(
 pub const WORSE_SJ_MEAN: f64 = 0.005;
 pub const WORSE_SJ_MIN: f64 = 0.02;
 pub const WORSE_IRREGULAR: f64 = 0.02;
+/// Irregular nodes count as more when they grow by this factor (and by
+/// [`WORSE_IRREGULAR_NODES`] nodes at least): a large mesh's share moves
+/// little when its interior turns irregular.
+pub const WORSE_IRREGULAR_RATIO: f64 = 1.15;
+pub const WORSE_IRREGULAR_NODES: usize = 10;
+/// How much further from the count the size field asks for the quad count
+/// may move (as a share of that count) before it counts.
+pub const WORSE_COUNT: f64 = 0.10;
+/// The factor the largest taper or aspect ratio may grow by before it
+/// counts.
+pub const WORSE_SHAPE: f64 = 1.25;
 
 impl Outcome {
     /// The ways this mesh is worse than `before`'s (empty: not worse):
     /// it does not finish where `before` did, needs the region fill where
     /// `before` did not, or its mean scaled Jacobian, minimum scaled
     /// Jacobian or irregular share is worse by more than
-    /// [`WORSE_SJ_MEAN`], [`WORSE_SJ_MIN`], [`WORSE_IRREGULAR`].
+    /// [`WORSE_SJ_MEAN`], [`WORSE_SJ_MIN`], [`WORSE_IRREGULAR`]; its
+    /// irregular nodes grow by [`WORSE_IRREGULAR_RATIO`]; its quad count
+    /// moves further from the size field's by more than [`WORSE_COUNT`]
+    /// of it; its largest taper or aspect ratio grows by [`WORSE_SHAPE`].
     pub fn worse_than(&self, before: &Outcome) -> Vec<String> {
         if !before.finished {
             return Vec::new();
@@ -133,8 +177,51 @@ impl Outcome {
                 100.0 * before.irregular_share,
                 100.0 * self.irregular_share
             ));
+        } else if self.irregular as f64 > before.irregular as f64 * WORSE_IRREGULAR_RATIO
+            && self.irregular >= before.irregular + WORSE_IRREGULAR_NODES
+        {
+            why.push(format!(
+                "irregular nodes from {} to {}",
+                grouped(before.irregular),
+                grouped(self.irregular)
+            ));
+        }
+        if self.size_quads > 0.0 {
+            let off = |o: &Outcome| (o.quads as f64 / self.size_quads - 1.0).abs();
+            if off(self) > off(before) + WORSE_COUNT {
+                why.push(format!(
+                    "quads from {} to {} (the size field asks for about {})",
+                    grouped(before.quads),
+                    grouped(self.quads),
+                    grouped(self.size_quads.round() as usize)
+                ));
+            }
+        }
+        for (name, b, a) in [
+            ("max taper", before.taper_max, self.taper_max),
+            ("max aspect", before.aspect_max, self.aspect_max),
+        ] {
+            if a > b * WORSE_SHAPE {
+                why.push(format!("{name} from {b:.1} to {a:.1}"));
+            }
         }
         why
+    }
+
+    /// The quad count against the count the size field asks for, as the
+    /// editor's refit report shows it: "134,128 quads (size field about
+    /// 190,000: 71 %)".
+    pub fn count_line(&self) -> String {
+        if self.size_quads > 0.0 {
+            format!(
+                "{} quads (size field about {}: {:.0} %)",
+                grouped(self.quads),
+                grouped(self.size_quads.round() as usize),
+                100.0 * self.quads as f64 / self.size_quads
+            )
+        } else {
+            format!("{} quads", grouped(self.quads))
+        }
     }
 }
 
@@ -284,6 +371,19 @@ fn escape(s: &str) -> String {
         .replace('>', "&gt;")
 }
 
+/// A count with thousands separated by commas: 198007 gives "198,007".
+pub fn grouped(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::with_capacity(digits.len() + digits.len() / 3);
+    for (k, c) in digits.chars().enumerate() {
+        if k > 0 && (digits.len() - k) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -334,6 +434,51 @@ mod tests {
         let pic = svg(&[o.clone(), o.clone()], 300.0);
         assert_eq!(pic.matches("<svg ").count(), 3);
         assert!(pic.contains("16 quads"));
+    }
+
+    /// A mesh with another quad count than the size field asks for, a
+    /// worse taper or aspect, or many more irregular nodes is worse, though
+    /// its scaled Jacobians are the same (a large mesh coarsened by one
+    /// correction kept its mean SJ).
+    #[test]
+    fn worse_counts_quads_against_the_size_field_taper_and_irregular_nodes() {
+        let o = Outcome {
+            quads: 198_007,
+            size_quads: 190_000.0,
+            irregular: 1657,
+            irregular_share: 0.017,
+            taper_max: 4.0,
+            aspect_max: 3.0,
+            ..rules_on_square()
+        };
+        let coarse = Outcome {
+            quads: 134_128,
+            irregular: 2144,
+            irregular_share: 0.022,
+            taper_max: 8.1,
+            ..o.clone()
+        };
+        let why = coarse.worse_than(&o);
+        assert_eq!(
+            why,
+            [
+                "irregular nodes from 1,657 to 2,144",
+                "quads from 198,007 to 134,128 (the size field asks for about 190,000)",
+                "max taper from 4.0 to 8.1",
+            ],
+        );
+        assert!(o
+            .worse_than(&coarse)
+            .iter()
+            .all(|w| !w.starts_with("quads")));
+        assert_eq!(
+            coarse.count_line(),
+            "134,128 quads (size field about 190,000: 71 %)"
+        );
+        assert_eq!(grouped(0), "0");
+        assert_eq!(grouped(999), "999");
+        assert_eq!(grouped(1_000), "1,000");
+        assert_eq!(grouped(1_234_567), "1,234,567");
     }
 
     #[test]

@@ -89,21 +89,66 @@ pub fn finish_moved(
     f: &FinishParams,
     origin: crate::geom::Point,
 ) -> Result<QuadMesh, MeshError> {
+    finish_phased(mesher, f, origin, |_| {})
+}
+
+/// The parts of finishing a mesh, in the order [`finish_phased`] reports
+/// them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FinishPhase {
+    /// Topological cleanup and smoothing ([`improve`]).
+    Cleanup,
+    /// Closed rows lower than the size field removed ([`coarsen`]).
+    Coarsening,
+    /// The regions still bad meshed again ([`remesh_bad`]).
+    Remeshing,
+    /// The last smoothing ([`polish`]).
+    Smoothing,
+    /// The final check.
+    Checking,
+}
+
+impl FinishPhase {
+    /// The phase as a progress line names it.
+    pub fn name(self) -> &'static str {
+        match self {
+            FinishPhase::Cleanup => "cleanup and smoothing",
+            FinishPhase::Coarsening => "coarsening",
+            FinishPhase::Remeshing => "remeshing bad regions",
+            FinishPhase::Smoothing => "smoothing",
+            FinishPhase::Checking => "checking",
+        }
+    }
+}
+
+/// [`finish_moved`], `phase` called as each part of it starts.
+pub fn finish_phased(
+    mesher: &Mesher,
+    f: &FinishParams,
+    origin: crate::geom::Point,
+    mut phase: impl FnMut(FinishPhase),
+) -> Result<QuadMesh, MeshError> {
     let mut mesh = mesher.mesh().clone();
     mesh.compact();
     if mesh.quads.len() > LOCAL_ABOVE {
         mesh.sort_spatially();
     }
     let complete = mesher.is_done();
+    phase(FinishPhase::Cleanup);
     improve(&mut mesh, complete, &f.cleanup, &f.smooth);
     if complete {
         let size = mesher.size();
+        phase(FinishPhase::Coarsening);
         if coarsen(&mut mesh, |p| size.at(p), &f.coarsen).chords > 0 {
+            phase(FinishPhase::Cleanup);
             improve(&mut mesh, complete, &f.cleanup, &f.smooth);
         }
+        phase(FinishPhase::Remeshing);
         remesh_bad(&mut mesh, mesher.model(), mesher.params(), f);
+        phase(FinishPhase::Smoothing);
         polish(&mut mesh, &f.smooth);
     }
+    phase(FinishPhase::Checking);
     unflatten(&mut mesh);
     to_world(&mut mesh, origin);
     let checked = if complete {

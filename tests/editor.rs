@@ -537,6 +537,8 @@ fn a_refitted_model_is_work_to_save_after_a_reset() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     h.state_mut().apply(Command::Reset);
     h.state_mut().apply(Command::OpenExample("square.poly"));
     h.run();
@@ -554,6 +556,8 @@ fn the_compare_panel_says_when_a_compared_model_is_gone() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     let name = h.state().doc().models[0].name.clone();
     h.get_by_label("Compare").click();
     h.run();
@@ -595,6 +599,8 @@ fn a_refit_on_samples_the_reference_set_holds_says_they_add_nothing() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     assert!(!h.state().busy(), "{}", status(&h));
     let f = h
         .state()
@@ -635,12 +641,13 @@ fn a_refit_that_must_fit_again_does_so_in_the_background() {
     h.step();
     assert_eq!(
         status(&h),
-        "refit: a new global fit is made first (the refit follows)"
+        "refitting the quadratic form in the background…"
     );
     assert!(h.state().busy());
     assert!(h.state().doc().last_refit.is_none());
-    // The window goes on drawing meanwhile: the status bar shows the fit.
-    h.get_by_label_contains("fitting the quadratic form on");
+    // The window goes on drawing meanwhile: the status bar names the
+    // refit's phase.
+    h.get_by_label_contains("refit: ");
     settle(&mut h);
     assert!(
         status(&h).starts_with("refit made fitted (quadratic) 1 from "),
@@ -656,11 +663,13 @@ fn a_refit_that_must_fit_again_does_so_in_the_background() {
     assert_eq!(f.corrections, 0);
     let base = quadex::app::document::reference_samples(7).unwrap().len();
     assert!(f.samples > base && f.samples <= base + collected, "{f:?}");
-    // The fit is kept: a refit again (nothing new) is taken at once.
+    // A refit again (nothing new) takes the kept fit.
     h.state_mut().apply(Command::Refit {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     assert!(
         status(&h).starts_with("refit made fitted (quadratic) 2 from "),
         "{}",
@@ -715,7 +724,8 @@ fn a_correction_sticks_through_refit_and_reset_and_the_model_saves() {
     h.get_by_label_contains("model fitted (quadratic) 1: quadratic, ");
     h.get_by_label_contains("samples, 1 correction");
     h.get_by_label("corrections reproduced: 1 of 1");
-    h.get_by_label_contains("meshed from the start now: ");
+    h.get_by_label("meshed from the start, before and now:");
+    h.get_by_label("of the size field's");
     assert!(
         h.query_by_label("the refitted model meshes this boundary no worse")
             .is_some()
@@ -876,6 +886,8 @@ fn undo_and_redo_every_edit() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     let fitted = |h: &Harness<'static, App>| {
         h.state()
             .doc()
@@ -900,6 +912,8 @@ fn a_project_saves_and_opens_whole() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     h.state_mut().apply(Command::StepN(3));
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("annulus.quadex.json");
@@ -1283,6 +1297,8 @@ fn issue17_undo_carries_on_after_reopening_a_project() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     h.state_mut().apply(Command::StepN(3));
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("a.quadex.json");
@@ -1990,6 +2006,8 @@ fn issue17_every_glyph_exists_and_counts_read_as_english() {
         form: Form::Quadratic,
         mesh_rest: false,
     });
+    // The refit is made in the background: wait for it.
+    h.state_mut().wait();
     h.run();
     let mut texts = Vec::new();
     for tab in ["Quality", "Model", "Training set", "Smoothing"] {
@@ -2124,11 +2142,11 @@ fn issue17_menus_ticks_tooltips_and_export_path() {
     // held a path of the user's.
     h.state_mut().apply(Command::OpenExample("lshape.poly"));
     h.run();
-    let p = PathBuf::from(&h.state().panels.export_path);
-    assert_eq!(p.file_name().unwrap(), "lshape.msh");
-    // A built-in example has no folder of its own: its Export box (and so
-    // its dialogs) start where the last file was written, not in the
-    // working directory.
+    // A built-in example has no folder of its own, and nothing was
+    // exported yet: no path (not the folder plate_hole came from).
+    assert_eq!(h.state().panels.export_path, "");
+    // Once a mesh is exported, its Export box (and so its dialogs) start
+    // where the last mesh was written.
     let written = dir.path().join("lshape.msh");
     h.state_mut().apply(Command::RunToEnd);
     settle(&mut h);
@@ -2419,4 +2437,576 @@ fn refinished(h: &mut Harness<'static, App>, quads: usize) -> usize {
         );
         std::thread::sleep(Duration::from_millis(10));
     }
+}
+
+/// The phases and labels the status bar showed while the background work
+/// went on, frame by frame, and the longest frame (the window answers
+/// between frames only).
+fn watch_background(h: &mut Harness<'static, App>) -> (Vec<String>, Duration) {
+    let (mut seen, mut longest) = (Vec::<String>::new(), Duration::ZERO);
+    let t = Instant::now();
+    loop {
+        let f = Instant::now();
+        h.step();
+        longest = longest.max(f.elapsed());
+        for (text, _, _) in painted(h) {
+            if (text.starts_with("refit: ")
+                || text.contains("finishing: ")
+                || text.contains(": extraction, "))
+                && seen.last() != Some(&text)
+            {
+                seen.push(text);
+            }
+        }
+        let s = h.state();
+        if !s.busy() && !s.finishing() {
+            break;
+        }
+        assert!(
+            t.elapsed().as_secs() < 300,
+            "the background work did not end"
+        );
+        std::thread::sleep(Duration::from_millis(30));
+    }
+    h.run();
+    (seen, longest)
+}
+
+/// Refit on disk1600 after one correction of a step's Pn (y nudged by
+/// 0.003): the refit runs in the background, the window answers every
+/// frame, the status bar names each phase (the refit's, extraction, and
+/// the parts of finishing), Step and Run are greyed out meanwhile, and the
+/// report judges the mesh by its quad count against the size field, its
+/// taper and aspect and how far the correction reached, with those
+/// figures shown.
+#[test]
+fn a_refit_on_a_large_mesh_keeps_the_window_answering_and_judges_the_whole_mesh() {
+    let mut h = harness(open(&boundary("disk1600.poly")));
+    h.run();
+    // The first element step that makes a new node.
+    let (pn, kind) = loop {
+        h.state_mut().apply(Command::Step);
+        let d = h.state().doc();
+        let r = d.last().unwrap();
+        if let (Some(v), Some(t), StepKind::Element) = (r.pn_node(), r.element_type, r.kind) {
+            break (d.mesher().unwrap().mesh().nodes[v as usize], t);
+        }
+        assert!(d.steps() < 50, "no element step");
+    };
+    h.run();
+    h.state_mut().apply(Command::CorrectLast {
+        element_type: kind,
+        pn: pn + quadex::Point::new(0.0, 0.003),
+        snap_to: None,
+    });
+    h.run();
+    assert_eq!(h.state().doc().training.len(), 1, "{}", status(&h));
+    let t = Instant::now();
+    h.get_by_label("Refit").click();
+    h.step();
+    let answered = t.elapsed();
+    assert!(h.state().busy(), "{}", status(&h));
+    assert!(
+        answered < Duration::from_secs(1),
+        "the click took {answered:?}"
+    );
+    h.step();
+    // Step, Run and Run to end are greyed out while the refit goes on.
+    for label in ["Step  (Space)", "Run  (P)", "Run to end  (Ctrl+Enter)"] {
+        assert!(
+            h.get_by_label(label).accesskit_node().is_disabled(),
+            "{label} enabled during the refit"
+        );
+    }
+    let (seen, longest) = watch_background(&mut h);
+    eprintln!("phases seen: {seen:#?}\nlongest frame {longest:?}");
+    assert!(longest < Duration::from_secs(1), "a frame took {longest:?}");
+    let has = |p: &str| seen.iter().any(|s| s.contains(p));
+    for p in [
+        "refit: measuring both models on the samples",
+        "refit: meshing the boundary from the start with the model before",
+        "refit: meshing the boundary from the start with the refitted model",
+        "meshing the rest: extraction, ",
+        "finishing: cleanup and smoothing",
+        "finishing: remeshing bad regions",
+    ] {
+        assert!(has(p), "no {p:?} among {seen:#?}");
+    }
+    let f = h.state().doc().last_refit.clone().expect("the refit");
+    let (before, after) = f.meshed.clone().expect("meshed from the start");
+    eprintln!(
+        "before {} taper {:.2} aspect {:.2} irregular {}; after {} taper {:.2} aspect {:.2} irregular {}; memory {:?}; worse {:?}; status {}",
+        before.count_line(), before.taper_max, before.aspect_max, before.irregular,
+        after.count_line(), after.taper_max, after.aspect_max, after.irregular,
+        f.memory_reach, f.worse, status(&h)
+    );
+    let (changed, calls) = f.memory_reach.expect("the corrections' reach");
+    assert!(calls > 1000 && changed <= calls, "{changed} of {calls}");
+    h.get_by_label_contains("the corrections changed ");
+    h.get_by_label(&quadex::compare::grouped(before.quads));
+    h.get_by_label(&quadex::compare::grouped(after.quads));
+    h.get_by_label_contains("the size field asks for about");
+    h.get_by_label("max taper");
+    h.get_by_label("max aspect");
+    assert!(h.state().doc().is_done());
+    assert_eq!(h.state().shown_kind(), MeshKind::Finished);
+}
+
+/// A new document (File ▸ New, a built-in example) proposes no path from
+/// the folder another document was opened from: its Export box is empty
+/// (Export mesh greyed out) and its dialogs start in the working
+/// directory, until a mesh is exported; then they start in that folder.
+#[test]
+fn a_new_document_proposes_no_path_from_the_last_file_opened() {
+    let shared = tempfile::tempdir().unwrap();
+    let file = shared.path().join("annulus.poly");
+    std::fs::copy(boundary("annulus.poly"), &file).unwrap();
+    let mut h = harness(example());
+    h.state_mut().window.native_dialogs = false;
+    h.run();
+    h.state_mut().apply(Command::Open(file.clone()));
+    h.run();
+    assert_eq!(
+        PathBuf::from(&h.state().panels.export_path),
+        shared.path().join("annulus.msh")
+    );
+    let in_shared = |h: &Harness<'static, App>| {
+        let dir = shared.path().display().to_string();
+        h.state().panels.export_path.starts_with(&dir)
+            || h.query_all_by_role(egui::accesskit::Role::TextInput)
+                .any(|n| n.value().is_some_and(|v| v.starts_with(&dir)))
+    };
+    // File ▸ New with the pointer.
+    h.get_by_label("File").click();
+    h.run();
+    h.get_by_label_contains("New").click();
+    h.run();
+    assert_eq!(h.state().doc().name, "untitled");
+    assert_eq!(h.state().panels.export_path, "");
+    assert!(!in_shared(&h));
+    h.state_mut()
+        .apply(Command::Dialog(quadex::app::command::Dialog::SaveProjectAs));
+    h.run();
+    assert!(
+        !in_shared(&h),
+        "the project prompt starts in the shared folder"
+    );
+    h.key_press(egui::Key::Escape);
+    h.run();
+    // A built-in example, from the menu.
+    h.get_by_label("File").click();
+    h.run();
+    h.get_by_label_contains("Open an example").hover();
+    h.run();
+    h.get_by_label("square.poly").click();
+    h.run();
+    assert_eq!(h.state().doc().name, "square.poly");
+    assert_eq!(h.state().panels.export_path, "");
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    assert!(h.get_by_label("Export mesh").accesskit_node().is_disabled());
+    h.state_mut()
+        .apply(Command::Dialog(quadex::app::command::Dialog::ExportMesh));
+    h.run();
+    assert!(
+        !in_shared(&h),
+        "the export prompt starts in the shared folder"
+    );
+    h.key_press(egui::Key::Escape);
+    h.run();
+    // An export: the next new document proposes its folder.
+    let mine = tempfile::tempdir().unwrap();
+    h.state_mut()
+        .apply(Command::Export(mine.path().join("square.msh")));
+    settle(&mut h);
+    h.state_mut().apply(Command::New);
+    h.run();
+    assert_eq!(
+        PathBuf::from(&h.state().panels.export_path),
+        mine.path().join("untitled.msh")
+    );
+}
+
+/// The Quality panel counts the quads that miss a criterion: disk1600's
+/// finished mesh has quads with an angle below 45°, few enough that a
+/// share would read 100.0 %.
+#[test]
+fn the_quality_panel_counts_the_quads_outside_the_angle_range() {
+    let mut h = harness(open(&boundary("disk1600.poly")));
+    h.run();
+    h.get_by_label("Quality").click();
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    let mesh = h.state().doc().finished().unwrap();
+    let n = mesh.quads.len();
+    let outside = mesh
+        .quads
+        .iter()
+        .filter(|q| !quadex::quality::QuadQuality::of(mesh.corners(q)).angles_ok())
+        .count();
+    assert!(
+        outside > 0 && (outside as f64) < 0.0005 * n as f64,
+        "{outside} of {n}"
+    );
+    let want = format!("{} of {} outside", outside, quadex::compare::grouped(n));
+    h.get_by_label(&want);
+    assert!(
+        h.query_by_label("100.0 %").is_none(),
+        "a share reads 100.0 % with {outside} quads outside"
+    );
+}
+
+/// A plate drawn by hand with few nodes is resampled loop by loop no
+/// more: "all loops" (the choice a document starts with) cuts every loop
+/// at the size H in one click, and the plate meshes finer.
+#[test]
+fn resample_all_loops_at_one_size() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::New);
+    h.run();
+    let r = h.state().view.canvas_rect;
+    let c = r.center();
+    // A plate of 8 outer nodes (corners and midpoints) and a square hole.
+    for (half, midpoints) in [(150.0, true), (50.0, false)] {
+        let mut corners = vec![
+            c + egui::vec2(-half, half),
+            c + egui::vec2(half, half),
+            c + egui::vec2(half, -half),
+            c + egui::vec2(-half, -half),
+        ];
+        if midpoints {
+            corners = (0..4)
+                .flat_map(|k| [corners[k], corners[k].lerp(corners[(k + 1) % 4], 0.5)])
+                .collect();
+        }
+        for &p in &corners {
+            click_at(&mut h, p);
+        }
+        click_at(&mut h, corners[0]);
+    }
+    assert!(
+        h.state().doc().problem.is_none(),
+        "{:?}",
+        h.state().doc().problem
+    );
+    assert_eq!(h.state().doc().draft.node_count(), 12);
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    let coarse = h.state().doc().finished().unwrap().quads.len();
+    // The Boundary section offers all loops, and starts with them.
+    assert!(
+        h.query_all_by_value("all loops (12 nodes)").count() > 0
+            || h.query_by_label("all loops (12 nodes)").is_some(),
+        "no all loops choice"
+    );
+    let side = {
+        let l = &h.state().doc().draft.loops[0];
+        quadex::geom::polygon_area(l.iter().copied()).abs().sqrt()
+    };
+    h.state_mut().panels.tools.resample_h = side / 12.0;
+    // The boundary tools bring the Boundary section to the top.
+    h.get_by_label("move").click();
+    h.run();
+    h.get_by_label("Resample").click();
+    h.run();
+    let d = h.state().doc();
+    assert!(d.problem.is_none(), "{:?}", d.problem);
+    assert_eq!(d.draft.loops[0].len(), 48, "{}", status(&h));
+    assert_eq!(d.draft.loops[1].len(), 16, "{}", status(&h));
+    // One undo takes the resample back.
+    h.state_mut().apply(Command::Undo);
+    assert_eq!(h.state().doc().draft.node_count(), 12);
+    h.state_mut().apply(Command::Redo);
+    assert_eq!(h.state().doc().draft.node_count(), 64);
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    let fine = h.state().doc().finished().unwrap().quads.len();
+    assert!(fine > 4 * coarse, "{coarse} quads, then {fine}");
+}
+
+/// A drawing (`.dxf`) opens with its curves drawn as curves over the
+/// nodes cut from them; the size box cuts them again at another size and
+/// meshes from the start; the mesh runs to the end and exports.
+#[test]
+fn a_drawing_opens_with_its_curves_and_a_size_box() {
+    let dxf = bench().join("cad/annulus.dxf");
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::Open(dxf.clone()));
+    h.run();
+    let (size, nodes) = {
+        let d = h.state().doc();
+        let dr = d
+            .drawing
+            .as_ref()
+            .unwrap_or_else(|| panic!("{}", status(&h)));
+        assert_eq!(dr.geometry.curves.len(), 2);
+        (dr.size, d.regions.as_ref().unwrap().graph.points.len())
+    };
+    // Two circles, each one path of many more points than its nodes.
+    assert_eq!(strokes_of(&h, quadex::app::canvas::CURVE_COLOUR), 2);
+    h.get_by_label("Drawing");
+    h.get_by_label_contains(&format!(
+        "0 lines, 2 arcs; cut at size {size} into {nodes} boundary nodes"
+    ));
+    // Half the size, Apply with the pointer.
+    h.state_mut().panels.tools.resample_h = size / 2.0;
+    h.run();
+    h.get_by_label("Apply").click();
+    h.run();
+    let d = h.state().doc();
+    let now = d.regions.as_ref().unwrap().graph.points.len();
+    assert_eq!(d.drawing.as_ref().unwrap().size, size / 2.0);
+    assert!(
+        now > 2 * nodes - 8 && now < 2 * nodes + 8,
+        "{nodes} nodes, then {now}"
+    );
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    assert_eq!(h.state().shown_kind(), MeshKind::Finished, "{}", status(&h));
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("annulus.msh");
+    h.state_mut().apply(Command::Export(out.clone()));
+    let m = quadex::io::read_mesh(&out).unwrap_or_else(|e| panic!("{e}: {}", status(&h)));
+    assert_eq!(m.loops.len(), 2);
+    // The command line cuts and meshes the drawing the same way.
+    let exe = env!("CARGO_BIN_EXE_quadex");
+    let cli = dir.path().join("cli.msh");
+    let st = std::process::Command::new(exe)
+        .args([
+            "mesh",
+            dxf.to_str().unwrap(),
+            "-o",
+            cli.to_str().unwrap(),
+            "--size",
+        ])
+        .arg(format!("{}", size / 2.0))
+        .status()
+        .unwrap();
+    assert!(st.success());
+    assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&cli).unwrap());
+}
+
+/// A bow-tie drawn with the pointer is named as crossing segments (not a
+/// loop of no area), and the nodes' numbers the message gives are on the
+/// canvas.
+#[test]
+fn a_bow_tie_is_named_as_crossing_and_its_nodes_are_numbered() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::New);
+    h.run();
+    let c = h.state().view.canvas_rect.center();
+    let corners = [
+        c + egui::vec2(-100.0, -100.0),
+        c + egui::vec2(100.0, 100.0),
+        c + egui::vec2(100.0, -100.0),
+        c + egui::vec2(-100.0, 100.0),
+    ];
+    for &p in &corners {
+        click_at(&mut h, p);
+    }
+    click_at(&mut h, corners[0]);
+    h.run();
+    let d = h.state().doc();
+    assert_eq!(d.draft.node_count(), 4);
+    let problem = d
+        .problem
+        .as_ref()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(problem.contains("crosses"), "{problem}");
+    assert!(
+        h.query_all_by_label_contains("not a valid boundary yet: loop 0 (segment from node")
+            .count()
+            > 0
+    );
+    let texts: Vec<String> = painted(&h).into_iter().map(|t| t.0).collect();
+    for n in ["1", "2", "3", "4"] {
+        assert!(
+            texts.iter().any(|t| t == n),
+            "no node number {n}: {texts:?}"
+        );
+    }
+}
+
+/// The texts painted in the last frame that were cut short ("…").
+fn elided(h: &Harness<'static, App>) -> Vec<String> {
+    fn walk(s: &egui::Shape, out: &mut Vec<String>) {
+        match s {
+            egui::Shape::Vec(v) => v.iter().for_each(|s| walk(s, out)),
+            egui::Shape::Text(t) if t.galley.elided => out.push(t.galley.job.text.clone()),
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    for c in &h.output().shapes {
+        walk(&c.shape, &mut out);
+    }
+    out
+}
+
+/// At fit view on a large mesh the last step's labels do not pile up
+/// (P0 is ringed); Z (View ▸ Zoom to the last step) zooms to it and the
+/// labels show; the tool bar's hint is not cut off.
+#[test]
+fn the_last_step_is_ringed_at_fit_view_and_zoomed_to_with_z() {
+    let mut h = harness(open(&boundary("disk1600.poly")));
+    h.run();
+    h.state_mut().apply(Command::StepN(3));
+    h.run();
+    let texts = |h: &Harness<'static, App>| -> Vec<String> {
+        painted(h).into_iter().map(|t| t.0).collect()
+    };
+    for l in ["P0", "l1", "r1"] {
+        assert!(!texts(&h).iter().any(|t| t == l), "{l} painted at fit view");
+    }
+    assert!(elided(&h).is_empty(), "cut off: {:?}", elided(&h));
+    let hint = texts(&h)
+        .into_iter()
+        .find(|t| t.starts_with("Click a ringed node") || t.starts_with("Drag Pn"))
+        .expect("the correct tool's hint");
+    assert!(hint.len() > 100, "{hint}");
+    let zoom = h.state().view.canvas.zoom;
+    h.key_press(egui::Key::Z);
+    h.run();
+    assert!(h.state().view.canvas.zoom > 10.0 * zoom, "{}", status(&h));
+    for l in ["P0", "l1", "r1"] {
+        assert!(texts(&h).iter().any(|t| t == l), "{l} not painted after Z");
+    }
+    // The View menu has it too.
+    h.get_by_label("View").click();
+    h.run();
+    h.get_by_label_contains("Zoom to the last step");
+}
+
+/// Reset and Open of a document meshed with the same model do not measure
+/// the model again (5 to 15 s on a shared machine).
+#[test]
+fn the_model_panel_measures_the_same_model_once() {
+    let mut h = harness(example());
+    h.run();
+    h.get_by_label("Model").click();
+    h.step();
+    settle(&mut h);
+    h.state_mut().apply(Command::StepN(3));
+    h.state_mut().apply(Command::Reset);
+    h.step();
+    assert!(!h.state().measuring(), "measuring again after Reset");
+    h.state_mut().apply(Command::Open(boundary("square.poly")));
+    h.step();
+    assert!(!h.state().measuring(), "measuring again after Open");
+    // Another model is measured.
+    let s = Settings {
+        model: "rules".into(),
+        ..Settings::default()
+    };
+    h.state_mut().apply(Command::SetSettings(s));
+    h.step();
+    assert!(h.state().measuring());
+}
+
+/// "Collect from this mesh" says why a small mesh gives so many samples,
+/// and the table shows every input point, so rows of one corner are told
+/// apart.
+#[test]
+fn collected_samples_say_why_so_many_and_show_every_input() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    h.get_by_label("Training set").click();
+    h.run();
+    h.get_by_label_contains("Collect from this mesh").click();
+    h.run();
+    let st = status(&h);
+    assert!(
+        st.contains(
+            " a quad: each corner of a good quad is P0 for each of the three element types"
+        ),
+        "{st}"
+    );
+    let texts: Vec<String> = painted(&h).into_iter().map(|t| t.0).collect();
+    assert!(
+        texts
+            .iter()
+            .any(|t| t.contains("l3") && t.contains("l1") && t.contains("r1") && t.contains("r3")),
+        "{texts:?}"
+    );
+    // Rows carry seven points each (l3..l1 | r1..r3).
+    let row = texts
+        .iter()
+        .find(|t| t.contains(" | ") && t.contains("annulus.poly"))
+        .expect("a sample row");
+    assert_eq!(row.matches('(').count(), 6, "{row}");
+}
+
+/// The Boundary section is in view without scrolling when a boundary
+/// tool is chosen; at 800 × 500 the refit report's "model now" is in view
+/// and the colour legend leaves the canvas most of its room.
+#[test]
+fn a_small_window_keeps_the_refit_report_the_boundary_and_the_canvas_in_view() {
+    // An editing tool chosen with the pointer: the Boundary section comes
+    // right under the Extraction panel, in view.
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::StepN(5));
+    h.get_by_label("move").click();
+    h.run();
+    let boundary_heading = h.get_by_label("Boundary").rect();
+    assert!(boundary_heading.bottom() < 860.0, "{boundary_heading:?}");
+    h.get_by_label("Resample");
+    let mut h = harness_sized(example(), 800.0, 500.0);
+    h.run();
+    // A correction, a refit.
+    let (_, _, _) = step_five_and_correct(&mut h, |pn, p0, _| pn + (p0 - pn) * 0.05);
+    h.state_mut().apply(Command::Refit {
+        form: Form::Quadratic,
+        mesh_rest: false,
+    });
+    h.state_mut().wait();
+    h.run();
+    // The left panel ends where the canvas begins.
+    let left = h.state().view.canvas_rect.left();
+    let after = h.state().doc().last_refit.as_ref().unwrap().checks[0].after;
+    let value = format!(
+        "{} ({:.3}, {:.3})",
+        after.element_type.number(),
+        after.pn.x,
+        after.pn.y
+    );
+    // (Found by its node: the report is further down the panel.)
+    // (The corrected element reads the same when it is reproduced.)
+    let found: Vec<_> = h.query_all_by_label(&value).collect();
+    assert!(!found.is_empty(), "no {value}");
+    for n in found {
+        let at = n.rect();
+        assert!(
+            at.right() <= left,
+            "the model now at {at:?}, the panel ends at {left}"
+        );
+    }
+    assert!(h.get_by_label("model now").rect().right() <= left);
+    // The finished mesh coloured: the legend's backdrop takes little of
+    // the canvas.
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    let canvas = h.state().view.canvas_rect;
+    let back = h
+        .output()
+        .shapes
+        .iter()
+        .filter_map(|c| match &c.shape {
+            egui::Shape::Rect(r) if r.fill == egui::Color32::from_black_alpha(170) => Some(r.rect),
+            _ => None,
+        })
+        .next()
+        .expect("the legend");
+    let share = back.area() / canvas.area();
+    assert!(
+        share < 0.2,
+        "the legend takes {:.0} % of the canvas",
+        100.0 * share
+    );
 }

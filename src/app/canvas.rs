@@ -68,6 +68,18 @@ impl View {
     /// Fits the box `lo..hi` into `rect` with a margin, above the strip
     /// the colour legend takes at the bottom (where the canvas is tall
     /// enough to spare it).
+    /// Centres the view on the box `lo`..`hi`, zoomed so that it spans
+    /// `share` of the canvas (a pan and zoom of the user's: a resize keeps
+    /// it).
+    pub fn zoom_to(&mut self, rect: Rect, lo: Point, hi: Point, share: f64) {
+        let size = (hi - lo).max_element().max(1e-300);
+        let room = f64::from(rect.width().min(rect.height())).max(1.0);
+        self.center = (lo + hi) * 0.5;
+        self.zoom = share * room / size;
+        self.fitted = false;
+        self.fit_pending = false;
+    }
+
     pub fn fit(&mut self, rect: Rect, lo: Point, hi: Point) {
         let below = if rect.height() > 4.0 * LEGEND_ROOM {
             LEGEND_ROOM
@@ -273,27 +285,36 @@ const LEGEND_ROOM: f32 = 98.0;
 /// canvas's lower left corner, labelled with the metric's figures.
 pub fn legend(painter: &egui::Painter, rect: egui::Rect, metric: super::quality_panel::Metric) {
     const STOPS: [f64; 5] = [0.1, 0.25, 0.5, 0.75, 1.0];
-    let (w, h) = (44.0, 14.0);
-    let font = egui::FontId::proportional(12.0);
+    // A small canvas gets a compact legend (narrower cells, no line on
+    // the tint) that leaves it most of its room.
+    let compact = rect.width() < COMPACT_LEGEND_BELOW[0] || rect.height() < COMPACT_LEGEND_BELOW[1];
+    let (w, h, size, top) = if compact {
+        (30.0, 10.0, 10.0, 18.0)
+    } else {
+        (44.0, 14.0, 12.0, 38.0)
+    };
+    let font = egui::FontId::proportional(size);
     let text = Color32::from_rgb(230, 230, 230);
-    let origin = rect.left_bottom() + egui::vec2(12.0, -58.0);
+    let origin = rect.left_bottom() + egui::vec2(12.0, -(h + size + 30.0));
     let back = egui::Rect::from_min_size(
-        origin - egui::vec2(6.0, 38.0),
-        egui::vec2(w * STOPS.len() as f32 + 12.0, h + 58.0),
+        origin - egui::vec2(6.0, top),
+        egui::vec2(w * STOPS.len() as f32 + 12.0, h + size + 30.0 + top - 14.0),
     );
     painter.rect_filled(back, 4.0, Color32::from_black_alpha(170));
-    // The tint of the quads that miss the thesis criteria, over a good
-    // quad's colour, as it shows on the canvas.
-    let swatch = egui::Rect::from_min_size(origin - egui::vec2(0.0, 34.0), egui::vec2(h, h));
-    painter.rect_filled(swatch, 0.0, quality_color(1.0));
-    painter.rect_filled(swatch, 0.0, POOR_TINT);
-    painter.text(
-        swatch.right_center() + egui::vec2(6.0, 0.0),
-        egui::Align2::LEFT_CENTER,
-        "tinted: misses the thesis criteria",
-        font.clone(),
-        text,
-    );
+    if !compact {
+        // The tint of the quads that miss the thesis criteria, over a good
+        // quad's colour, as it shows on the canvas.
+        let swatch = egui::Rect::from_min_size(origin - egui::vec2(0.0, 34.0), egui::vec2(h, h));
+        painter.rect_filled(swatch, 0.0, quality_color(1.0));
+        painter.rect_filled(swatch, 0.0, POOR_TINT);
+        painter.text(
+            swatch.right_center() + egui::vec2(6.0, 0.0),
+            egui::Align2::LEFT_CENTER,
+            "tinted: misses the thesis criteria",
+            font.clone(),
+            text,
+        );
+    }
     painter.text(
         origin - egui::vec2(0.0, 4.0),
         egui::Align2::LEFT_BOTTOM,
@@ -314,6 +335,9 @@ pub fn legend(painter: &egui::Painter, rect: egui::Rect, metric: super::quality_
         );
     }
 }
+
+/// A canvas narrower or lower than this (points) gets the compact legend.
+pub const COMPACT_LEGEND_BELOW: [f32; 2] = [600.0, 400.0];
 
 /// Adds a convex polygon as a triangle fan.
 fn push_fan(mesh: &mut Mesh, pts: &[Pos2], color: Color32) {
@@ -863,6 +887,10 @@ impl Labels<'_> {
     }
 }
 
+/// The screen span (points) the last step's leading points need for
+/// their labels.
+pub const MIN_LABELLED_STEP: f32 = 40.0;
+
 /// The last step: its element outlined (when it is a few quads), the
 /// reference point (of any step that has one), the leading points labelled
 /// l1..lN and r1..rN, and the model's Pn; labels go outside the element and
@@ -896,6 +924,20 @@ fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn 
     } else {
         s0 + egui::vec2(-10.0, 10.0)
     };
+    // At a zoom where the step's points lie within a few pixels (a large
+    // mesh at fit view) their labels would pile into a blob: P0 is ringed
+    // instead, and View ▸ Zoom to the last step (Z) shows them.
+    let span = r
+        .leading
+        .iter()
+        .filter_map(|&v| at(v))
+        .fold(egui::Rect::NOTHING, |b, p| {
+            b.union(egui::Rect::from_min_max(p, p))
+        });
+    if r.leading.len() > 1 && span.width().max(span.height()) < MIN_LABELLED_STEP {
+        painter.circle_stroke(s0, 9.0, Stroke::new(2.0, Color32::from_rgb(255, 120, 120)));
+        return;
+    }
     let mut labels = Labels {
         painter,
         taken: Vec::new(),
@@ -947,6 +989,35 @@ fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn 
     let label_color = Color32::from_rgb(150, 210, 255);
     for (s, name) in leading {
         labels.place(s, s - centre, &name, label_color);
+    }
+}
+
+/// The colour a drawing's curves are drawn in.
+pub const CURVE_COLOUR: egui::Color32 = egui::Color32::from_rgb(255, 170, 60);
+
+/// Screen points an arc is drawn with per radian, at least.
+const ARC_POINTS_PER_RADIAN: f64 = 24.0;
+
+/// The curves of a drawing as they are (arcs as arcs, not as the chords
+/// between the nodes cut from them), over the canvas.
+pub fn draw_curves(
+    painter: &egui::Painter,
+    view: &View,
+    rect: egui::Rect,
+    g: &crate::cad::Geometry,
+) {
+    let stroke = egui::Stroke::new(2.0, CURVE_COLOUR);
+    for c in &g.curves {
+        let n = match c.curve {
+            crate::cad::Curve::Arc { sweep, .. } => {
+                (sweep.abs() * ARC_POINTS_PER_RADIAN).ceil().max(2.0) as usize
+            }
+            _ => 1,
+        };
+        let pts: Vec<egui::Pos2> = (0..=n)
+            .map(|k| view.to_screen(rect, c.curve.at(k as f64 / n as f64)))
+            .collect();
+        painter.add(egui::Shape::line(pts, stroke));
     }
 }
 

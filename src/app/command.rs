@@ -25,6 +25,8 @@ pub enum Command {
     Reset,
     /// Fit the boundary into the canvas.
     FitView,
+    /// Centre and zoom the canvas on the last step.
+    ZoomToStep,
     /// An empty document to draw a boundary in.
     New,
     /// Open a boundary, project or mesh file (asks first when the
@@ -88,6 +90,9 @@ pub enum Command {
     /// The boundary as edited on the canvas (valid or not: an invalid
     /// draft shows its problem and has no mesh until it is fixed).
     SetDraft { draft: Draft, what: &'static str },
+    /// Cut the boundary again at this target size: a drawing's curves, or
+    /// every loop of a boundary of nodes resampled.
+    SetSize(f64),
     /// Turn a document of one valid boundary into a document of regions
     /// (one region, no groups yet) to split and name.
     ToRegions,
@@ -145,6 +150,7 @@ impl Command {
             Command::Quit => Some(k(Modifiers::COMMAND, Key::Q)),
             Command::Reset => Some(k(Modifiers::COMMAND, Key::R)),
             Command::FitView => Some(k(Modifiers::NONE, Key::F)),
+            Command::ZoomToStep => Some(k(Modifiers::NONE, Key::Z)),
             _ => None,
         }
     }
@@ -170,7 +176,11 @@ impl Command {
     pub fn allowed_while_running(&self) -> bool {
         matches!(
             self,
-            Command::Cancel | Command::FitView | Command::Quit | Command::StopCompare
+            Command::Cancel
+                | Command::FitView
+                | Command::ZoomToStep
+                | Command::Quit
+                | Command::StopCompare
         )
     }
 }

@@ -183,6 +183,33 @@ pub fn load_model(
     if let Some(f) = models.iter().find(|f| f.name == spec) {
         return Ok((Arc::new(f.model()), ModelInfo::of_file(f)));
     }
+    // A built-in model is loaded once and shared: the same model after an
+    // Open or a Reset is the same one (the Model panel measures it once).
+    if model::BUILTIN.contains(&spec) {
+        if let Some(hit) = BUILTIN_MODELS
+            .get_or_init(Default::default)
+            .lock()
+            .ok()
+            .and_then(|c| c.get(spec).cloned())
+        {
+            return Ok(hit);
+        }
+    }
+    let loaded = load_model_afresh(spec)?;
+    if model::BUILTIN.contains(&spec) {
+        if let Ok(mut c) = BUILTIN_MODELS.get_or_init(Default::default).lock() {
+            c.insert(spec.to_string(), loaded.clone());
+        }
+    }
+    Ok(loaded)
+}
+
+/// The built-in models loaded this session, by name.
+type LoadedModel = (Arc<dyn model::Model>, ModelInfo);
+static BUILTIN_MODELS: OnceLock<Mutex<BTreeMap<String, LoadedModel>>> = OnceLock::new();
+
+/// Loads a built-in model or a model file by name or path.
+fn load_model_afresh(spec: &str) -> Result<LoadedModel, EditorError> {
     let failed = |cause| EditorError::Model {
         spec: spec.to_string(),
         cause,
@@ -251,6 +278,38 @@ pub struct Document {
     /// empty and `meshing` is `None`: the regions' faces are meshed one
     /// by one).
     pub regions: Option<Regions>,
+    /// The drawing (lines and arcs, `.dxf`) the regions' nodes were cut
+    /// from, and the size they were cut at.
+    pub drawing: Option<Drawing>,
+}
+
+/// A drawing's curves and the target size its boundary nodes are placed
+/// at ([`crate::cad::Geometry::discretise`]).
+#[derive(Clone, Debug)]
+pub struct Drawing {
+    pub geometry: Arc<crate::cad::Geometry>,
+    pub size: f64,
+    /// The curves given one segment more to make every region even.
+    pub parity_fixes: usize,
+}
+
+/// Boundary segments a drawing opens with, about: its first size is the
+/// curves' total length over this, rounded to two significant figures.
+pub const DRAWING_SEGMENTS: f64 = 120.0;
+
+/// The size a drawing opens with ([`DRAWING_SEGMENTS`]).
+pub fn drawing_size(g: &crate::cad::Geometry) -> f64 {
+    let total: f64 = g.curves.iter().map(|c| c.curve.length()).sum();
+    round_figures(total / DRAWING_SEGMENTS, 2)
+}
+
+/// `v` rounded to `k` significant figures.
+pub fn round_figures(v: f64, k: i32) -> f64 {
+    if !(v.is_finite() && v > 0.0) {
+        return v;
+    }
+    let scale = 10f64.powi(k - 1 - v.log10().floor() as i32);
+    (v * scale).round() / scale
 }
 
 /// Figures of the model before and after a refit, on the same samples.
@@ -274,6 +333,10 @@ pub struct RefitFigures {
     /// The boundary meshed from the start with the model before and the
     /// refitted one.
     pub meshed: Option<(compare::Outcome, compare::Outcome)>,
+    /// Meshing the boundary from the start with the refitted model: the
+    /// predictions its corrections changed, of all it made (none without
+    /// corrections or without that meshing).
+    pub memory_reach: Option<(usize, usize)>,
     /// How the refitted model meshes the boundary worse (empty: it does
     /// not).
     pub worse: Vec<String>,
@@ -373,6 +436,7 @@ impl Document {
             last_refit: None,
             models: Vec::new(),
             regions: None,
+            drawing: None,
         }
     }
 
@@ -520,6 +584,19 @@ impl Document {
             let m = io::read_mesh(path).at(path)?;
             return Ok((Document::from_mesh(m, path, settings)?, Vec::new()));
         }
+        if is_drawing(path) {
+            let failed = |cause| EditorError::Drawing {
+                path: Some(path.to_path_buf()),
+                cause,
+            };
+            let g = crate::cad::read_dxf(path).map_err(failed)?;
+            let mut doc = Document::empty(settings);
+            doc.source = Some(path.to_path_buf());
+            doc.name = file_name(path);
+            doc.set_drawing(Arc::new(g), None)?;
+            doc.boundary_edited = false;
+            return Ok((doc, Vec::new()));
+        }
         // A graph that cannot be meshed opens as a document of regions
         // to fix when it names groups or regions (or is a regions
         // document); otherwise it is read as one domain's loops, whose
@@ -544,6 +621,59 @@ impl Document {
 
     pub fn boundary(&self) -> Option<&Boundary> {
         self.meshing.as_ref().map(|m| &m.boundary)
+    }
+
+    /// Cuts the drawing `g` into boundary nodes at `size` (its first size,
+    /// [`drawing_size`], when `None`) and meshes its regions from the
+    /// start. A size the drawing cannot be cut at leaves the document as
+    /// it was.
+    pub fn set_drawing(
+        &mut self,
+        g: Arc<crate::cad::Geometry>,
+        size: Option<f64>,
+    ) -> Result<(), EditorError> {
+        let size = size.unwrap_or_else(|| drawing_size(&g));
+        let cut = g.discretise(size).map_err(|cause| EditorError::Drawing {
+            path: self.source.clone(),
+            cause,
+        })?;
+        if cut.graph.points.len() > crate::boundary_edit::MAX_RESAMPLED_NODES {
+            return Err(EditorError::Size(format!(
+                "a size of {size} cuts the drawing into {} nodes, more than {}: take a larger size",
+                cut.graph.points.len(),
+                crate::boundary_edit::MAX_RESAMPLED_NODES
+            )));
+        }
+        self.set_graph(cut.graph)?;
+        self.meshing = None;
+        self.draft = Draft::default();
+        self.problem = None;
+        self.drawing = Some(Drawing {
+            geometry: g,
+            size,
+            parity_fixes: cut.parity_fixes.len(),
+        });
+        Ok(())
+    }
+
+    /// The document's boundary cut again at target size `h`: a drawing's
+    /// curves ([`Document::set_drawing`]), or every loop of the boundary
+    /// resampled ([`Draft::resample_all`]); the mesh starts again.
+    pub fn set_size(&mut self, h: f64) -> Result<(), EditorError> {
+        if let Some(d) = &self.drawing {
+            let g = d.geometry.clone();
+            return self.set_drawing(g, Some(h));
+        }
+        if self.regions.is_some() {
+            return Err(EditorError::Size(
+                "the nodes of a document of regions are placed in its file: a size applies to drawings and single boundaries".into(),
+            ));
+        }
+        let mut draft = self.draft.clone();
+        draft
+            .resample_all(h)
+            .map_err(|e| EditorError::Size(e.to_string()))?;
+        self.set_draft(draft)
     }
 
     pub fn mesher(&self) -> Option<&Framed> {
@@ -896,117 +1026,48 @@ impl Document {
     /// the figures of the old and the new model: on those samples, at each
     /// correction, and meshing the boundary from the start.
     pub fn refit(&mut self, form: Form) -> Result<RefitFigures, EditorError> {
-        let RefitParts {
-            base,
-            own,
-            from_meshes,
-            repeated,
-        } = self.refit_parts()?;
-        let set = self.refit_set()?;
+        let done = self.refit_task(form)?.run(|_| {})?;
+        self.take_refit(done)
+    }
+
+    /// What a refit in `form` works on ([`Document::refit`]), to be made
+    /// in a thread ([`RefitTask::run`]) and taken back with
+    /// [`Document::take_refit`].
+    pub fn refit_task(&self, form: Form) -> Result<RefitTask, EditorError> {
+        let m = self.meshing.as_ref().ok_or(EditorError::NoStep)?;
         let mut k = self.models.len() + 1;
         while self.models.iter().any(|f| f.name == refit_name(form, k)) {
             k += 1;
         }
-        let memory = fit::correction_memory(base.points, &own, model::memory::DEFAULT_RADIUS)?;
-        let mut global = global_fit(&base, &from_meshes, form, &REFIT_PARAMS)?;
-        global.name = refit_name(form, k);
-        let file = fit::with_memory(global, memory);
-        let model = file.model();
-        let finishing = self.settings.finishing();
-        let old = self.meshing_mut()?.mesher.model().clone();
-        // The two models measured side by side (a second each on the
-        // reference samples).
-        let (before, after) = std::thread::scope(|scope| {
-            let before = scope.spawn(|| fit::evaluate(old.as_ref(), &set));
-            let after = fit::evaluate(&model, &set);
-            (before.join(), after)
-        });
-        let before = before.map_err(|_| EditorError::JobPanicked)??;
-        let after = after?;
-        let checks = self
-            .training
-            .samples
-            .iter()
-            .enumerate()
-            .filter(|(_, s)| s.source == crate::samples::Source::Correction)
-            .map(|(i, s)| CorrectionCheck {
-                sample: i,
-                corrected: model::Prediction {
-                    element_type: s.element_type,
-                    pn: s.pn,
-                },
-                before: old.predict(&s.input),
-                after: model.predict(&s.input),
-            })
-            .collect();
-        let m = self.meshing_mut()?;
-        let meshed = (m.boundary.node_count() <= COMPARE_NODES).then(|| {
-            let params = crate::pipeline::Params {
+        Ok(RefitTask {
+            form,
+            training: self.training.clone(),
+            name: refit_name(form, k),
+            old: m.mesher.model().clone(),
+            params: crate::pipeline::Params {
                 extract: m.mesher.params().clone(),
-                finish: finishing,
-            };
-            (
-                compare::mesh_with(old.name(), &m.boundary, old.clone(), &params),
-                compare::mesh_with(&file.name, &m.boundary, Arc::new(model.clone()), &params),
-            )
-        });
-        let worse = meshed
-            .as_ref()
-            .map(|(b, a)| a.worse_than(b))
-            .unwrap_or_default();
+                finish: self.settings.finishing(),
+            },
+            boundary: (m.boundary.node_count() <= COMPARE_NODES).then(|| m.boundary.clone()),
+        })
+    }
+
+    /// Takes a refit made by [`RefitTask::run`]: the model joins the
+    /// document's models, is chosen, and meshes the rest.
+    pub fn take_refit(&mut self, done: RefitDone) -> Result<RefitFigures, EditorError> {
+        let RefitDone {
+            file,
+            model,
+            figures,
+        } = done;
+        let m = self.meshing_mut()?;
         m.mesher.set_model(Arc::new(model.clone()));
         m.refits.push((m.mesher.steps(), model));
         m.info = ModelInfo::of_file(&file);
         self.settings.model = file.name.clone();
-        let f = RefitFigures {
-            samples: file.training.samples,
-            corrections: file.training.corrections,
-            repeated,
-            before,
-            after,
-            model: file.name.clone(),
-            checks,
-            meshed,
-            worse,
-        };
         self.models.push(file);
-        self.last_refit = Some(f.clone());
-        Ok(f)
-    }
-
-    /// What a refit is made of ([`RefitParts`]), the user's samples split
-    /// once.
-    fn refit_parts(&self) -> Result<RefitParts, EditorError> {
-        let base = reference(self.training.points)?;
-        let (own, from_meshes) = fit::split_added(&self.training);
-        let (from_meshes, repeated) = if from_meshes.is_empty() {
-            (from_meshes, 0)
-        } else {
-            from_meshes.beyond(base.keys.get_or_init(|| base.set.keys()))
-        };
-        Ok(RefitParts {
-            base: base.set,
-            own,
-            from_meshes,
-            repeated,
-        })
-    }
-
-    /// The global fit a refit in `form` would make now, when it is not made
-    /// yet (it takes seconds: the editor makes it in a thread first);
-    /// `None` when the refit needs no new fit.
-    pub fn pending_fit(&self, form: Form) -> Result<Option<FitTask>, EditorError> {
-        let RefitParts {
-            base, from_meshes, ..
-        } = self.refit_parts()?;
-        let key = fit_key(&base, &from_meshes, form, &REFIT_PARAMS);
-        Ok(cached_or_shipped(&key, &from_meshes, form, &REFIT_PARAMS)
-            .is_none()
-            .then_some(FitTask {
-                base,
-                from_meshes,
-                form,
-            }))
+        self.last_refit = Some(figures.clone());
+        Ok(figures)
     }
 
     /// The settings for another document: a refitted model of this one
@@ -1184,27 +1245,205 @@ const REFIT_PARAMS: FitParams = FitParams {
     ..FitParams::DEFAULT
 };
 
-/// A global fit to make before a refit ([`Document::pending_fit`]): what
-/// it needs, to be taken to another thread.
-pub struct FitTask {
-    base: Arc<TrainingSet>,
-    from_meshes: TrainingSet,
+/// A refit's work ([`Document::refit_task`]), to be taken to a thread.
+pub struct RefitTask {
     pub form: Form,
+    training: TrainingSet,
+    /// The refitted model's name.
+    name: String,
+    /// The model meshed with before the refit.
+    old: Arc<dyn model::Model>,
+    params: crate::pipeline::Params,
+    /// The boundary meshed from the start with both models (none above
+    /// [`COMPARE_NODES`] nodes).
+    boundary: Option<Boundary>,
 }
 
-impl FitTask {
-    /// Samples it fits on: the reference samples and those of yours that
-    /// add to them.
-    pub fn samples(&self) -> usize {
-        self.base.len() + self.from_meshes.len()
+/// The parts of a refit, as its progress line names them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RefitPhase {
+    /// The reference samples collected (once per session).
+    Collecting,
+    /// The global fit on this many samples (taken at once when it was
+    /// made before) and the corrections layered over it.
+    Fitting(usize),
+    /// Both models measured on the samples.
+    Measuring,
+    /// The boundary meshed from the start with the model before; the share
+    /// of its area meshed.
+    MeshingBefore(f64),
+    /// The same with the refitted model.
+    MeshingAfter(f64),
+}
+
+impl RefitPhase {
+    /// The progress line: "meshing the boundary with the refitted model
+    /// (45 %)".
+    pub fn describe(self) -> String {
+        match self {
+            RefitPhase::Collecting => "collecting the reference samples".into(),
+            RefitPhase::Fitting(n) => format!("fitting on {}", super::plural(n, "sample")),
+            RefitPhase::Measuring => "measuring both models on the samples".into(),
+            RefitPhase::MeshingBefore(f) => format!(
+                "meshing the boundary from the start with the model before ({:.0} %)",
+                100.0 * f
+            ),
+            RefitPhase::MeshingAfter(f) => format!(
+                "meshing the boundary from the start with the refitted model ({:.0} %)",
+                100.0 * f
+            ),
+        }
+    }
+}
+
+/// What a refit made, to be taken into the document
+/// ([`Document::take_refit`]).
+pub struct RefitDone {
+    file: ModelFile,
+    model: FittedModel,
+    pub figures: RefitFigures,
+}
+
+/// Predictions a correction memory may change, as a share of a run's
+/// predictions, before the refit report says the corrections reach too
+/// far (one correction meant for one front that changes a large part of
+/// the mesh).
+pub const WORSE_MEMORY_SHARE: f64 = 0.05;
+
+/// A fitted model that counts the predictions its corrections changed
+/// (those where [`FittedModel::predict`] is not
+/// [`FittedModel::predict_global`]).
+struct MemoryCount {
+    model: FittedModel,
+    calls: std::sync::atomic::AtomicUsize,
+    changed: std::sync::atomic::AtomicUsize,
+}
+
+impl model::Model for MemoryCount {
+    fn name(&self) -> &str {
+        self.model.name()
     }
 
-    /// Makes the fit and keeps it for the refit; the error, as text (the
-    /// editor's errors stay on its own thread).
-    pub fn run(self) -> Result<(), String> {
-        global_fit(&self.base, &self.from_meshes, self.form, &REFIT_PARAMS)
-            .map(|_| ())
-            .map_err(|e| e.to_string())
+    fn leading_points(&self) -> Option<usize> {
+        self.model.leading_points()
+    }
+
+    fn predict(&self, input: &crate::normalize::LeadingPoints) -> model::Prediction {
+        use std::sync::atomic::Ordering;
+        let p = self.model.predict(input);
+        self.calls.fetch_add(1, Ordering::Relaxed);
+        if p != self.model.predict_global(input) {
+            self.changed.fetch_add(1, Ordering::Relaxed);
+        }
+        p
+    }
+}
+
+impl RefitTask {
+    /// Makes the refit: the global fit (kept for the session), the
+    /// corrections layered over it, both models measured on the samples
+    /// and at each correction, and the boundary meshed from the start with
+    /// both; `phase` is told as each part starts.
+    pub fn run(self, phase: impl Fn(RefitPhase)) -> Result<RefitDone, EditorError> {
+        use std::sync::atomic::Ordering;
+        phase(RefitPhase::Collecting);
+        let base = reference(self.training.points)?;
+        let (own, from_meshes) = fit::split_added(&self.training);
+        let (from_meshes, repeated) = if from_meshes.is_empty() {
+            (from_meshes, 0)
+        } else {
+            from_meshes.beyond(base.keys.get_or_init(|| base.set.keys()))
+        };
+        let base = base.set;
+        phase(RefitPhase::Fitting(base.len() + from_meshes.len()));
+        let set = refit_set_of(self.training.clone())?;
+        let memory = fit::correction_memory(base.points, &own, model::memory::DEFAULT_RADIUS)?;
+        let mut global = global_fit(&base, &from_meshes, self.form, &REFIT_PARAMS)?;
+        global.name = self.name.clone();
+        let file = fit::with_memory(global, memory);
+        let model = file.model();
+        let old = self.old;
+        phase(RefitPhase::Measuring);
+        // The two models measured side by side (a second each on the
+        // reference samples).
+        let (before, after) = std::thread::scope(|scope| {
+            let before = scope.spawn(|| fit::evaluate(old.as_ref(), &set));
+            let after = fit::evaluate(&model, &set);
+            (before.join(), after)
+        });
+        let before = before.map_err(|_| EditorError::JobPanicked)??;
+        let after = after?;
+        let checks = self
+            .training
+            .samples
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.source == crate::samples::Source::Correction)
+            .map(|(i, s)| CorrectionCheck {
+                sample: i,
+                corrected: model::Prediction {
+                    element_type: s.element_type,
+                    pn: s.pn,
+                },
+                before: old.predict(&s.input),
+                after: model.predict(&s.input),
+            })
+            .collect();
+        let counted = Arc::new(MemoryCount {
+            model: model.clone(),
+            calls: Default::default(),
+            changed: Default::default(),
+        });
+        let meshed = self.boundary.as_ref().map(|b| {
+            let before =
+                compare::mesh_with_progress(old.name(), b, old.clone(), &self.params, |p| {
+                    phase(RefitPhase::MeshingBefore(p.meshed))
+                });
+            let after =
+                compare::mesh_with_progress(&file.name, b, counted.clone(), &self.params, |p| {
+                    phase(RefitPhase::MeshingAfter(p.meshed))
+                });
+            (before, after)
+        });
+        let memory_reach = meshed
+            .as_ref()
+            .filter(|_| !model.memory.is_empty())
+            .map(|_| {
+                (
+                    counted.changed.load(Ordering::Relaxed),
+                    counted.calls.load(Ordering::Relaxed),
+                )
+            });
+        let mut worse = meshed
+            .as_ref()
+            .map(|(b, a)| a.worse_than(b))
+            .unwrap_or_default();
+        if let Some((changed, calls)) = memory_reach {
+            if changed as f64 > WORSE_MEMORY_SHARE * calls as f64 {
+                worse.push(format!(
+                    "the corrections change {} of {} predictions",
+                    compare::grouped(changed),
+                    compare::grouped(calls)
+                ));
+            }
+        }
+        let figures = RefitFigures {
+            samples: file.training.samples,
+            corrections: file.training.corrections,
+            repeated,
+            before,
+            after,
+            model: file.name.clone(),
+            checks,
+            meshed,
+            memory_reach,
+            worse,
+        };
+        Ok(RefitDone {
+            file,
+            model,
+            figures,
+        })
     }
 }
 
@@ -1299,19 +1538,6 @@ pub const COMPARE_NODES: usize = 4000;
 /// of the program and shared.
 pub fn reference_samples(points: usize) -> Result<Arc<TrainingSet>, EditorError> {
     Ok(reference(points)?.set)
-}
-
-/// What a refit is made of: its global fit's samples (the reference
-/// samples, and the user's samples from meshes, collected or imported,
-/// that add to them) and the user's own elements layered over it as
-/// corrections.
-struct RefitParts {
-    base: Arc<TrainingSet>,
-    own: TrainingSet,
-    from_meshes: TrainingSet,
-    /// The user's samples from meshes left out as repeats of samples
-    /// already there (a refit that adds only repeats needs no new fit).
-    repeated: usize,
 }
 
 /// The reference samples at `points` input points, and their duplicate
@@ -1640,7 +1866,13 @@ pub fn is_mesh_file(path: &Path) -> bool {
 /// ([`is_mesh_file`]). An export to `.vtk`, `.vtu`, `.inp` or `.svg` is
 /// not one.
 pub fn opens(path: &Path) -> bool {
-    io::is_boundary_file(path) || is_mesh_file(path)
+    io::is_boundary_file(path) || is_mesh_file(path) || is_drawing(path)
+}
+
+/// True for a drawing (`.dxf`).
+pub fn is_drawing(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("dxf"))
 }
 
 /// True for a JSON file whose `format` is a project's.

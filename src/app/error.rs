@@ -75,6 +75,9 @@ pub enum EditorError {
     UnknownExample(String),
     #[error("the background run stopped unexpectedly")]
     JobPanicked,
+    /// A refit made in the background failed (its error, as text).
+    #[error("the refit failed: {0}")]
+    Refit(String),
     #[error("{}: cannot save the screenshot: {cause}", path.display())]
     Screenshot {
         path: PathBuf,
@@ -102,6 +105,15 @@ pub enum EditorError {
     /// A region or group edit that cannot be made.
     #[error("{0}")]
     RegionEdit(String),
+    /// A drawing that cannot be read or cut into boundary nodes.
+    #[error("{}{cause}", path.as_ref().map(|p| format!("{}: ", p.display())).unwrap_or_default())]
+    Drawing {
+        path: Option<PathBuf>,
+        cause: crate::cad::CadError,
+    },
+    /// A size the document cannot take.
+    #[error("{0}")]
+    Size(String),
 }
 
 impl From<crate::regions::RegionError> for EditorError {

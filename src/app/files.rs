@@ -77,8 +77,8 @@ pub fn pick(d: Dialog, dir: Option<&Path>, name: &str) -> Option<PathBuf> {
     match d {
         Dialog::Open => f
             .add_filter(
-                "boundary, project or mesh",
-                &["poly", "json", "msh", "msh22"],
+                "boundary, drawing, project or mesh",
+                &["poly", "json", "dxf", "msh", "msh22"],
             )
             .pick_file(),
         Dialog::SaveProjectAs => f.add_filter("quadex project", &["json"]).save_file(),

@@ -168,6 +168,15 @@ impl Framed {
     pub fn finish(&self, f: &FinishParams) -> Result<QuadMesh, MeshError> {
         pipeline::finish_moved(&self.inner, f, self.origin)
     }
+
+    /// [`Framed::finish`], `phase` called as each part of it starts.
+    pub fn finish_phased(
+        &self,
+        f: &FinishParams,
+        phase: impl FnMut(pipeline::FinishPhase),
+    ) -> Result<QuadMesh, MeshError> {
+        pipeline::finish_phased(&self.inner, f, self.origin, phase)
+    }
 }
 
 /// Step report `r` of a mesher run in a frame moved by `-origin`, moved

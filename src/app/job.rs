@@ -12,8 +12,9 @@ use super::framed::Framed;
 use crate::extract::StepReport;
 use crate::mesh::QuadMesh;
 use crate::pipeline::FinishParams;
+use crate::pipeline::FinishPhase;
 use std::ops::ControlFlow;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 
@@ -61,6 +62,8 @@ pub struct Job {
     front: Arc<AtomicUsize>,
     /// The share of the domain meshed, as `f64` bits.
     meshed: Arc<AtomicU64>,
+    /// The part of the work going on ([`Job::phase`]).
+    phase: Arc<AtomicU8>,
     /// What runs, for the progress line.
     pub what: &'static str,
     pub work: Work,
@@ -84,7 +87,9 @@ impl Job {
         let steps = Arc::new(AtomicUsize::new(0));
         let front = Arc::new(AtomicUsize::new(mesher.front().len()));
         let meshed = Arc::new(AtomicU64::new(mesher.meshed_share().to_bits()));
+        let phase = Arc::new(AtomicU8::new(0));
         let (c, s, f, a) = (cancel.clone(), steps.clone(), front.clone(), meshed.clone());
+        let ph = phase.clone();
         let handle = std::thread::spawn(move || {
             let (mut last, mut taken, mut error) = (None, 0, None);
             let finish = match work {
@@ -110,7 +115,11 @@ impl Job {
             };
             let finished = finish
                 .filter(|_| mesher.is_done() && !c.load(Ordering::Relaxed))
-                .map(|p| mesher.finish(&p));
+                .map(|p| {
+                    mesher.finish_phased(&p, |at| {
+                        ph.store(phase_code(at), Ordering::Relaxed);
+                    })
+                });
             JobDone {
                 mesher,
                 last,
@@ -125,6 +134,7 @@ impl Job {
             steps,
             front,
             meshed,
+            phase,
             what,
             work,
             record,
@@ -155,6 +165,20 @@ impl Job {
         (steps, front, meshed as f32)
     }
 
+    /// The part of the work going on: `None` while extraction steps,
+    /// else the part of finishing the mesh.
+    pub fn phase(&self) -> Option<FinishPhase> {
+        PHASES
+            .get(usize::from(self.phase.load(Ordering::Relaxed)).wrapping_sub(1))
+            .copied()
+    }
+
+    /// What the job does now, for the progress line: "extraction" or the
+    /// part of finishing the mesh.
+    pub fn phase_name(&self) -> &'static str {
+        self.phase().map_or("extraction", FinishPhase::name)
+    }
+
     /// Seconds since the start.
     pub fn elapsed(&self) -> f64 {
         self.started.elapsed().as_secs_f64()
@@ -170,4 +194,21 @@ impl Job {
     pub fn wait(&mut self) -> Option<JobDone> {
         self.handle.take()?.join().ok()
     }
+}
+
+/// The parts of finishing, by their code in [`Job::phase`] less one.
+const PHASES: [FinishPhase; 5] = [
+    FinishPhase::Cleanup,
+    FinishPhase::Coarsening,
+    FinishPhase::Remeshing,
+    FinishPhase::Smoothing,
+    FinishPhase::Checking,
+];
+
+/// `p`'s code in [`Job::phase`] (0 is extraction).
+fn phase_code(p: FinishPhase) -> u8 {
+    PHASES
+        .iter()
+        .position(|&q| q == p)
+        .map_or(0, |k| k as u8 + 1)
 }

@@ -123,6 +123,9 @@ pub struct Figures<'a> {
     pub stats: &'a MeshStats,
     /// Changes whenever the mesh as stepped does.
     pub mesh_version: u64,
+    /// A run or refit goes on in the background (the panels' commands
+    /// wait for it).
+    pub busy: bool,
 }
 
 /// What the stepping panel shows of the editor: the animated run, and
@@ -130,6 +133,9 @@ pub struct Figures<'a> {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RunState {
     pub animating: bool,
+    /// A run or refit goes on in the background: stepping, undo and
+    /// reset wait for it (Cancel stops it).
+    pub busy: bool,
     pub can_undo: bool,
     pub can_redo: bool,
 }
@@ -201,6 +207,9 @@ pub struct Prefs {
     pub show_right: bool,
     /// The widths the user gave the left and right panels.
     pub widths: [f32; 2],
+    /// The folder of the last mesh exported (a document of no file
+    /// proposes it).
+    pub export_dir: Option<PathBuf>,
 }
 
 impl Default for Prefs {
@@ -214,9 +223,14 @@ impl Default for Prefs {
             show_left: true,
             show_right: true,
             widths: PANEL_WIDTHS,
+            export_dir: None,
         }
     }
 }
+
+/// The share of the canvas the last step spans after View ▸ Zoom to the
+/// last step.
+const ZOOM_TO_STEP_SHARE: f64 = 0.4;
 
 /// The side panels' widths at first (points): left, right.
 const PANEL_WIDTHS: [f32; 2] = [290.0, 400.0];
@@ -343,8 +357,8 @@ pub struct Background {
     settings_changed: Option<std::time::Instant>,
     /// A comparison of models being made.
     compare: Option<CompareJob>,
-    /// A refit's global fit being made, and the refit that follows it.
-    fit: Option<FitJob>,
+    /// A refit being made.
+    refit: Option<RefitJob>,
     /// The last comparison made.
     comparison: Option<Comparison>,
     /// A run of a document of regions.
@@ -419,13 +433,23 @@ impl RegionRun {
     }
 }
 
-/// The global fit of a refit, made in a thread ([`Document::pending_fit`]):
-/// the refit itself follows when it is done.
-struct FitJob {
-    handle: std::thread::JoinHandle<Result<(), String>>,
-    then: Command,
-    what: String,
+/// A refit made in a thread ([`document::RefitTask::run`]), taken into
+/// the document when it is done (a cancelled one is dropped).
+struct RefitJob {
+    handle: std::thread::JoinHandle<Result<document::RefitDone, String>>,
+    phase: Arc<std::sync::Mutex<document::RefitPhase>>,
+    /// Mesh the rest with the refitted model once it is taken.
+    mesh_rest: bool,
     started: std::time::Instant,
+}
+
+impl RefitJob {
+    /// What the refit is doing now.
+    fn phase(&self) -> String {
+        self.phase
+            .lock()
+            .map_or_else(|_| String::new(), |p| p.describe())
+    }
 }
 
 /// A question the editor asks before going on.
@@ -456,6 +480,9 @@ pub struct Window {
     /// Close the window on the next frame.
     close_now: bool,
     pub recent: Recent,
+    /// The folder of the last mesh exported: where a document of no file
+    /// (New, a built-in example) proposes to export and save.
+    pub export_dir: Option<PathBuf>,
     close_allowed: bool,
     /// The desktop offers file dialogs (else the prompt in the window).
     pub native_dialogs: bool,
@@ -498,6 +525,20 @@ pub fn plural(n: usize, what: &str) -> String {
         format!("1 {what}")
     } else {
         format!("{n} {what}s")
+    }
+}
+
+/// The quads of `n` that miss a criterion `share` of them meet, as a
+/// count ("3 of 198,007 outside"): a share rounded to 100.0 % would hide
+/// them.
+pub fn missing(share: f64, n: usize, word: &str) -> String {
+    let met = (share * n as f64).round().clamp(0.0, n as f64) as usize;
+    let miss = n - met;
+    let grouped = crate::compare::grouped;
+    if miss == 0 {
+        format!("none of {} {word}", grouped(n))
+    } else {
+        format!("{} of {} {word}", grouped(miss), grouped(n))
     }
 }
 
@@ -617,6 +658,7 @@ fn figures_of<'a>(d: &'a DocumentState, v: &'a ViewState) -> Figures<'a> {
         kind: shown_of(d, &v.finished, &v.empty).kind,
         stats: &v.stats,
         mesh_version: d.mesh_version,
+        busy: false,
     }
 }
 
@@ -673,7 +715,7 @@ impl App {
                 threads: true,
                 settings_changed: None,
                 compare: None,
-                fit: None,
+                refit: None,
                 comparison: None,
                 region_run: None,
             },
@@ -684,6 +726,7 @@ impl App {
                 after_save: None,
                 close_now: false,
                 recent: Recent::default(),
+                export_dir: None,
                 close_allowed: false,
                 native_dialogs: files::native_dialogs(),
                 screenshot: None,
@@ -743,12 +786,14 @@ impl App {
             show_left: self.panels.show_left,
             show_right: self.panels.show_right,
             widths: self.panels.widths,
+            export_dir: self.window.export_dir.clone(),
         }
     }
 
     /// Takes the remembered state (the settings are the document's own).
     pub fn set_prefs(&mut self, p: Prefs) {
         self.window.recent = p.recent;
+        self.window.export_dir = p.export_dir;
         // (Lists remembered before the list kept only files Open reads.)
         self.window.recent.0.retain(|f| document::opens(f));
         self.panels.step = p.step;
@@ -779,7 +824,7 @@ impl App {
     /// True while a run goes on in the background.
     pub fn busy(&self) -> bool {
         self.background.job.as_ref().is_some_and(Job::is_run)
-            || self.background.fit.is_some()
+            || self.background.refit.is_some()
             || self.background.region_run.is_some()
     }
 
@@ -802,6 +847,9 @@ impl App {
     /// Waits for the background work, if any, and takes its result; then
     /// finishes the mesh if it is complete (as the frames would).
     pub fn wait(&mut self) {
+        if let Some(r) = self.background.refit.take() {
+            self.refit_joined(r);
+        }
         if let Some(mut j) = self.background.job.take() {
             let done = j.wait();
             self.job_done(j, done);
@@ -1045,6 +1093,26 @@ impl App {
                 self.view.canvas.fit_pending = true;
                 Ok(String::new())
             }
+            Command::ZoomToStep => {
+                let doc = &self.document.doc;
+                let (Some(r), Some(m)) = (doc.last(), doc.mesher()) else {
+                    return Err(EditorError::NoStep);
+                };
+                let mesh = m.mesh();
+                let pts: Vec<Point> = r
+                    .leading
+                    .iter()
+                    .chain(r.reference.iter())
+                    .chain(r.quads.iter().flatten())
+                    .filter_map(|&v| mesh.nodes.get(v as usize).copied())
+                    .collect();
+                let b = Aabb::of(pts.iter().copied()).ok_or(EditorError::NoStep)?;
+                let rect = self.view.canvas_rect;
+                self.view
+                    .canvas
+                    .zoom_to(rect, b.min, b.max, ZOOM_TO_STEP_SHARE);
+                Ok(format!("zoomed to step {} (F fits the view again)", r.index + 1))
+            }
             Command::New => {
                 let settings = self.document.doc.portable_settings();
                 self.replace_document("new", |d| {
@@ -1128,73 +1196,31 @@ impl App {
                 })
             }
             Command::Refit { form, mesh_rest } => {
+                let task = self.document.doc.refit_task(form)?;
                 if self.background.threads {
-                    if let Some(task) = self.document.doc.pending_fit(form)? {
-                        let what = format!(
-                            "fitting the {} form on {}",
-                            form.name(),
-                            plural(task.samples(), "sample")
-                        );
-                        self.background.fit = Some(FitJob {
-                            handle: std::thread::spawn(move || task.run()),
-                            then: Command::Refit { form, mesh_rest },
-                            what,
-                            started: std::time::Instant::now(),
-                        });
-                        return Ok(
-                            "refit: a new global fit is made first (the refit follows)".into()
-                        );
-                    }
-                }
-                let f = self.edit("refit", |d| d.refit(form))?;
-                let mut msg = format!(
-                    "refit made {} from {} and {} of yours: Xn R {} to {}, Yn R {} to {}",
-                    f.model,
-                    plural(f.samples, "sample"),
-                    plural(f.corrections, "correction"),
-                    figure(f.before.1.r, 3),
-                    figure(f.after.1.r, 3),
-                    figure(f.before.2.r, 3),
-                    figure(f.after.2.r, 3),
-                );
-                if f.repeated > 0 {
-                    msg.push_str(&format!(
-                        "; {} of yours {} samples already in the set and {} nothing",
-                        plural(f.repeated, "sample"),
-                        if f.repeated == 1 { "repeats" } else { "repeat" },
-                        if f.repeated == 1 { "adds" } else { "add" },
-                    ));
-                }
-                if !f.worse.is_empty() {
-                    msg.push_str(&format!(
-                        "; it meshes this boundary worse: {}",
-                        f.worse.join(", ")
-                    ));
-                }
-                if mesh_rest && !self.document.doc.is_done() {
-                    if self.background.threads {
-                        self.start_run(usize::MAX, "meshing the rest", Record::WithLastEdit)?;
-                        return Ok(format!("{msg}; meshing the rest…"));
-                    }
-                    // Without threads: the steps join the refit's edit.
-                    let m = self
-                        .document
-                        .doc
-                        .meshing
-                        .as_mut()
-                        .ok_or(EditorError::NoStep)?;
-                    let mut last = None;
-                    let res = m.mesher.run_with(|r, _| {
-                        last = Some(r.clone());
-                        std::ops::ControlFlow::Continue(())
+                    let phase = Arc::new(std::sync::Mutex::new(document::RefitPhase::Collecting));
+                    let p = phase.clone();
+                    let handle = std::thread::spawn(move || {
+                        task.run(|at| {
+                            if let Ok(mut now) = p.lock() {
+                                *now = at;
+                            }
+                        })
+                        .map_err(|e| e.to_string())
                     });
-                    if last.is_some() {
-                        m.last = last;
-                    }
-                    self.changed(true);
-                    res?;
+                    self.background.refit = Some(RefitJob {
+                        handle,
+                        phase,
+                        mesh_rest,
+                        started: std::time::Instant::now(),
+                    });
+                    return Ok(format!(
+                        "refitting the {} form in the background…",
+                        form.name()
+                    ));
                 }
-                Ok(msg)
+                let done = task.run(|_| {})?;
+                self.refit_done(done, mesh_rest)
             }
             Command::SaveModel(path) => {
                 let name = self.document.doc.save_model(&path)?;
@@ -1221,13 +1247,16 @@ impl App {
             }),
             Command::CollectFromMesh => {
                 let mesh = self.finished_mesh()?;
+                let quads = mesh.quads.len();
                 let name = self.document.doc.name.clone();
                 self.edit("collect samples", |d| {
                     d.collect_samples(&name, mesh).map(|n| {
                         let [lo, hi] = crate::reference::DEFAULT_MODEL_TURN;
                         format!(
-                            "{} collected from the mesh (front turns within {lo} to {hi} degrees, as for the shipped model: `quadex samples --turn {lo},{hi}`)",
-                            plural(n, "sample")
+                            "{} collected from the mesh's {} (about {} a quad: each corner of a good quad is P0 for each of the three element types, once for every way the front continues along mesh edges beyond l1 and r1 turning within {lo} to {hi} degrees, as for the shipped model: `quadex samples --turn {lo},{hi}`)",
+                            plural(n, "sample"),
+                            plural(quads, "quad"),
+                            (n as f64 / quads.max(1) as f64).round()
                         )
                     })
                 })
@@ -1253,6 +1282,17 @@ impl App {
             Command::NameRegion { at, name, tag } => self.graph_edit("name region", |g| {
                 regions::with_region(g, at, &name, tag)
             }),
+            Command::SetSize(h) => self.edit("size", |d| {
+                d.set_size(h)?;
+                let nodes = match &d.regions {
+                    Some(r) => r.graph.points.len(),
+                    None => d.draft.node_count(),
+                };
+                Ok(format!(
+                    "cut at size {h}: {}; mesh restarted",
+                    plural(nodes, "boundary node")
+                ))
+            }),
             Command::SetDraft { draft, what } => self.edit(what, |d| {
                 d.set_draft(draft)?;
                 Ok(match &d.problem {
@@ -1261,6 +1301,77 @@ impl App {
                     Some(e) => format!("not a valid boundary yet: {e}"),
                 })
             }),
+        }
+    }
+
+    /// Takes a refit made into the document (one undo takes it back, and
+    /// the rest it meshes).
+    fn refit_done(
+        &mut self,
+        done: document::RefitDone,
+        mesh_rest: bool,
+    ) -> Result<String, EditorError> {
+        let f = self.edit("refit", |d| d.take_refit(done))?;
+        let mut msg = format!(
+            "refit made {} from {} and {} of yours: Xn R {} to {}, Yn R {} to {}",
+            f.model,
+            plural(f.samples, "sample"),
+            plural(f.corrections, "correction"),
+            figure(f.before.1.r, 3),
+            figure(f.after.1.r, 3),
+            figure(f.before.2.r, 3),
+            figure(f.after.2.r, 3),
+        );
+        if f.repeated > 0 {
+            msg.push_str(&format!(
+                "; {} of yours {} samples already in the set and {} nothing",
+                plural(f.repeated, "sample"),
+                if f.repeated == 1 { "repeats" } else { "repeat" },
+                if f.repeated == 1 { "adds" } else { "add" },
+            ));
+        }
+        if !f.worse.is_empty() {
+            msg.push_str(&format!(
+                "; it meshes this boundary worse: {}",
+                f.worse.join(", ")
+            ));
+        }
+        if mesh_rest && !self.document.doc.is_done() {
+            if self.background.threads {
+                self.start_run(usize::MAX, "meshing the rest", Record::WithLastEdit)?;
+                return Ok(format!("{msg}; meshing the rest…"));
+            }
+            // Without threads: the steps join the refit's edit.
+            let m = self
+                .document
+                .doc
+                .meshing
+                .as_mut()
+                .ok_or(EditorError::NoStep)?;
+            let mut last = None;
+            let res = m.mesher.run_with(|r, _| {
+                last = Some(r.clone());
+                std::ops::ControlFlow::Continue(())
+            });
+            if last.is_some() {
+                m.last = last;
+            }
+            self.changed(true);
+            res?;
+        }
+        Ok(msg)
+    }
+
+    /// Takes a refit's thread's result (its error to the status line).
+    fn refit_joined(&mut self, r: RefitJob) {
+        let res = match r.handle.join() {
+            Ok(Ok(done)) => self.refit_done(done, r.mesh_rest),
+            Ok(Err(e)) => Err(EditorError::Refit(e)),
+            Err(_) => Err(EditorError::JobPanicked),
+        };
+        match res {
+            Ok(msg) => self.window.status = msg,
+            Err(e) => self.window.status = format!("error: {e}"),
         }
     }
 
@@ -1441,10 +1552,10 @@ impl App {
     /// finishing pass, or the animation.
     fn cancel(&mut self) -> String {
         let was_animating = self.background.animating.take().is_some();
-        if self.background.fit.take().is_some() {
-            // The thread cannot be stopped; the fit it makes is kept for
-            // the next refit.
-            return "cancelled the refit (the fit goes on in the background and the next refit takes it)".into();
+        if self.background.refit.take().is_some() {
+            // The thread cannot be stopped; a global fit it makes is kept
+            // for the next refit, the rest is dropped.
+            return "cancelled the refit: the model is as before it".into();
         }
         if self.panels.tools.drop_drawing() {
             return "dropped the loop being drawn".into();
@@ -1672,6 +1783,7 @@ impl App {
             let m = r.mesh.clone().ok_or(EditorError::NotFinished)?;
             crate::io::write_atomic(&path, format.render_regions(&m).as_bytes())?;
             self.window.recent.push(&path);
+            self.note_export(&path);
             self.panels.export_path = path.display().to_string();
             return Ok(format!(
                 "wrote {} ({}, {}, {})",
@@ -1696,6 +1808,7 @@ impl App {
         let mesh = self.finished_mesh()?;
         crate::io::write_mesh(&mesh, &path)?;
         self.window.recent.push(&path);
+        self.note_export(&path);
         // The Export box writes there again.
         self.panels.export_path = path.display().to_string();
         Ok(format!(
@@ -1703,6 +1816,18 @@ impl App {
             path.display(),
             plural(mesh.quads.len(), "quad")
         ))
+    }
+
+    /// Remembers the folder a mesh was exported to.
+    fn note_export(&mut self, path: &Path) {
+        let dir = path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .map(Path::to_path_buf)
+            .or_else(|| std::env::current_dir().ok());
+        if let Some(d) = dir {
+            self.window.export_dir = Some(std::path::absolute(&d).unwrap_or(d));
+        }
     }
 
     fn save(&mut self, path: &Path) -> Result<String, EditorError> {
@@ -1721,20 +1846,30 @@ impl App {
         Ok(format!("saved {}", path.display()))
     }
 
-    /// The folder and file name a dialog starts from: the document's
-    /// folder; for a document of no file (a built-in example, a new
-    /// drawing) the folder of the file last opened or written, and only
-    /// with none of those the working directory.
-    fn dialog_start(&self, d: Dialog) -> (PathBuf, String) {
-        let dir = self
+    /// The folder a document's files go to: the folder of its own file;
+    /// for a document of no file (a built-in example, a new drawing) the
+    /// folder of the last mesh exported, else none (a folder another
+    /// document was opened from is not this one's).
+    fn document_dir(&self) -> Option<PathBuf> {
+        let own = self
             .document
             .project_path
             .as_ref()
-            .or(self.document.doc.source.as_ref())
-            .or(self.window.recent.0.first())
-            .and_then(|p| p.parent())
-            .filter(|p| !p.as_os_str().is_empty())
-            .map(Path::to_path_buf)
+            .or(self.document.doc.source.as_ref());
+        match own {
+            Some(p) => p
+                .parent()
+                .filter(|p| !p.as_os_str().is_empty())
+                .map(Path::to_path_buf),
+            None => self.window.export_dir.clone(),
+        }
+    }
+
+    /// The folder and file name a dialog starts from: [`App::document_dir`],
+    /// else the working directory.
+    fn dialog_start(&self, d: Dialog) -> (PathBuf, String) {
+        let dir = self
+            .document_dir()
             .or_else(|| std::env::current_dir().ok())
             .unwrap_or_default();
         let stem = stem(&self.title());
@@ -1773,8 +1908,13 @@ impl App {
         Some((dir.to_path_buf(), name))
     }
 
-    /// The default export path: beside the document's file, named after it.
+    /// The default export path: beside the document's file, named after
+    /// it; for a document of no file in the folder of the last export,
+    /// and with none, no path.
     fn default_export_path(&self) -> String {
+        if self.document_dir().is_none() {
+            return String::new();
+        }
         let (dir, name) = self.dialog_start(Dialog::ExportMesh);
         dir.join(name).display().to_string()
     }
@@ -1848,7 +1988,7 @@ impl App {
         self.background.job = Some(Job::start(
             mesher,
             Work::Finish(key.params),
-            "finishing (cleanup, coarsening, remeshing, smoothing)",
+            "finishing",
             Record::Steps,
             key,
         ));
@@ -1929,6 +2069,7 @@ impl App {
         for cmd in [
             Command::Redo,
             Command::Undo,
+            Command::ZoomToStep,
             Command::StepN(n),
             Command::Step,
             Command::RunToEnd,
@@ -1994,16 +2135,12 @@ impl App {
         }
         if self
             .background
-            .fit
+            .refit
             .as_ref()
             .is_some_and(|f| f.handle.is_finished())
         {
-            if let Some(f) = self.background.fit.take() {
-                match f.handle.join() {
-                    Ok(Ok(())) => self.apply_now(f.then),
-                    Ok(Err(e)) => self.window.status = format!("error: {e}"),
-                    Err(_) => self.window.status = format!("error: {}", EditorError::JobPanicked),
-                }
+            if let Some(r) = self.background.refit.take() {
+                self.refit_joined(r);
             }
         }
         let mut cmds = Vec::new();
@@ -2076,21 +2213,44 @@ impl App {
                         let doc = &self.document.doc;
                         let run = RunState {
                             animating: self.background.animating.is_some(),
+                            busy,
                             can_undo: self.document.history.can_undo(),
                             can_redo: self.document.history.can_redo(),
                         };
                         let mut out = Vec::new();
                         out.extend(self.panels.step.ui(ui, doc, run));
                         ui.separator();
+                        // The section of what the tool bar does comes
+                        // first, in view without scrolling: the boundary
+                        // (or the drawing) with an editing tool, else the
+                        // correction and training.
+                        let editing = self.panels.tools.tool != Tool::Correct;
+                        let figures = Figures {
+                            busy,
+                            ..figures_of(&self.document, &self.view)
+                        };
+                        if doc.regions.is_some() {
+                            out.extend(self.panels.tools.drawing_ui(ui, doc));
+                        } else if editing {
+                            out.extend(self.panels.tools.ui(ui, doc, ()));
+                        } else {
+                            out.extend(self.panels.train.ui(ui, doc, figures));
+                        }
+                        ui.separator();
                         export_box(ui, &mut self.panels.export_path, doc, &mut out);
                         ui.separator();
-                        let figures = figures_of(&self.document, &self.view);
                         if doc.regions.is_some() {
                             out.extend(self.panels.regions.ui(ui, doc, ()));
                         } else {
-                            out.extend(self.panels.train.ui(ui, doc, figures));
-                            ui.separator();
-                            out.extend(self.panels.tools.ui(ui, doc, ()));
+                            let figures = Figures {
+                                busy,
+                                ..figures_of(&self.document, &self.view)
+                            };
+                            if editing {
+                                out.extend(self.panels.train.ui(ui, doc, figures));
+                            } else {
+                                out.extend(self.panels.tools.ui(ui, doc, ()));
+                            }
                             ui.separator();
                             if ui
                                 .add_enabled(
@@ -2317,6 +2477,9 @@ impl App {
                 self.panels.regions.draw(ui, &painter, view, r, *hover);
             }
         }
+        if let Some(dr) = &doc.drawing {
+            canvas::draw_curves(&painter, view, rect, &dr.geometry);
+        }
         let at = tools::OnCanvas {
             view,
             pointer: &pointer,
@@ -2369,8 +2532,11 @@ impl App {
             doc.has_mesh(),
             !doc.training.is_empty(),
         );
-        let can = doc.can_step() && !doc.is_done();
-        let can_reset = doc.can_step();
+        // While a run or refit goes on, stepping, undo and reset wait for
+        // it (the commands would be refused).
+        let busy = self.busy();
+        let can = doc.can_step() && !doc.is_done() && !busy;
+        let can_reset = doc.can_step() && !busy;
         let can_finish = doc.is_done() && self.view.finish_failed.is_some();
         ui.menu_button("File", |ui| {
             item(
@@ -2490,8 +2656,22 @@ impl App {
             let h = &self.document.history;
             let undo = h.undo_name().map_or("Undo".into(), |n| format!("Undo {n}"));
             let redo = h.redo_name().map_or("Redo".into(), |n| format!("Redo {n}"));
-            item(ui, &undo, "Also Ctrl+Z", Command::Undo, h.can_undo(), cmds);
-            item(ui, &redo, "Also Ctrl+Y", Command::Redo, h.can_redo(), cmds);
+            item(
+                ui,
+                &undo,
+                "Also Ctrl+Z",
+                Command::Undo,
+                h.can_undo() && !busy,
+                cmds,
+            );
+            item(
+                ui,
+                &redo,
+                "Also Ctrl+Y",
+                Command::Redo,
+                h.can_redo() && !busy,
+                cmds,
+            );
             ui.separator();
             item(
                 ui,
@@ -2519,7 +2699,7 @@ impl App {
                 if anim { "Pause" } else { "Run (animated)" },
                 "Steps on their own at the panel's speed",
                 Command::Animate(!anim),
-                can || anim,
+                can || (anim && !busy),
                 cmds,
             );
             item(
@@ -2535,7 +2715,7 @@ impl App {
                 "Cancel the run",
                 "The run is dropped: the mesh stays as before it",
                 Command::Cancel,
-                self.background.job.is_some(),
+                self.background.job.is_some() || busy,
                 cmds,
             );
             item(
@@ -2556,6 +2736,14 @@ impl App {
                 true,
                 cmds,
             );
+            item(
+                ui,
+                "Zoom to the last step",
+                "Centre the canvas on the last step, zoomed so that its points and their labels show",
+                Command::ZoomToStep,
+                self.document.doc.last().is_some(),
+                cmds,
+            );
             ui.checkbox(&mut self.panels.show_left, "Left panel (stepping, tools)");
             ui.checkbox(&mut self.panels.show_right, "Right panel (figures)");
             ui.separator();
@@ -2569,30 +2757,44 @@ impl App {
 
     fn status_bar(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
         ui.horizontal(|ui| {
-            if let Some(f) = &self.background.fit {
+            if let Some(f) = &self.background.refit {
                 ui.spinner();
-                ui.label(&f.what);
+                ui.label(format!("refit: {}", f.phase()));
                 let secs = f.started.elapsed().as_secs_f64();
-                cancel_button(ui, secs, "Stop waiting (Esc): the refit is not taken", cmds);
+                cancel_button(ui, secs, "Stop (Esc): the refit is dropped, the model stays as before it", cmds);
             }
             if let Some(j) = &self.background.job {
                 let (steps, front, frac) = j.progress();
-                if j.is_run() {
-                    ui.add(
-                        egui::ProgressBar::new(frac)
-                            .desired_width(120.0)
-                            .show_percentage(),
-                    )
-                    .on_hover_text("The share of the domain's area meshed so far");
-                    ui.label(format!(
-                        "{}: {}, {} left",
-                        j.what,
-                        plural(steps, "step"),
-                        plural(front, "front node")
-                    ));
-                } else {
-                    ui.spinner();
-                    ui.label(j.what);
+                match j.phase() {
+                    None if j.is_run() => {
+                        ui.add(
+                            egui::ProgressBar::new(frac)
+                                .desired_width(120.0)
+                                .show_percentage(),
+                        )
+                        .on_hover_text("The share of the domain's area meshed so far");
+                        ui.label(format!(
+                            "{}: extraction, {}, {} left",
+                            j.what,
+                            plural(steps, "step"),
+                            plural(front, "front node")
+                        ));
+                    }
+                    // Extraction is over: the part of finishing going on
+                    // (the share meshed would stand at 100 % meanwhile).
+                    phase => {
+                        ui.spinner();
+                        let what = if j.is_run() {
+                            format!("{}: {} taken; finishing", j.what, plural(steps, "step"))
+                        } else {
+                            "finishing".into()
+                        };
+                        ui.label(format!(
+                            "{what}: {}",
+                            phase.map_or("starting", crate::pipeline::FinishPhase::name)
+                        ))
+                        .on_hover_text("Finishing the mesh: cleanup and smoothing, coarsening, remeshing bad regions, smoothing, checking");
+                    }
                 }
                 cancel_button(
                     ui,
@@ -2835,14 +3037,23 @@ fn save_png(img: &egui::ColorImage, path: &Path) -> Result<(), EditorError> {
 fn export_box(ui: &mut egui::Ui, path: &mut String, doc: &Document, out: &mut Vec<Command>) {
     ui.label(egui::RichText::new("Export").strong());
     let done = doc.has_mesh();
-    ui.add(egui::TextEdit::singleline(path).desired_width(f32::INFINITY))
-        .on_hover_text("The file to write; its extension picks the format");
+    ui.add(
+        egui::TextEdit::singleline(path)
+            .desired_width(f32::INFINITY)
+            .hint_text("a path, or Export… to choose one"),
+    )
+    .on_hover_text("The file to write; its extension picks the format");
     ui.label(egui::RichText::new(".msh .msh22 .vtk .vtu .inp .svg").weak());
     ui.horizontal(|ui| {
+        let named = !path.trim().is_empty();
         if ui
-            .add_enabled(done, egui::Button::new("Export mesh"))
+            .add_enabled(done && named, egui::Button::new("Export mesh"))
             .on_hover_text("Write the finished mesh to the path above")
-            .on_disabled_hover_text("Run the mesh to the end first")
+            .on_disabled_hover_text(if done {
+                "Type a path above, or choose one with Export…"
+            } else {
+                "Run the mesh to the end first"
+            })
             .clicked()
         {
             out.push(Command::Export(PathBuf::from(path.trim())));
@@ -2930,5 +3141,10 @@ mod tests {
         assert_eq!(figure(0.98765, 3), "0.988");
         assert_eq!(stem("plate.quadex.json"), "plate");
         assert_eq!(stem(""), "untitled");
+        assert_eq!(
+            missing(1.0 - 3.0 / 198_007.0, 198_007, "outside"),
+            "3 of 198,007 outside"
+        );
+        assert_eq!(missing(1.0, 12, "outside"), "none of 12 outside");
     }
 }

@@ -186,8 +186,8 @@ impl super::View for QualityPanel {
             .show(ui, |ui| {
                 // (figure, value, what it is: hover the figure's name)
                 let rows: [(&str, String, &str); 12] = [
-                    ("quads", q.quads.to_string(), "Quads in the finished mesh"),
-                    ("nodes", q.nodes.to_string(), "Nodes in the finished mesh"),
+                    ("quads", crate::compare::grouped(q.quads), "Quads in the finished mesh"),
+                    ("nodes", crate::compare::grouped(q.nodes), "Nodes in the finished mesh"),
                     (
                         "scaled Jacobian min",
                         format!("{:.3}", q.sj_min),
@@ -202,18 +202,18 @@ impl super::View for QualityPanel {
                     ("largest angle", format!("{:.1}°", q.max_angle), "The largest corner angle of any quad"),
                     (
                         "angles in [45°, 135°]",
-                        format!("{:.1} %", 100.0 * q.frac_angles_45_135),
-                        "Share of the quads whose four angles are all between 45° and 135°",
+                        super::missing(q.frac_angles_45_135, q.quads, "outside"),
+                        "The quads with an angle outside 45° to 135°, of all",
                     ),
                     (
-                        "thesis criteria met",
-                        format!("{:.1} %", 100.0 * q.frac_thesis_good),
-                        "Share of the quads with every angle in [45°, 135°] and aspect and taper at most 10 (thesis §1.2)",
+                        "thesis criteria missed",
+                        super::missing(q.frac_thesis_good, q.quads, "quads"),
+                        "The quads that miss an angle in [45°, 135°] or aspect or taper at most 10 (thesis §1.2), of all",
                     ),
                     (
-                        "Rs ≥ 0.8",
-                        format!("{:.1} %", 100.0 * q.frac_rs_ge_0_8),
-                        "Share of the quads whose area over the square of their mean edge length is at least 0.8 (1 for a square)",
+                        "Rs below 0.8",
+                        super::missing(q.frac_rs_ge_0_8, q.quads, "quads"),
+                        "The quads whose area over the square of their mean edge length is below 0.8 (1 for a square), of all",
                     ),
                     (
                         "aspect max",
@@ -227,7 +227,11 @@ impl super::View for QualityPanel {
                     ),
                     (
                         "irregular interior nodes",
-                        format!("{} of {}", q.irregular_interior, q.interior_nodes),
+                        format!(
+                            "{} of {}",
+                            crate::compare::grouped(q.irregular_interior),
+                            crate::compare::grouped(q.interior_nodes)
+                        ),
                         "Interior nodes with other than four quads round them",
                     ),
                 ];

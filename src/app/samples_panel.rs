@@ -139,9 +139,33 @@ impl super::View for SamplesPanel {
             }
         });
         let row_h = ui.text_style_height(&egui::TextStyle::Monospace) + 4.0;
+        // Every input point: samples of one corner differ only in the front
+        // beyond l1 or r1 (and in their type), so a row shows all of them.
+        let n = set.points / 2;
+        let names = |side: char, rev: bool| {
+            let mut v: Vec<String> = (1..=n).map(|k| format!("{side}{k}")).collect();
+            if rev {
+                v.reverse();
+            }
+            v
+        };
+        let width = 13;
+        let inputs_header = format!(
+            "{} | {}",
+            names('l', true)
+                .iter()
+                .map(|s| format!("{s:<width$}"))
+                .collect::<Vec<_>>()
+                .join(" "),
+            names('r', false)
+                .iter()
+                .map(|s| format!("{s:<width$}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
         let header = format!(
-            "{:>6} {:>4} {:>8} {:>8}  {:<13} source",
-            "#", "type", "Xn", "Yn", "l1"
+            "{:>6} {:>4} {:>8} {:>8}  {inputs_header}  source",
+            "#", "type", "Xn", "Yn"
         );
         // The rows are one line each however narrow the panel: the table
         // scrolls sideways (header with it) rather than wrap a row's source.
@@ -156,13 +180,18 @@ impl super::View for SamplesPanel {
                 .show_rows(ui, row_h, rows.len(), |ui, range| {
                     for &i in &rows[range] {
                         let s = &set.samples[i];
-                        let l1 = s.input.left.first().copied().unwrap_or_default();
+                        let pt = |p: &crate::geom::Point| {
+                            format!("{:<width$}", format!("({:.2},{:.2})", p.x, p.y))
+                        };
+                        let left: Vec<String> = s.input.left.iter().rev().map(pt).collect();
+                        let right: Vec<String> = s.input.right.iter().map(pt).collect();
                         let text = format!(
-                            "{i:>6} {:>4} {:>8.4} {:>8.4}  {:<13} {}",
+                            "{i:>6} {:>4} {:>8.4} {:>8.4}  {} | {}  {}",
                             s.element_type.number(),
                             s.pn.x,
                             s.pn.y,
-                            format!("({:.2},{:.2})", l1.x, l1.y),
+                            left.join(" "),
+                            right.join(" "),
                             source(s)
                         );
                         let mut on = self.selected.contains(&i);

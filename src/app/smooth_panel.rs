@@ -176,7 +176,7 @@ impl super::View for SmoothPanel {
                     ("scaled Jacobian min", |q| format!("{:.3}", q.sj_min)),
                     ("scaled Jacobian mean", |q| format!("{:.3}", q.sj_mean)),
                     ("angles in [45°, 135°]", |q| {
-                        format!("{:.1} %", 100.0 * q.frac_angles_45_135)
+                        super::missing(q.frac_angles_45_135, q.quads, "outside")
                     }),
                     ("min angle", |q| format!("{:.1}°", q.min_angle)),
                     ("irregular interior", |q| q.irregular_interior.to_string()),

@@ -165,7 +165,9 @@ impl super::View for StepPanel {
             out.push(Command::SetSettings(s));
         }
         ui.separator();
-        let can_step = doc.can_step() && !doc.is_done();
+        // A run or refit in the background: stepping, undo and reset wait
+        // for it (Cancel in the status bar, or Esc, stops it).
+        let can_step = doc.can_step() && !doc.is_done() && !run.busy;
         button_enabled(
             ui,
             can_step,
@@ -196,7 +198,7 @@ impl super::View for StepPanel {
             let label = if animating { "Pause" } else { "Run" };
             button_enabled(
                 ui,
-                can_step || animating,
+                can_step || (animating && !run.busy),
                 label,
                 "Step on their own at the speed beside; Pause keeps the steps taken",
                 Command::Animate(!animating),
@@ -223,7 +225,7 @@ impl super::View for StepPanel {
             );
             button_enabled(
                 ui,
-                doc.can_step(),
+                doc.can_step() && !run.busy,
                 "Reset",
                 "Start the mesh again (undo brings the steps back)",
                 Command::Reset,
@@ -235,7 +237,7 @@ impl super::View for StepPanel {
         ui.horizontal_wrapped(|ui| {
             button_enabled(
                 ui,
-                run.can_undo,
+                run.can_undo && !run.busy,
                 "Undo",
                 "Undo the last step or edit",
                 Command::Undo,
@@ -243,7 +245,7 @@ impl super::View for StepPanel {
             );
             button_enabled(
                 ui,
-                run.can_redo,
+                run.can_redo && !run.busy,
                 "Redo",
                 "Take the last undone step or edit again (also Ctrl+Y)",
                 Command::Redo,
@@ -254,6 +256,14 @@ impl super::View for StepPanel {
                 "Fit view",
                 "Fit the boundary into the canvas",
                 Command::FitView,
+                &mut out,
+            );
+            button_enabled(
+                ui,
+                doc.last().is_some(),
+                "Zoom to step",
+                "Centre the canvas on the last step, zoomed so that its points and their labels show",
+                Command::ZoomToStep,
                 &mut out,
             );
         });

@@ -104,6 +104,8 @@ pub struct Tools {
     /// Target segment length of a resample, and the loop.
     pub resample_h: f64,
     pub resample_loop: usize,
+    /// Resample every loop (else loop `resample_loop` only).
+    pub resample_all: bool,
     /// The document the resample target was set for (its name and file):
     /// another document sets it again.
     resample_for: Option<(String, Option<PathBuf>)>,
@@ -121,6 +123,7 @@ impl Default for Tools {
             split_parts: 3,
             resample_h: 0.0,
             resample_loop: 0,
+            resample_all: true,
             resample_for: None,
             hover: None,
         }
@@ -140,6 +143,80 @@ pub struct OnCanvas<'a> {
     /// valid element there).
     pub drag: Option<Option<CheckedElement>>,
 }
+
+/// A drag value for a target size, its speed and range from the extent of
+/// `points`.
+fn size_value(ui: &mut Ui, h: &mut f64, points: impl Iterator<Item = Point>) -> egui::Response {
+    let scale = points
+        .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()))
+        .max(1e-12);
+    ui.add(
+        egui::DragValue::new(h)
+            .speed(0.001 * scale)
+            .range(1e-9 * scale..=f64::MAX),
+    )
+}
+
+impl Tools {
+    /// The Drawing section of the left panel (a document cut from a
+    /// drawing's curves): the target size H, and Apply to cut the curves
+    /// again at it and mesh from the start.
+    pub fn drawing_ui(&mut self, ui: &mut Ui, doc: &Document) -> Vec<Command> {
+        let mut out = Vec::new();
+        let Some(d) = &doc.drawing else {
+            return out;
+        };
+        ui.heading("Drawing");
+        let (lines, arcs) = d
+            .geometry
+            .curves
+            .iter()
+            .fold((0, 0), |(l, a), c| match c.curve {
+                crate::cad::Curve::Line { .. } => (l + 1, a),
+                _ => (l, a + 1),
+            });
+        let nodes = doc.regions.as_ref().map_or(0, |r| r.graph.points.len());
+        ui.label(format!(
+            "{}, {}; cut at size {} into {}{}",
+            super::plural(lines, "line"),
+            super::plural(arcs, "arc"),
+            d.size,
+            super::plural(nodes, "boundary node"),
+            if d.parity_fixes > 0 {
+                format!(
+                    " ({} one segment more for even regions)",
+                    super::plural(d.parity_fixes, "curve")
+                )
+            } else {
+                String::new()
+            }
+        ));
+        ui.horizontal_wrapped(|ui| {
+            ui.label("size H");
+            let pts = doc.regions.iter().flat_map(|r| r.graph.points.iter().copied());
+            size_value(ui, &mut self.resample_h, pts)
+                .on_hover_text("Target size H: each curve is cut into about length / H segments (arcs also one per 15°), every region's node count made even");
+            let changed = (self.resample_h - d.size).abs() > 1e-12 * d.size.abs().max(1.0);
+            if ui
+                .add_enabled(changed, egui::Button::new("Apply"))
+                .on_hover_text("Cut the curves again at size H and mesh from the start")
+                .on_disabled_hover_text("The drawing is cut at this size")
+                .clicked()
+            {
+                out.push(Command::SetSize(self.resample_h));
+            }
+        });
+        out
+    }
+}
+
+/// Lines of the tool bar's note under its tools.
+const NOTE_ROWS: usize = 2;
+
+/// Drafts of at most this many nodes show every node's number.
+const NUMBERED_NODES: usize = 400;
+/// Screen points between two numbered nodes, at least.
+const NUMBER_ROOM: f32 = 16.0;
 
 /// The draft's median segment, the default target of a resample.
 fn median_segment(d: &Draft) -> f64 {
@@ -177,14 +254,21 @@ impl Tools {
         let id = (doc.name.clone(), doc.source.clone());
         if self.resample_for.as_ref() != Some(&id) {
             self.resample_for = Some(id);
-            self.resample_h = median_segment(&doc.draft);
+            self.resample_h = match &doc.drawing {
+                Some(d) => d.size,
+                None => median_segment(&doc.draft),
+            };
             self.resample_loop = 0;
+            self.resample_all = true;
             self.drawing.clear();
             self.moving = None;
             self.pn_drag = None;
         }
         if self.resample_h <= 0.0 {
-            self.resample_h = median_segment(&doc.draft);
+            self.resample_h = match &doc.drawing {
+                Some(d) => d.size,
+                None => median_segment(&doc.draft),
+            };
         }
         self.resample_loop = self
             .resample_loop
@@ -486,10 +570,43 @@ impl Tools {
                 painter.galley(Pos2::new(x, y), galley, cyan);
             }
         }
-        if let Some(e) = &at.doc.problem {
-            for (li, k) in draft.marked(e) {
-                if let Some(&p) = draft.loops.get(li).and_then(|l| l.get(k)) {
-                    painter.circle_stroke(to(p), 7.0, Stroke::new(2.0, red));
+        let marked = at
+            .doc
+            .problem
+            .as_ref()
+            .map(|e| draft.marked(e))
+            .unwrap_or_default();
+        for &(li, k) in &marked {
+            if let Some(&p) = draft.loops.get(li).and_then(|l| l.get(k)) {
+                painter.circle_stroke(to(p), 7.0, Stroke::new(2.0, red));
+            }
+        }
+        // The nodes' numbers, as the problems name them (1 up over all
+        // loops): each node at fault, and the others where they have room.
+        let font = egui::FontId::proportional(11.0);
+        let label = |p: Pos2, n: usize, c: Color32| {
+            painter.text(
+                p + egui::vec2(6.0, -6.0),
+                egui::Align2::LEFT_BOTTOM,
+                n.to_string(),
+                font.clone(),
+                c,
+            );
+        };
+        let mut number = 0;
+        let mut last: Option<Pos2> = None;
+        for (li, l) in draft.loops.iter().enumerate() {
+            for (k, &p) in l.iter().enumerate() {
+                number += 1;
+                let s = to(p);
+                if marked.contains(&(li, k)) {
+                    label(s, number, red);
+                } else if draft.node_count() <= NUMBERED_NODES
+                    && rect.contains(s)
+                    && last.is_none_or(|q| q.distance(s) >= NUMBER_ROOM)
+                {
+                    label(s, number, Color32::from_gray(170));
+                    last = Some(s);
                 }
             }
         }
@@ -574,14 +691,12 @@ impl Tools {
         kind: MeshKind,
         targets: &[Target],
     ) -> Vec<Command> {
-        // One row whatever the tool says (a taller bar would shrink the
-        // canvas and move the drawing under the pointer): long texts are
-        // cut, in full on hover (egui's own tooltip of a cut label), so
-        // each starts with what to do.
-        let note = |ui: &mut Ui, text: String, weak: bool| {
-            let t = egui::RichText::new(text);
-            ui.add(egui::Label::new(if weak { t.weak() } else { t }).truncate());
-        };
+        // The tools on one row, what the tool says below in two lines
+        // whatever it says (a bar whose height changed would shrink the
+        // canvas and move the drawing under the pointer): a text longer
+        // than two lines is cut, in full on hover.
+        let mut said: Option<(String, bool)> = None;
+        let mut note = |_: &mut Ui, text: String, weak: bool| said = Some((text, weak));
         ui.horizontal(|ui| {
             ui.label(egui::RichText::new("Tool").strong());
             for t in Tool::ALL {
@@ -634,6 +749,34 @@ impl Tools {
                 t => note(ui, t.hint().to_string(), true),
             }
         });
+        let rows = NOTE_ROWS as f32 * ui.text_style_height(&egui::TextStyle::Body)
+            + ui.spacing().item_spacing.y;
+        let width = ui.available_width();
+        ui.allocate_ui_with_layout(
+            egui::vec2(width, rows),
+            egui::Layout::top_down(egui::Align::Min),
+            |ui| {
+                ui.set_min_size(egui::vec2(width, rows));
+                if let Some((text, weak)) = said {
+                    let color = if weak {
+                        ui.visuals().weak_text_color()
+                    } else {
+                        ui.visuals().text_color()
+                    };
+                    let mut job = egui::text::LayoutJob::single_section(
+                        text.clone(),
+                        egui::TextFormat::simple(egui::TextStyle::Body.resolve(ui.style()), color),
+                    );
+                    job.wrap = egui::text::TextWrapping {
+                        max_width: width,
+                        max_rows: NOTE_ROWS,
+                        break_anywhere: false,
+                        overflow_character: Some('…'),
+                    };
+                    ui.add(egui::Label::new(job)).on_hover_text(text);
+                }
+            },
+        );
         Vec::new()
     }
 }
@@ -657,42 +800,49 @@ impl super::View for Tools {
                         super::plural(d.loops[li].len(), "node")
                     )
                 };
+                let all = format!("all loops ({})", super::plural(d.node_count(), "node"));
+                let li = self.resample_loop.min(d.loops.len() - 1);
                 egui::ComboBox::from_id_salt("resample_loop")
-                    .selected_text(name(self.resample_loop.min(d.loops.len() - 1)))
+                    .selected_text(if self.resample_all { all.clone() } else { name(li) })
                     .show_ui(ui, |ui| {
+                        if ui.selectable_label(self.resample_all, &all).clicked() {
+                            self.resample_all = true;
+                        }
                         for li in 0..d.loops.len() {
-                            ui.selectable_value(&mut self.resample_loop, li, name(li));
+                            let on = !self.resample_all && self.resample_loop == li;
+                            if ui.selectable_label(on, name(li)).clicked() {
+                                self.resample_all = false;
+                                self.resample_loop = li;
+                            }
                         }
                     })
                     .response
-                    .on_hover_text("The loop to resample (numbers as on the canvas with an editing tool)");
-                ui.label("to segments of");
-                let scale = d
-                    .loops
-                    .iter()
-                    .flatten()
-                    .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()))
-                    .max(1e-12);
-                ui.add(
-                    egui::DragValue::new(&mut self.resample_h)
-                        .speed(0.001 * scale)
-                        .range(1e-9 * scale..=f64::MAX),
-                )
-                .on_hover_text("Target segment length (starts at this file's median segment)");
-                let refused = d.resample_parts(self.resample_loop, self.resample_h).err();
+                    .on_hover_text("The loops to resample: all of them, or one (numbers as on the canvas with an editing tool)");
+                ui.label("to size H");
+                size_value(ui, &mut self.resample_h, d.loops.iter().flatten().copied())
+                    .on_hover_text("Target size H: the segment length to cut the boundary at (starts at this file's median segment)");
+                let refused = if self.resample_all {
+                    d.resample_all_nodes(self.resample_h).err()
+                } else {
+                    d.resample_parts(self.resample_loop, self.resample_h).err()
+                };
                 let mut button = ui
                     .add_enabled(refused.is_none(), egui::Button::new("Resample"))
-                    .on_hover_text("Cut every segment of the loop into round(length / target) parts, keeping the corners; one part more on the longest piece when the total node count would be odd");
+                    .on_hover_text("Cut every segment of the loops chosen into round(length / H) parts, keeping the corners; one part more on the longest piece when the total node count would be odd");
                 if let Some(e) = &refused {
                     button = button.on_disabled_hover_text(e.to_string());
                 }
                 if button.clicked() {
-                    let mut d = d.clone();
-                    if d.resample(self.resample_loop, self.resample_h).is_ok() {
-                        out.push(Command::SetDraft {
-                            draft: d,
-                            what: "resample loop",
-                        });
+                    if self.resample_all {
+                        out.push(Command::SetSize(self.resample_h));
+                    } else {
+                        let mut d = d.clone();
+                        if d.resample(self.resample_loop, self.resample_h).is_ok() {
+                            out.push(Command::SetDraft {
+                                draft: d,
+                                what: "resample loop",
+                            });
+                        }
                     }
                 }
             });

@@ -127,7 +127,7 @@ impl super::View for TrainPanel {
             }
             button_enabled(
                 ui,
-                doc.meshing.is_some(),
+                doc.meshing.is_some() && !s.busy,
                 "Refit",
                 "Fit the model on the reference meshes' samples and yours, and mesh with it",
                 Command::Refit {
@@ -204,28 +204,34 @@ fn refit_outcome(ui: &mut Ui, f: &super::RefitFigures) {
             f.checks.len()
         ))
         .on_hover_text("The refitted model's element at each correction's input: the corrected type, and Pn within 0.05 (normalised)");
-        // A scroll area of its own: the table is wider than the panel, and
-        // the panel's lines below wrap at the panel's width, not its.
-        super::sideways_table(ui, "corrections scroll", |ui| corrections_grid(ui, f));
+        corrections_grid(ui, f);
     }
     if let Some((before, after)) = &f.meshed {
-        let line = |o: &crate::compare::Outcome| {
-            if o.finished {
-                format!(
-                    "{} quads, SJ min {:.3} mean {:.3}{}",
-                    o.quads,
-                    o.sj_min,
-                    o.sj_mean,
-                    if o.fill { ", region fill" } else { "" }
-                )
-            } else {
-                "does not finish".into()
-            }
-        };
-        ui.label(format!("meshed from the start before: {}", line(before)));
-        ui.label(format!("meshed from the start now: {}", line(after)));
+        ui.label("meshed from the start, before and now:");
+        if after.size_quads > 0.0 {
+            ui.label(format!(
+                "(the size field asks for about {} quads)",
+                crate::compare::grouped(after.size_quads.round() as usize)
+            ));
+        }
+        super::sideways_table(ui, "refit meshed scroll", |ui| {
+            meshed_grid(ui, before, after)
+        });
+        if let Some((changed, calls)) = f.memory_reach {
+            ui.label(format!(
+                "the corrections changed {} of {} predictions ({:.1} %)",
+                crate::compare::grouped(changed),
+                crate::compare::grouped(calls),
+                100.0 * changed as f64 / calls.max(1) as f64
+            ))
+            .on_hover_text(format!(
+                "Meshing the boundary from the start with the refitted model: the predictions where the corrections' memory gave another element than the fit alone; more than {:.0} % counts as reaching too far",
+                100.0 * super::document::WORSE_MEMORY_SHARE
+            ));
+        }
         if f.worse.is_empty() {
-            ui.label("the refitted model meshes this boundary no worse");
+            ui.label("the refitted model meshes this boundary no worse")
+                .on_hover_text("Judged by finishing, the region fill, scaled Jacobian, irregular nodes, the quad count against the size field, taper, aspect and the corrections' reach");
         } else {
             ui.colored_label(
                 ui.visuals().warn_fg_color,
@@ -238,28 +244,81 @@ fn refit_outcome(ui: &mut Ui, f: &super::RefitFigures) {
     }
 }
 
-/// The refitted model's element at each correction, before and now.
+/// A figure of a mesh made from the start, as the refit report shows it.
+type Figure = fn(&crate::compare::Outcome) -> String;
+
+/// The boundary meshed from the start with the model before the refit and
+/// the refitted one, figure by figure.
+fn meshed_grid(ui: &mut Ui, before: &crate::compare::Outcome, after: &crate::compare::Outcome) {
+    use crate::compare::grouped;
+    egui::Grid::new("refit meshed")
+        .num_columns(3)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.label("");
+            ui.label("model before");
+            ui.label("refitted");
+            ui.end_row();
+            let rows: [(&str, Figure); 7] = [
+                ("quads", |o| grouped(o.quads)),
+                ("of the size field's", |o| {
+                    format!("{:.0} %", 100.0 * o.quads as f64 / o.size_quads.max(1.0))
+                }),
+                ("SJ min / mean", |o| {
+                    format!("{:.3} / {:.3}", o.sj_min, o.sj_mean)
+                }),
+                ("irregular nodes", |o| {
+                    format!(
+                        "{} ({:.1} %)",
+                        grouped(o.irregular),
+                        100.0 * o.irregular_share
+                    )
+                }),
+                ("max taper", |o| format!("{:.1}", o.taper_max)),
+                ("max aspect", |o| format!("{:.1}", o.aspect_max)),
+                ("region fill", |o| if o.fill { "yes" } else { "no" }.into()),
+            ];
+            for (name, value) in rows {
+                ui.label(name);
+                for o in [before, after] {
+                    if o.finished {
+                        ui.label(value(o));
+                    } else {
+                        ui.label("does not finish");
+                    }
+                }
+                ui.end_row();
+            }
+        });
+}
+
+/// The refitted model's element at each correction, before and now: a
+/// block of rows per correction, two columns, so that the model now is in
+/// view in a narrow panel too.
 fn corrections_grid(ui: &mut Ui, f: &super::RefitFigures) {
     let pred = |p: &crate::model::Prediction| {
         format!("{} ({:.3}, {:.3})", p.element_type.number(), p.pn.x, p.pn.y)
     };
     egui::Grid::new("corrections")
-        .num_columns(4)
+        .num_columns(2)
         .striped(true)
         .show(ui, |ui| {
-            ui.label("sample");
-            ui.label("corrected");
-            ui.label("model before");
-            ui.label("model now");
-            ui.end_row();
             for c in &f.checks {
-                ui.label(format!("{}", c.sample + 1));
+                ui.strong(format!("sample {}", c.sample + 1));
+                ui.label(if c.reproduced() {
+                    "reproduced"
+                } else {
+                    "not reproduced"
+                });
+                ui.end_row();
+                ui.label("corrected");
                 ui.label(pred(&c.corrected));
+                ui.end_row();
+                ui.label("model before");
                 ui.label(pred(&c.before));
-                let now = ui.label(pred(&c.after));
-                if !c.reproduced() {
-                    now.on_hover_text("not reproduced");
-                }
+                ui.end_row();
+                ui.label("model now");
+                ui.label(pred(&c.after));
                 ui.end_row();
             }
         });
