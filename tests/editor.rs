@@ -3010,3 +3010,36 @@ fn a_small_window_keeps_the_refit_report_the_boundary_and_the_canvas_in_view() {
         100.0 * share
     );
 }
+
+/// A JSON geometry file opens as a drawing at its own target size, its
+/// spline and ellipse drawn as curves and named in the Drawing section
+/// beside the lines and arcs.
+#[test]
+fn a_geometry_file_opens_as_a_drawing_with_its_splines_and_ellipses() {
+    let json = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/bracket.json");
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::Open(json));
+    h.run();
+    let (size, curves, nodes) = {
+        let d = h.state().doc();
+        let dr = d
+            .drawing
+            .as_ref()
+            .unwrap_or_else(|| panic!("{}", status(&h)));
+        (
+            dr.size,
+            dr.geometry.curves.len(),
+            d.regions.as_ref().unwrap().graph.points.len(),
+        )
+    };
+    assert_eq!(size, 4.0, "the file's own size");
+    assert_eq!(curves, 7);
+    assert_eq!(strokes_of(&h, quadex::app::canvas::CURVE_COLOUR), 7);
+    h.get_by_label_contains(&format!(
+        "2 lines, 3 arcs, 1 ellipse, 1 spline; cut at size 4 into {nodes} boundary nodes"
+    ));
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    assert_eq!(h.state().shown_kind(), MeshKind::Finished, "{}", status(&h));
+}

@@ -995,8 +995,12 @@ fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn 
 /// The colour a drawing's curves are drawn in.
 pub const CURVE_COLOUR: egui::Color32 = egui::Color32::from_rgb(255, 170, 60);
 
-/// Screen points an arc is drawn with per radian, at least.
+/// Screen points an arc or an elliptical arc is drawn with per radian, at
+/// least.
 const ARC_POINTS_PER_RADIAN: f64 = 24.0;
+
+/// Screen points a spline is drawn with.
+const SPLINE_POINTS: usize = 256;
 
 /// The curves of a drawing as they are (arcs as arcs, not as the chords
 /// between the nodes cut from them), over the canvas.
@@ -1008,11 +1012,12 @@ pub fn draw_curves(
 ) {
     let stroke = egui::Stroke::new(2.0, CURVE_COLOUR);
     for c in &g.curves {
-        let n = match c.curve {
-            crate::cad::Curve::Arc { sweep, .. } => {
+        let n = match &c.curve {
+            crate::cad::Curve::Line { .. } => 1,
+            crate::cad::Curve::Arc { sweep, .. } | crate::cad::Curve::Ellipse { sweep, .. } => {
                 (sweep.abs() * ARC_POINTS_PER_RADIAN).ceil().max(2.0) as usize
             }
-            _ => 1,
+            crate::cad::Curve::Spline(_) => SPLINE_POINTS,
         };
         let pts: Vec<egui::Pos2> = (0..=n)
             .map(|k| view.to_screen(rect, c.curve.at(k as f64 / n as f64)))

@@ -589,11 +589,18 @@ impl Document {
                 path: Some(path.to_path_buf()),
                 cause,
             };
-            let g = crate::cad::read_dxf(path).map_err(failed)?;
+            // A geometry file (JSON) may carry its target size; its local
+            // sizes are the command line's (`quadex mesh`).
+            let (g, size) = if crate::cad::is_geometry_file(path) {
+                let d = crate::cad::read_geometry_json(path).map_err(failed)?;
+                (d.geometry, d.size)
+            } else {
+                (crate::cad::read_dxf(path).map_err(failed)?, None)
+            };
             let mut doc = Document::empty(settings);
             doc.source = Some(path.to_path_buf());
             doc.name = file_name(path);
-            doc.set_drawing(Arc::new(g), None)?;
+            doc.set_drawing(Arc::new(g), size)?;
             doc.boundary_edited = false;
             return Ok((doc, Vec::new()));
         }
@@ -1869,10 +1876,11 @@ pub fn opens(path: &Path) -> bool {
     io::is_boundary_file(path) || is_mesh_file(path) || is_drawing(path)
 }
 
-/// True for a drawing (`.dxf`).
+/// True for a drawing (`.dxf`, or a JSON geometry file of curves).
 pub fn is_drawing(path: &Path) -> bool {
     path.extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("dxf"))
+        || crate::cad::is_geometry_file(path)
 }
 
 /// True for a JSON file whose `format` is a project's.

@@ -167,19 +167,24 @@ impl Tools {
             return out;
         };
         ui.heading("Drawing");
-        let (lines, arcs) = d
-            .geometry
-            .curves
-            .iter()
-            .fold((0, 0), |(l, a), c| match c.curve {
-                crate::cad::Curve::Line { .. } => (l + 1, a),
-                _ => (l, a + 1),
-            });
+        let count = |f: fn(&crate::cad::Curve) -> bool| {
+            d.geometry.curves.iter().filter(|c| f(&c.curve)).count()
+        };
+        let lines = count(|c| matches!(c, crate::cad::Curve::Line { .. }));
+        let arcs = count(|c| matches!(c, crate::cad::Curve::Arc { .. }));
+        let ellipses = count(|c| matches!(c, crate::cad::Curve::Ellipse { .. }));
+        let splines = count(|c| matches!(c, crate::cad::Curve::Spline(_)));
         let nodes = doc.regions.as_ref().map_or(0, |r| r.graph.points.len());
+        let mut kinds = vec![super::plural(lines, "line"), super::plural(arcs, "arc")];
+        if ellipses > 0 {
+            kinds.push(super::plural(ellipses, "ellipse"));
+        }
+        if splines > 0 {
+            kinds.push(super::plural(splines, "spline"));
+        }
         ui.label(format!(
-            "{}, {}; cut at size {} into {}{}",
-            super::plural(lines, "line"),
-            super::plural(arcs, "arc"),
+            "{}; cut at size {} into {}{}",
+            kinds.join(", "),
             d.size,
             super::plural(nodes, "boundary node"),
             if d.parity_fixes > 0 {
