@@ -3043,3 +3043,55 @@ fn a_geometry_file_opens_as_a_drawing_with_its_splines_and_ellipses() {
     settle(&mut h);
     assert_eq!(h.state().shown_kind(), MeshKind::Finished, "{}", status(&h));
 }
+
+/// The Arc tool: two arcs of three clicks each, the second ending on the
+/// loop's first node, draw a closed circle whose nodes all lie on it, at
+/// most 15° apart; the loop meshes.
+#[test]
+fn two_arcs_of_three_clicks_draw_a_circle() {
+    let mut h = harness(example());
+    h.run();
+    h.state_mut().apply(Command::New);
+    h.run();
+    h.state_mut().panels.tools.tool = quadex::app::tools::Tool::Arc;
+    h.run();
+    let c = h.state().view.canvas_rect.center();
+    let r = 120.0;
+    let (a, top, b, bottom) = (
+        c + egui::vec2(-r, 0.0),
+        c + egui::vec2(0.0, -r),
+        c + egui::vec2(r, 0.0),
+        c + egui::vec2(0.0, r),
+    );
+    for p in [a, top, b] {
+        click_at(&mut h, p);
+    }
+    assert_eq!(
+        h.state().panels.tools.drawing.len(),
+        13,
+        "a half circle of 12 segments"
+    );
+    for p in [b, bottom, a] {
+        click_at(&mut h, p);
+    }
+    assert!(h.state().panels.tools.drawing.is_empty(), "the loop closed");
+    let d = &h.state().doc().draft;
+    assert_eq!(d.loops.len(), 1);
+    let l = &d.loops[0];
+    assert_eq!(l.len(), 24);
+    let centre = (l[0] + l[12]) * 0.5;
+    let radius = l[0].distance(centre);
+    for p in l {
+        assert!(
+            (p.distance(centre) - radius).abs() < 1e-9 * radius,
+            "{p:?} off the circle"
+        );
+    }
+    for k in 0..l.len() {
+        let (p, q) = (l[k] - centre, l[(k + 1) % l.len()] - centre);
+        assert!(p.angle_to(q).abs() <= 15f64.to_radians() + 1e-9);
+    }
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    assert_eq!(h.state().shown_kind(), MeshKind::Finished, "{}", status(&h));
+}

@@ -989,8 +989,9 @@ impl App {
         if matches!(
             cmd,
             Command::Step | Command::StepN(_) | Command::RunToEnd | Command::Animate(true)
-        ) && self.panels.tools.tool == Tool::Draw
+        ) && matches!(self.panels.tools.tool, Tool::Draw | Tool::Arc)
             && self.panels.tools.drawing.is_empty()
+            && self.panels.tools.arc_clicks.is_empty()
         {
             self.panels.tools.tool = Tool::Correct;
         }

@@ -27,6 +27,9 @@ pub enum Tool {
     /// Click to place nodes of a new loop (a hole when there is an outer
     /// loop); click the first node to close it.
     Draw,
+    /// Three clicks place an arc in the loop being drawn: its start, a
+    /// point it passes through, its end.
+    Arc,
     /// Drag a boundary node.
     Move,
     /// Click a segment to insert a node there.
@@ -38,9 +41,10 @@ pub enum Tool {
 }
 
 impl Tool {
-    pub const ALL: [Tool; 6] = [
+    pub const ALL: [Tool; 7] = [
         Tool::Correct,
         Tool::Draw,
+        Tool::Arc,
         Tool::Move,
         Tool::Insert,
         Tool::Delete,
@@ -51,6 +55,7 @@ impl Tool {
         match self {
             Tool::Correct => "correct",
             Tool::Draw => "draw loop",
+            Tool::Arc => "draw arc",
             Tool::Move => "move",
             Tool::Insert => "insert",
             Tool::Delete => "delete",
@@ -63,6 +68,7 @@ impl Tool {
         match self {
             Tool::Correct => "Drag Pn or click a ringed front node to correct the last element (Pn: the yellow handle; a ring closes the element onto its node: green good, amber fair, orange poor).",
             Tool::Draw => "Click to place nodes; click the first node to close the loop (the first loop is the outer one, later loops are holes). Right-click or Esc drops the loop being drawn.",
+            Tool::Arc => "Three clicks place an arc in the loop being drawn: its start, a point it passes through, its end (its nodes at most 15° apart). End on the loop's first node to close the loop. Right-click or Esc drops the loop.",
             Tool::Move => "Drag a boundary node.",
             Tool::Insert => "Click a segment to insert a node there.",
             Tool::Delete => "Click a node to delete it.",
@@ -73,6 +79,25 @@ impl Tool {
 
 /// Pixels within which a click picks a node or a segment.
 pub const PICK: f32 = 10.0;
+
+/// The nodes strictly between `a` and `b` of the arc from `a` through `m`
+/// to `b`, at most [`crate::cad::MAX_ARC_ANGLE`] (15°) apart, as a
+/// drawing's arcs are cut; none when the three points
+/// are on a line (the arc is the straight segment).
+pub fn arc_nodes(a: Point, m: Point, b: Point) -> Vec<Point> {
+    let Some(curve) = crate::cad::arc_through(a, m, b) else {
+        return Vec::new();
+    };
+    let sweep = match curve {
+        crate::cad::Curve::Arc { sweep, .. } => sweep,
+        _ => return Vec::new(),
+    };
+    // (A half circle clicked on the screen is 12 parts, not 13.)
+    let n = (sweep.abs() / crate::cad::MAX_ARC_ANGLE - 1e-6)
+        .ceil()
+        .max(2.0) as usize;
+    (1..n).map(|k| curve.at(k as f64 / n as f64)).collect()
+}
 
 /// What the pointer is over, for highlighting.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,6 +119,8 @@ pub struct Tools {
     pub tool: Tool,
     /// The loop being drawn.
     pub drawing: Vec<Point>,
+    /// The Arc tool's clicks so far (start, then a point on the arc).
+    pub arc_clicks: Vec<Point>,
     /// The Move tool's drag: the node and where it is now.
     moving: Option<(At, Point)>,
     /// The Correct tool's drag of Pn: where it is now.
@@ -118,6 +145,7 @@ impl Default for Tools {
         Tools {
             tool: Tool::Correct,
             drawing: Vec::new(),
+            arc_clicks: Vec::new(),
             moving: None,
             pn_drag: None,
             split_parts: 3,
@@ -266,6 +294,7 @@ impl Tools {
             self.resample_loop = 0;
             self.resample_all = true;
             self.drawing.clear();
+            self.arc_clicks.clear();
             self.moving = None;
             self.pn_drag = None;
         }
@@ -282,7 +311,8 @@ impl Tools {
 
     /// Drops the loop being drawn; false when there is none.
     pub fn drop_drawing(&mut self) -> bool {
-        !std::mem::take(&mut self.drawing).is_empty()
+        let clicks = !std::mem::take(&mut self.arc_clicks).is_empty();
+        !std::mem::take(&mut self.drawing).is_empty() || clicks
     }
 
     /// A pointer drag or click of the tool; returns whether the tool takes
@@ -368,6 +398,38 @@ impl Tools {
                         });
                     } else {
                         self.drawing.push(w);
+                    }
+                }
+                false
+            }
+            Tool::Arc => {
+                if p.secondary_clicked {
+                    self.drawing.clear();
+                    self.arc_clicks.clear();
+                }
+                if let (Some(c), Some(w)) = (p.clicked, p.world) {
+                    // The end on the loop's first node closes the loop.
+                    let closes = self.arc_clicks.len() == 2
+                        && self.drawing.len() >= 2
+                        && to(self.drawing[0]).distance(c) <= PICK;
+                    self.arc_clicks
+                        .push(if closes { self.drawing[0] } else { w });
+                    if let [a, m, b] = self.arc_clicks[..] {
+                        self.arc_clicks.clear();
+                        if self.drawing.last() != Some(&a) {
+                            self.drawing.push(a);
+                        }
+                        self.drawing.extend(arc_nodes(a, m, b));
+                        if closes {
+                            let mut d = at.doc.draft.clone();
+                            d.loops.push(std::mem::take(&mut self.drawing));
+                            out.push(Command::SetDraft {
+                                draft: d,
+                                what: "draw arc",
+                            });
+                        } else {
+                            self.drawing.push(b);
+                        }
                     }
                 }
                 false
@@ -615,6 +677,24 @@ impl Tools {
                 }
             }
         }
+        // The Arc tool's clicks, and the arc the pointer would end.
+        if !self.arc_clicks.is_empty() {
+            let pointer = at.pointer.world.filter(|_| at.pointer.hovered);
+            let mut path: Vec<Point> = self.arc_clicks[..1].to_vec();
+            match (&self.arc_clicks[..], pointer) {
+                ([a, m], Some(b)) => {
+                    path.extend(arc_nodes(*a, *m, b));
+                    path.push(b);
+                }
+                (_, Some(b)) => path.push(b),
+                _ => {}
+            }
+            let pts: Vec<Pos2> = path.iter().map(|&p| to(p)).collect();
+            painter.add(Shape::line(pts, Stroke::new(1.5, cyan)));
+            for &p in &self.arc_clicks {
+                painter.circle_stroke(to(p), 4.0, Stroke::new(1.5, cyan));
+            }
+        }
         if !self.drawing.is_empty() {
             let mut pts: Vec<Pos2> = self.drawing.iter().map(|&p| to(p)).collect();
             if let Some(h) = at.pointer.pos.filter(|_| at.pointer.hovered) {
@@ -725,6 +805,29 @@ impl Tools {
                                 if valid == 1 { "gives" } else { "give" }
                             )
                         },
+                        false,
+                    );
+                }
+                Tool::Arc if !self.arc_clicks.is_empty() || !self.drawing.is_empty() => {
+                    if ui
+                        .button("Drop the loop")
+                        .on_hover_text("Forget the nodes and arc points placed (Esc or right-click)")
+                        .clicked()
+                    {
+                        self.drawing.clear();
+                        self.arc_clicks.clear();
+                    }
+                    note(
+                        ui,
+                        format!(
+                            "{} placed; {}",
+                            super::plural(self.drawing.len(), "node"),
+                            match self.arc_clicks.len() {
+                                0 => "click the next arc's start",
+                                1 => "click a point the arc passes through",
+                                _ => "click the arc's end (the first node closes the loop)",
+                            }
+                        ),
                         false,
                     );
                 }
