@@ -1,10 +1,8 @@
-//! A domain of many holes: the step ladder's work per step stays local.
-//! A reference point whose element the memory holds as impossible (one
-//! pinched between two holes' fronts) is parked until something near it
-//! changes, instead of being popped and put back at every step; closing a
-//! small loop, settling it and a seam make the memory forget only the
-//! region they changed. Stepped through the `Mesher` with the invariants
-//! checked after every step, then finished into a valid mesh.
+//! A domain of many holes (a tube sheet's pattern): closing a small loop,
+//! settling it, a row's first square and a seam make the step ladder's
+//! memory forget only the region they changed. Stepped through the
+//! `Mesher` with the invariants checked after every step, then finished
+//! into a valid mesh of the plate's area.
 
 use quadex::domains::perforated_plate;
 use quadex::extract::{MeshParams, Mesher, StepOutcome};
@@ -13,7 +11,7 @@ use quadex::Boundary;
 use std::sync::Arc;
 
 #[test]
-fn a_perforated_plate_walks_few_reference_points_per_step() {
+fn a_perforated_plate_steps_with_its_invariants_and_meshes() {
     let b = perforated_plate(10);
     assert_eq!(b.loops.len(), 101);
     Boundary::new(b.points.clone(), b.loops.clone(), None).expect("the plate is a valid boundary");
@@ -26,16 +24,6 @@ fn a_perforated_plate_walks_few_reference_points_per_step() {
         }
         m.check_invariants().expect("the invariants after a step");
     }
-    let stats = m.stats();
-    let per_step = stats.skipped_references as f64 / stats.steps as f64;
-    // Walking every waiting point at every step passed over 10 a step
-    // here (30,813 in 2,991 steps), growing with the number of holes.
-    assert!(
-        per_step < 2.0,
-        "{} reference points passed over in {} steps",
-        stats.skipped_references,
-        stats.steps
-    );
     let mesh = quadex::pipeline::finish(&m, &quadex::FinishParams::DEFAULT).expect("finished");
     let q = quadex::quality::MeshQuality::of(&mesh);
     assert!(q.sj_min > 0.3, "{q:?}");

@@ -74,7 +74,6 @@ impl Mesher {
             }
         }
         let limits = self.limits();
-        self.wake_parked();
         // 0. A loop with no reference point starts a row with a square:
         //    a new loop, or (strategy B) a loop left behind the band or
         //    layer the queue has moved on to.
@@ -199,8 +198,6 @@ impl Mesher {
                 }
             }
             let node = self.front.node(e.slot);
-            // A point the memory holds as giving no element is parked.
-            let mut park = false;
             let result = match self.memo.get(Eval::Queue, e.slot, node) {
                 // A remembered element is copied out only when it may be
                 // taken or kept as the best so far: most are neither, at
@@ -212,17 +209,12 @@ impl Mesher {
                 {
                     Some(c.clone())
                 }
-                Some(None) => {
-                    park = true;
-                    None
-                }
                 Some(_) => None,
                 None => {
                     let r = self.evaluate(e.slot, limits, false)?;
                     if r.as_ref().is_none_or(|c| c.score < self.params.defer_score) {
                         self.memo
                             .put(Eval::Queue, e.slot, node, self.evaluated, r.clone());
-                        park = r.is_none();
                     }
                     r
                 }
@@ -235,11 +227,7 @@ impl Mesher {
                 Some(c) => c.keep_if_best(&mut best),
                 None => {}
             }
-            if park {
-                self.park(e);
-            } else {
-                deferred.push(e);
-            }
+            deferred.push(e);
             skipped += 1;
         }
         // A remembered element is checked again before it is taken (its

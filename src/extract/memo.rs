@@ -38,10 +38,6 @@ pub(super) enum Eval {
 #[derive(Clone, Debug, Default)]
 pub(super) struct EvalMemo {
     entries: BTreeMap<(Eval, SlotId), Entry>,
-    /// The slots whose queue result was forgotten since
-    /// [`EvalMemo::take_forgotten`] was last called, in the order they
-    /// were forgotten.
-    forgotten: Vec<SlotId>,
 }
 
 impl EvalMemo {
@@ -77,30 +73,13 @@ impl EvalMemo {
 
     /// Forgets the entries whose box meets the box `lo..hi`.
     pub(super) fn changed(&mut self, lo: Point, hi: Point) {
-        let forgotten = &mut self.forgotten;
-        self.entries.retain(|&(eval, slot), e| {
-            let keep = e.hi.x < lo.x || e.lo.x > hi.x || e.hi.y < lo.y || e.lo.y > hi.y;
-            if !keep && eval == Eval::Queue {
-                forgotten.push(slot);
-            }
-            keep
-        });
+        self.entries
+            .retain(|_, e| e.hi.x < lo.x || e.lo.x > hi.x || e.hi.y < lo.y || e.lo.y > hi.y);
     }
 
     /// Forgets everything.
     pub(super) fn clear(&mut self) {
-        self.forgotten.extend(
-            self.entries
-                .keys()
-                .filter(|k| k.0 == Eval::Queue)
-                .map(|k| k.1),
-        );
         self.entries.clear();
-    }
-
-    /// The slots whose queue result was forgotten since the last call.
-    pub(super) fn take_forgotten(&mut self) -> Vec<SlotId> {
-        std::mem::take(&mut self.forgotten)
     }
 }
 
@@ -130,14 +109,10 @@ mod tests {
             "only the relaxed rung's"
         );
         m.changed(Point::new(0.5, 0.5), Point::new(0.6, 0.6));
-        assert_eq!(m.take_forgotten(), vec![3], "the queue's entry at slot 3");
         assert!(m.get(Eval::Queue, 3, 7).is_none());
         assert!(m.get(Eval::Relaxed, 4, 8).is_none());
         assert!(m.get(Eval::Relaxed, 3, 7).is_some(), "its box is far away");
-        m.put(Eval::Queue, 5, 9, far, None);
         m.clear();
         assert!(m.get(Eval::Relaxed, 3, 7).is_none());
-        assert_eq!(m.take_forgotten(), vec![5]);
-        assert!(m.take_forgotten().is_empty());
     }
 }

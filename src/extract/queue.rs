@@ -102,30 +102,6 @@ impl Mesher {
         }
     }
 
-    /// Parks entry `e`, whose slot the memory holds as giving no element:
-    /// it waits out of the queue, so that a step does not pop it and put
-    /// it back again while nothing near it changes (a front with many
-    /// holes leaves hundreds of such points behind, pinched between two
-    /// fronts, and each step would walk them all).
-    pub(super) fn park(&mut self, e: Entry) {
-        self.parked.insert(e.slot, e);
-    }
-
-    /// Puts the parked entries whose remembered result the memory has
-    /// forgotten (something changed in the box their evaluation read)
-    /// back in the queue, as [`Mesher::requeue`] puts back a deferred one.
-    pub(super) fn wake_parked(&mut self) {
-        let forgotten = self.memo.take_forgotten();
-        if self.parked.is_empty() {
-            return;
-        }
-        let woken: Vec<Entry> = forgotten
-            .into_iter()
-            .filter_map(|s| self.parked.remove(&s))
-            .collect();
-        self.requeue(woken);
-    }
-
     /// A slot's place in strategy B's order: its size band and its layer
     /// (both 0 under strategy A).
     pub(super) fn slot_key(&self, s: SlotId) -> (u32, u32) {

@@ -157,7 +157,6 @@ impl Mesher {
             super::session::grid_cell(&self.size),
         );
         self.queue.clear();
-        self.parked.clear();
         self.version.clear();
         for s in 0..self.front.slots.len() as SlotId {
             self.push(s);

@@ -96,10 +96,6 @@ pub struct Mesher {
     pub(super) mesh: QuadMesh,
     pub(super) front: Front,
     pub(super) queue: BinaryHeap<Entry>,
-    /// Reference points whose element the memory holds as impossible,
-    /// out of the queue until the memory forgets them (see
-    /// [`Mesher::wake_parked`]).
-    pub(super) parked: std::collections::BTreeMap<SlotId, Entry>,
     /// The box of the front the last seam changed (its corner, the edges
     /// beside it and the mesh edges at the merged node), for the memory.
     pub(super) seam_box: Option<crate::geom::Aabb>,
@@ -233,7 +229,6 @@ impl Mesher {
             mesh,
             front,
             queue: BinaryHeap::new(),
-            parked: Default::default(),
             seam_box: None,
             version: Vec::new(),
             seq: 0,
