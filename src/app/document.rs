@@ -56,6 +56,12 @@ pub struct Settings {
     pub coarsen: CoarsenParams,
     /// Local remeshing of the finished mesh's bad regions.
     pub remesh: RemeshParams,
+    /// The size field a drawing's interior follows
+    /// ([`MeshParams::size_target`]), as `quadex mesh part.dxf --size H`
+    /// meshes it; none for nodes given. Set with the drawing, not saved (a
+    /// project keeps the nodes cut from it).
+    #[serde(skip)]
+    pub size_target: Option<crate::extract::size::SizeTarget>,
 }
 
 impl Default for Settings {
@@ -70,6 +76,7 @@ impl Default for Settings {
             cleanup: FinishParams::DEFAULT.cleanup,
             coarsen: FinishParams::DEFAULT.coarsen,
             remesh: FinishParams::DEFAULT.remesh,
+            size_target: None,
         }
     }
 }
@@ -82,6 +89,7 @@ impl Settings {
             leading_points: (self.points - 1) / 2,
             pure_model: self.pure_model,
             fill_after_layers: self.fill_after_layers,
+            size_target: self.size_target.clone(),
             ..MeshParams::DEFAULT
         }
     }
@@ -423,7 +431,9 @@ pub fn kind_name(k: StepKind) -> &'static str {
 
 impl Document {
     /// An empty document: nothing drawn yet.
-    pub fn empty(settings: Settings) -> Document {
+    pub fn empty(mut settings: Settings) -> Document {
+        // A new document has no drawing to follow.
+        settings.size_target = None;
         Document {
             problem: Some(BoundaryError::Empty),
             draft: Draft::default(),
@@ -651,6 +661,7 @@ impl Document {
                 crate::boundary_edit::MAX_RESAMPLED_NODES
             )));
         }
+        self.settings.size_target = Some(cut.size_target());
         self.set_graph(cut.graph)?;
         self.meshing = None;
         self.draft = Draft::default();

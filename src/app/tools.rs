@@ -315,6 +315,13 @@ impl Tools {
         !std::mem::take(&mut self.drawing).is_empty() || clicks
     }
 
+    /// The command that adds the loop being drawn, closed, to `draft`.
+    fn close_drawing(&mut self, draft: &Draft, what: &'static str) -> Command {
+        let mut d = draft.clone();
+        d.loops.push(std::mem::take(&mut self.drawing));
+        Command::SetDraft { draft: d, what }
+    }
+
     /// A pointer drag or click of the tool; returns whether the tool takes
     /// the primary drag (else it pans the view).
     pub fn input(&mut self, at: &OnCanvas, out: &mut Vec<Command>) -> bool {
@@ -390,12 +397,7 @@ impl Tools {
                 if let (Some(c), Some(w)) = (p.clicked, p.world) {
                     let closes = self.drawing.len() >= 3 && to(self.drawing[0]).distance(c) <= PICK;
                     if closes {
-                        let mut d = at.doc.draft.clone();
-                        d.loops.push(std::mem::take(&mut self.drawing));
-                        out.push(Command::SetDraft {
-                            draft: d,
-                            what: "draw loop",
-                        });
+                        out.push(self.close_drawing(&at.doc.draft, "draw loop"));
                     } else {
                         self.drawing.push(w);
                     }
@@ -421,12 +423,7 @@ impl Tools {
                         }
                         self.drawing.extend(arc_nodes(a, m, b));
                         if closes {
-                            let mut d = at.doc.draft.clone();
-                            d.loops.push(std::mem::take(&mut self.drawing));
-                            out.push(Command::SetDraft {
-                                draft: d,
-                                what: "draw arc",
-                            });
+                            out.push(self.close_drawing(&at.doc.draft, "draw arc"));
                         } else {
                             self.drawing.push(b);
                         }
