@@ -61,7 +61,7 @@ pub struct Settings {
     /// meshes it; none for nodes given. Set with the drawing, not saved (a
     /// project keeps the nodes cut from it).
     #[serde(skip)]
-    pub size_target: Option<crate::extract::size::SizeTarget>,
+    pub size_target: Option<Arc<crate::extract::size::SizeTarget>>,
 }
 
 impl Default for Settings {
@@ -89,7 +89,7 @@ impl Settings {
             leading_points: (self.points - 1) / 2,
             pure_model: self.pure_model,
             fill_after_layers: self.fill_after_layers,
-            size_target: self.size_target.clone(),
+            size_target: self.size_target.as_deref().cloned(),
             ..MeshParams::DEFAULT
         }
     }
@@ -661,7 +661,7 @@ impl Document {
                 crate::boundary_edit::MAX_RESAMPLED_NODES
             )));
         }
-        self.settings.size_target = Some(cut.size_target());
+        self.settings.size_target = Some(Arc::new(cut.size_target()));
         self.set_graph(cut.graph)?;
         self.meshing = None;
         self.draft = Draft::default();
