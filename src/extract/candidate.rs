@@ -14,6 +14,15 @@ use crate::normalize::{Frame, LeadingPoints};
 use std::f64::consts::PI;
 
 /// A candidate element at a reference slot.
+/// Pure-model mode's state: the model's predictions the guard rejected
+/// since the last step, and the leading points (node ids) of every
+/// rejected prediction, so a prediction met again is counted once.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Rejections {
+    pub(super) count: usize,
+    pub(super) inputs: std::collections::BTreeSet<Vec<u32>>,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum Cand {
     New { s: SlotId, pn: Point },
@@ -664,7 +673,7 @@ impl Mesher {
         if !self.params.pure_model || rules {
             let (c, _) = self.model_candidate(s, pred, &frame);
             if let Some(score) = self.check(c, limits).filter(|&v| v >= EXCELLENT) {
-                self.evaluated = self.extent(s, &[c]);
+                self.memo.read_box = self.extent(s, &[c]);
                 return Ok(Some(Chosen {
                     cand: c,
                     remedy: Remedy::None,
@@ -677,7 +686,7 @@ impl Mesher {
             // A needle takes the kite it forces, or nothing.
             if let Some(pn) = self.needle_kite(s) {
                 let cand = Cand::New { s, pn };
-                self.evaluated = self.extent(s, &[c]);
+                self.memo.read_box = self.extent(s, &[c]);
                 return Ok(self.check(cand, limits).map(|score| Chosen {
                     cand,
                     remedy: Remedy::CorrectedPn,
@@ -692,12 +701,12 @@ impl Mesher {
         let mut model: Option<Chosen> = None;
         let cands = self.candidates(s, pred, &frame);
         let all: Vec<Cand> = cands.iter().map(|&(c, _)| c).collect();
-        self.evaluated = self.extent(s, &all);
+        self.memo.read_box = self.extent(s, &all);
         for (c, remedy) in cands {
             let Some(score) = self.check(c, limits) else {
                 if self.params.pure_model && !rules {
-                    if self.rejected_inputs.insert(leading.clone()) {
-                        self.rejected += 1;
+                    if self.rejections.inputs.insert(leading.clone()) {
+                        self.rejections.count += 1;
                     }
                     return Ok(None);
                 }
@@ -860,17 +869,17 @@ impl Mesher {
                 let (p0, r1, l1) = (f.node(s), f.node(rr), f.node(l));
                 let run = self.row_at(s).map(|row| {
                     let top = if row.right { l1 } else { r1 };
-                    self.row_run[top as usize].saturating_add(1)
+                    self.runs.since[top as usize].saturating_add(1)
                 });
                 let v = self.add_node(pn);
                 if let Some(run) = run {
-                    self.row_run[v as usize] = run;
+                    self.runs.since[v as usize] = run;
                 }
                 self.push_quad([p0, r1, v, l1]);
                 if needle {
                     let corners = [p0, r1, v, l1].map(|k| self.mesh.nodes[k as usize]);
-                    self.needle_quads.0 += 1;
-                    self.needle_quads.1 += crate::geom::polygon_area(corners);
+                    self.watch.needle_quads.0 += 1;
+                    self.watch.needle_quads.1 += crate::geom::polygon_area(corners);
                 }
                 self.front.replace_node(s, v, layer, &self.mesh.nodes);
                 r.new_nodes.push(v);

@@ -28,6 +28,17 @@ pub struct Limits {
     pub min_front: f64,
 }
 
+impl Limits {
+    /// These limits given in degrees, in radians.
+    pub fn radians(self) -> Limits {
+        Limits {
+            min_corner: self.min_corner.to_radians(),
+            max_corner: self.max_corner.to_radians(),
+            min_front: self.min_front.to_radians(),
+        }
+    }
+}
+
 /// Scratch buffers reused across checks.
 #[derive(Default, Debug, Clone)]
 pub struct Scratch {

@@ -10,10 +10,12 @@ use super::guard::Limits;
 use super::memo::Eval;
 use super::params::Strategy;
 use super::queue::Entry;
+use serde::{Deserialize, Serialize};
 
 use super::repair::Squares;
 use super::report::{MeshError, Remedy, StepReport};
-use super::session::{Mesher, PROGRESS_WINDOW};
+use super::session::Mesher;
+use super::watch::PROGRESS_WINDOW;
 use crate::front::SlotId;
 use std::f64::consts::PI;
 
@@ -46,53 +48,335 @@ const ROW_BRIDGE_GAP: f64 = 1.0;
 /// no quad there does better).
 const BRIDGE_GAP: f64 = 0.5;
 /// Front nodes looked at first, sharpest first, for the best rule-based
-/// element anywhere (step 7 of the ladder).
+/// element anywhere ([`Rung::Relaxed`]).
 const SHARPEST: usize = 32;
+/// [`Rung::Relax`] is taken at most this many times in a row.
+const RELAX_STREAK: usize = 3;
+/// [`Rung::RipUp`] removes one ring around the loop, then two, … up to
+/// this many, then one again.
+const RIP_UP_RINGS: usize = 4;
+/// The limits of [`Rung::Relaxed`] (degrees): wider than the guard's.
+const RELAXED_LIMITS: Limits = Limits {
+    min_corner: 10.0,
+    max_corner: 170.0,
+    min_front: 5.0,
+};
+
+/// The row-start rung's state (strategy B): the coarsest band and deepest
+/// layer the queue had reached when loops left behind were last looked
+/// for, the loops to check for a first row (no reference point on them)
+/// and the front edges (by start slot) to start a row on: stretches of
+/// the boundary left behind.
+#[derive(Clone, Debug, Default)]
+pub(super) struct RowStarts {
+    pub(super) key: (u32, u32),
+    pub(super) loops: Vec<u32>,
+    pub(super) edges: Vec<SlotId>,
+}
+
+/// The rungs of the step ladder: what one automatic step tries, in the
+/// order of [`LADDER`]. The first rung that changes the mesh or the front
+/// makes the step, and its report names it ([`super::StepReport::rung`]).
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize,
+)]
+pub enum Rung {
+    /// The step budget is spent: the region left is filled (or the run
+    /// stops with [`MeshError::StepLimit`]).
+    FillDue,
+    /// The progress watch finds the run going round in circles: the region
+    /// left is filled (or the run stops with [`MeshError::Stalled`]).
+    FillStalled,
+    /// A loop with no reference point (a new loop, or one left behind the
+    /// band or layer the queue has moved on to) starts a row: a bridge
+    /// across a gap a row would not fit, or a square.
+    RowStart,
+    /// Loops of 4 and 6 nodes close by the final patterns, settled first
+    /// where they are too skewed.
+    SmallLoop,
+    /// Narrow logical rectangles close by a mapped grid
+    /// ([`super::MeshParams::mapped_rows`]).
+    MappedGrid,
+    /// The region inside the first layers is filled
+    /// ([`super::MeshParams::fill_after_layers`]).
+    FillLayers,
+    /// Reference points in queue order: a seam at a sharp corner, a
+    /// transition at a wide row end, or the model's element under the
+    /// guard and its remedies; poor elements wait while a better reference
+    /// point of the same kind, band and layer exists.
+    Queue,
+    /// A seam at any sharp corner.
+    SharpSeam,
+    /// A small loop without a usable reference point split along its best
+    /// chord.
+    SmallSplit,
+    /// A square on the shortest front edge.
+    Square,
+    /// The best rule-based element with relaxed limits, anywhere.
+    Relaxed,
+    /// A row started around a small hole no front has reached.
+    HoleRow,
+    /// A loop split along a chord.
+    Split,
+    /// The smallest stuck loop straightened, its interior nodes moved.
+    Relax,
+    /// A strip no step could take closed by its best mapped grid.
+    Strip,
+    /// Two facing front edges joined across a gap.
+    Bridge,
+    /// The elements around the smallest stuck loop removed.
+    RipUp,
+    /// The region left filled: the last resort.
+    Fill,
+    /// Not a rung of the ladder: after a failed step, the run went back
+    /// to an earlier step and filled the region left there.
+    Rewind,
+    /// Not a rung of the ladder: an element given by the user.
+    #[default]
+    User,
+}
+
+/// The step ladder: the order one automatic step tries its rungs in.
+pub const LADDER: [Rung; 18] = [
+    Rung::FillDue,
+    Rung::FillStalled,
+    Rung::RowStart,
+    Rung::SmallLoop,
+    Rung::MappedGrid,
+    Rung::FillLayers,
+    Rung::Queue,
+    Rung::SharpSeam,
+    Rung::SmallSplit,
+    Rung::Square,
+    Rung::Relaxed,
+    Rung::HoleRow,
+    Rung::Split,
+    Rung::Relax,
+    Rung::Strip,
+    Rung::Bridge,
+    Rung::RipUp,
+    Rung::Fill,
+];
+
+impl Rung {
+    /// The rung's name as reports and tables print it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Rung::FillDue => "fill-due",
+            Rung::FillStalled => "fill-stalled",
+            Rung::RowStart => "row-start",
+            Rung::SmallLoop => "small-loop",
+            Rung::MappedGrid => "mapped-grid",
+            Rung::FillLayers => "fill-layers",
+            Rung::Queue => "queue",
+            Rung::SharpSeam => "sharp-seam",
+            Rung::SmallSplit => "small-split",
+            Rung::Square => "square",
+            Rung::Relaxed => "relaxed",
+            Rung::HoleRow => "hole-row",
+            Rung::Split => "split",
+            Rung::Relax => "relax",
+            Rung::Strip => "strip",
+            Rung::Bridge => "bridge",
+            Rung::RipUp => "rip-up",
+            Rung::Fill => "fill",
+            Rung::Rewind => "rewind",
+            Rung::User => "user",
+        }
+    }
+}
+
+/// What the rungs of one step hand on to the rungs after them.
+struct Climb {
+    /// The guard's limits.
+    limits: Limits,
+    /// Reference points the queue passed over (reported by the rungs
+    /// after it).
+    skipped: usize,
+    /// The live loops, smallest first (worked out by the first rung that
+    /// needs them; a rung that does not step leaves them as they are).
+    loops: Option<Vec<u32>>,
+}
 
 impl Mesher {
+    /// One automatic step: the first rung of [`LADDER`] that steps.
     pub(super) fn auto_step(&mut self) -> Result<StepReport, MeshError> {
-        if self.params.fill && self.history.len() >= self.fill_after {
-            if let Some(r) = self.fill_rest() {
+        let mut climb = Climb {
+            limits: self.limits(),
+            skipped: 0,
+            loops: None,
+        };
+        for rung in LADDER {
+            if let Some(mut r) = self.try_rung(rung, &mut climb)? {
+                r.rung = rung;
                 return Ok(r);
-            }
-            if !self.replaying {
-                return Err(MeshError::StepLimit {
-                    limit: self.fill_after,
-                    remaining: self.front.len(),
-                });
             }
         }
-        if self.params.fill && self.stalled() {
-            if let Some(r) = self.fill_rest() {
-                return Ok(r);
+        let lid = self.front.live_loops().next().unwrap_or(0);
+        let head = self.front.loops[lid as usize].head;
+        Err(MeshError::Stuck {
+            loop_index: lid,
+            node: self.front.node(head),
+        })
+    }
+
+    /// Tries one rung: `Ok(None)` when it does not step.
+    fn try_rung(&mut self, rung: Rung, climb: &mut Climb) -> Result<Option<StepReport>, MeshError> {
+        let limits = climb.limits;
+        let skipped = climb.skipped;
+        let with_skipped = |r: Option<StepReport>| {
+            r.map(|mut r| {
+                r.skipped = skipped;
+                r
+            })
+        };
+        Ok(match rung {
+            Rung::FillDue | Rung::FillStalled | Rung::FillLayers | Rung::Fill => {
+                self.fill_rung(rung)?
             }
-            if !self.replaying && !self.rewound {
-                return Err(MeshError::Stalled {
+            Rung::RowStart => self.row_start(limits),
+            Rung::SmallLoop => self.small_loop(),
+            Rung::MappedGrid => self.mapped_grid(),
+            Rung::Queue => {
+                let (r, skipped) = self.queue_rung(limits)?;
+                climb.skipped = skipped;
+                r
+            }
+            Rung::SharpSeam => self.sharp_seam(),
+            Rung::SmallSplit => {
+                let loops = self.loops_smallest_first(climb);
+                let mut split = None;
+                for lid in loops {
+                    if self.front.loops[lid as usize].len <= SMALL_LOOP {
+                        split = self.chord_split(lid);
+                        if split.is_some() {
+                            break;
+                        }
+                    }
+                }
+                split
+            }
+            Rung::Square => with_skipped(self.square_cut(Squares::Any, limits)),
+            Rung::Relaxed => with_skipped(self.relaxed_rung()?),
+            Rung::HoleRow => with_skipped(self.square_cut(Squares::SmallHoles, limits)),
+            Rung::Split => {
+                let loops = self.loops_smallest_first(climb);
+                loops.into_iter().find_map(|lid| self.chord_split(lid))
+            }
+            Rung::Relax => {
+                let loops = self.loops_smallest_first(climb);
+                loops.first().and_then(|&lid| self.relax_rung(lid))
+            }
+            Rung::Strip => {
+                let loops = self.loops_smallest_first(climb);
+                loops.into_iter().find_map(|lid| self.close_strip(lid))
+            }
+            Rung::Bridge => self.bridge(None, 0.0, BRIDGE_GAP),
+            Rung::RipUp => {
+                let loops = self.loops_smallest_first(climb);
+                loops.first().and_then(|&lid| self.rip_up_rung(lid))
+            }
+            Rung::Rewind | Rung::User => None,
+        })
+    }
+
+    /// The live loops, smallest first, as the first rung that needs them
+    /// found them.
+    fn loops_smallest_first(&self, climb: &mut Climb) -> Vec<u32> {
+        climb
+            .loops
+            .get_or_insert_with(|| {
+                let mut loops: Vec<u32> = self.front.live_loops().collect();
+                loops.sort_by_key(|&l| self.front.loops[l as usize].len);
+                loops
+            })
+            .clone()
+    }
+
+    /// The fill's rungs, the one place the ladder fills from: when the
+    /// step budget is spent ([`Rung::FillDue`]), when the run stalls
+    /// ([`Rung::FillStalled`]), once the reference points left lie on
+    /// layer [`super::MeshParams::fill_after_layers`] or deeper
+    /// ([`Rung::FillLayers`]), and when no other rung steps
+    /// ([`Rung::Fill`]). Nothing is filled with
+    /// [`super::MeshParams::fill`] off.
+    fn fill_rung(&mut self, rung: Rung) -> Result<Option<StepReport>, MeshError> {
+        if !self.params.fill {
+            return Ok(None);
+        }
+        let (due, error) = match rung {
+            Rung::FillDue => (
+                self.record.history.len() >= self.fill.after,
+                Some(MeshError::StepLimit {
+                    limit: self.fill.after,
+                    remaining: self.front.len(),
+                }),
+            ),
+            Rung::FillStalled => (
+                self.stalled(),
+                (!self.record.rewound).then(|| MeshError::Stalled {
                     steps: PROGRESS_WINDOW,
                     remaining: self.front.len(),
-                });
-            }
+                }),
+            ),
+            Rung::FillLayers => (self.first_layers_done(), None),
+            _ => (true, None),
+        };
+        if !due {
+            return Ok(None);
         }
-        let limits = self.limits();
-        // 0. A loop with no reference point starts a row with a square:
-        //    a new loop, or (strategy B) a loop left behind the band or
-        //    layer the queue has moved on to.
+        if let Some(r) = self.fill_rest() {
+            return Ok(Some(r));
+        }
+        match error {
+            Some(e) if !self.record.replaying => Err(e),
+            _ => Ok(None),
+        }
+    }
+
+    /// True when [`super::MeshParams::fill_after_layers`] is set and the
+    /// reference points left lie on that layer or deeper. Strategy B's
+    /// queue is ordered by layer; strategy A's is not, so there the
+    /// front's reference points are looked at.
+    fn first_layers_done(&mut self) -> bool {
+        let Some(k) = self.params.fill_after_layers else {
+            return false;
+        };
+        let layer = match self.params.strategy {
+            Strategy::B => self.queue_top().map(|(_, l)| l),
+            Strategy::A => {
+                let row = self.params.row_angle.to_radians();
+                self.front
+                    .live_loops()
+                    .flat_map(|l| self.front.loop_slots(l))
+                    .filter(|&s| self.front.angle(s, &self.mesh.nodes) <= row)
+                    .map(|s| self.front.slot(s).layer)
+                    .min()
+            }
+        };
+        layer.is_some_and(|l| l >= k)
+    }
+
+    /// [`Rung::RowStart`]: a loop with no reference point starts a row
+    /// with a square: a new loop, or (strategy B) a loop left behind the
+    /// band or layer the queue has moved on to.
+    fn row_start(&mut self, limits: Limits) -> Option<StepReport> {
         self.queue_rows_behind();
-        while let Some(lid) = self.row_start.pop() {
+        while let Some(lid) = self.rows.loops.pop() {
             if self.front.loops[lid as usize].alive
                 && self.front.loops[lid as usize].len > 6
                 && !self.loop_has_reference(lid)
             {
                 if let Some(r) = self.bridge(Some(lid), ROW_BRIDGE_SJ, ROW_BRIDGE_GAP) {
-                    return Ok(r);
+                    return Some(r);
                 }
                 if let Some(r) = self.square_cut(Squares::Loop(lid), limits) {
-                    return Ok(r);
+                    return Some(r);
                 }
             }
         }
         let hi = self.params.row_angle.to_radians();
-        while let Some(s) = self.row_edges.pop() {
+        while let Some(s) = self.rows.edges.pop() {
             let t = self.front.next(s);
             if self.front.slot(s).alive
                 && self.front.loop_len(s) > 6
@@ -100,11 +384,17 @@ impl Mesher {
                 && self.front.angle(t, &self.mesh.nodes) > hi
             {
                 if let Some(r) = self.square_on(s, limits, 0.0) {
-                    return Ok(r);
+                    return Some(r);
                 }
             }
         }
-        // 1. Small loops close first.
+        None
+    }
+
+    /// [`Rung::SmallLoop`]: small loops close first; one too skewed to
+    /// close is settled and tried again, and one that neither closes nor
+    /// settles is not tried again in the same state.
+    fn small_loop(&mut self) -> Option<StepReport> {
         let small: Vec<u32> = self
             .front
             .live_loops()
@@ -112,72 +402,59 @@ impl Mesher {
             .collect();
         for lid in small {
             let key = self.small_loop_key(lid);
-            if self.small_stuck.get(lid as usize) == Some(&key) {
+            if self.small.stuck.get(lid as usize) == Some(&key) {
                 continue;
             }
             if let Some(r) = self.close_small(lid) {
-                return Ok(r);
+                return Some(r);
             }
             if self.settle_small(lid) {
                 if let Some(r) = self.close_small(lid) {
-                    return Ok(r);
+                    return Some(r);
                 }
             } else {
-                if self.small_stuck.len() <= lid as usize {
-                    self.small_stuck.resize(lid as usize + 1, 0);
+                if self.small.stuck.len() <= lid as usize {
+                    self.small.stuck.resize(lid as usize + 1, 0);
                 }
-                self.small_stuck[lid as usize] = key;
+                self.small.stuck[lid as usize] = key;
             }
         }
-        // 1b. Narrow logical rectangles close by a mapped grid.
-        if self.params.mapped_rows.is_some() {
-            for lid in 0..self.front.loops.len() as u32 {
-                if self.front.loops[lid as usize].alive {
-                    if let Some(r) = self.close_mapped(lid) {
-                        return Ok(r);
-                    }
-                }
-            }
-        }
-        // 2. The region inside the first layers is filled directly.
-        if let Some(k) = self.params.fill_after_layers {
-            // Strategy B's queue is ordered by layer; strategy A's is not,
-            // so there the front's reference points are looked at.
-            let layer = match self.params.strategy {
-                Strategy::B => self.queue_top().map(|(_, l)| l),
-                Strategy::A => {
-                    let row = self.params.row_angle.to_radians();
-                    self.front
-                        .live_loops()
-                        .flat_map(|l| self.front.loop_slots(l))
-                        .filter(|&s| self.front.angle(s, &self.mesh.nodes) <= row)
-                        .map(|s| self.front.slot(s).layer)
-                        .min()
-                }
-            };
-            if self.params.fill && layer.is_some_and(|l| l >= k) {
-                if let Some(r) = self.fill_rest() {
-                    return Ok(r);
+        None
+    }
+
+    /// [`Rung::MappedGrid`]: narrow logical rectangles close by a mapped
+    /// grid.
+    fn mapped_grid(&mut self) -> Option<StepReport> {
+        self.params.mapped_rows?;
+        for lid in 0..self.front.loops.len() as u32 {
+            if self.front.loops[lid as usize].alive {
+                if let Some(r) = self.close_mapped(lid) {
+                    return Some(r);
                 }
             }
         }
-        // 3. Reference points in queue order; poor elements wait while a
-        //    better reference point of the same kind, band and layer
-        //    exists (the "next reference point" remedy): the best of the
-        //    group is taken before the queue moves on to the next group.
+        None
+    }
+
+    /// [`Rung::Queue`]: reference points in queue order; poor elements
+    /// wait while a better reference point of the same kind, band and
+    /// layer exists (the "next reference point" remedy): the best of the
+    /// group is taken before the queue moves on to the next group. Also
+    /// gives the number of reference points passed over.
+    fn queue_rung(&mut self, limits: Limits) -> Result<(Option<StepReport>, usize), MeshError> {
         let mut skipped = 0;
         let mut deferred: Vec<Entry> = Vec::new();
         let mut best: Option<Chosen> = None;
         let mut chosen = None;
         let mut group = None;
-        while let Some(e) = self.queue.pop() {
+        while let Some(e) = self.queue.heap.pop() {
             let i = e.slot as usize;
-            if !self.front.slot(e.slot).alive || self.version[i] != e.version {
+            if !self.front.slot(e.slot).alive || self.queue.version[i] != e.version {
                 continue;
             }
             let key = (e.class > 0, e.band, e.layer);
             if best.is_some() && group.is_some_and(|g| g != key) {
-                self.queue.push(e);
+                self.queue.heap.push(e);
                 break;
             }
             group = Some(key);
@@ -187,14 +464,14 @@ impl Mesher {
                 if let Some(mut r) = self.try_seam(e.slot) {
                     r.skipped = skipped;
                     self.requeue(deferred);
-                    return Ok(r);
+                    return Ok((Some(r), skipped));
                 }
             }
             if e.class > 0 {
                 if let Some(mut r) = self.try_transition(e.slot, limits) {
                     r.skipped = skipped;
                     self.requeue(deferred);
-                    return Ok(r);
+                    return Ok((Some(r), skipped));
                 }
             }
             let node = self.front.node(e.slot);
@@ -214,7 +491,7 @@ impl Mesher {
                     let r = self.evaluate(e.slot, limits, false)?;
                     if r.as_ref().is_none_or(|c| c.score < self.params.defer_score) {
                         self.memo
-                            .put(Eval::Queue, e.slot, node, self.evaluated, r.clone());
+                            .put(Eval::Queue, e.slot, node, self.memo.read_box, r.clone());
                     }
                     r
                 }
@@ -237,9 +514,13 @@ impl Mesher {
             let mut r = self.commit_chosen(c);
             r.skipped = skipped;
             self.requeue(deferred);
-            return Ok(r);
+            return Ok((Some(r), skipped));
         }
-        // 4. A seam at any sharp corner.
+        Ok((None, skipped))
+    }
+
+    /// [`Rung::SharpSeam`]: a seam at any sharp corner.
+    fn sharp_seam(&mut self) -> Option<StepReport> {
         let sharp: Vec<SlotId> = self
             .front
             .live_loops()
@@ -248,36 +529,16 @@ impl Mesher {
                 self.front.angle(s, &self.mesh.nodes) < self.params.reference_angle[0].to_radians()
             })
             .collect();
-        for s in sharp {
-            if let Some(r) = self.try_seam(s) {
-                return Ok(r);
-            }
-        }
-        // 5. A small loop without a usable reference point is split along
-        //    its best chord (a ring becomes two halves with square corners).
-        let mut loops: Vec<u32> = self.front.live_loops().collect();
-        loops.sort_by_key(|&l| self.front.loops[l as usize].len);
-        for &lid in &loops {
-            if self.front.loops[lid as usize].len <= SMALL_LOOP {
-                if let Some(r) = self.chord_split(lid) {
-                    return Ok(r);
-                }
-            }
-        }
-        // 6. No reference point: a square on the shortest front edge.
-        if let Some(mut r) = self.square_cut(Squares::Any, limits) {
-            r.skipped = skipped;
-            return Ok(r);
-        }
-        // 7. The best rule-based element with relaxed limits, anywhere.
-        let relaxed = Limits {
-            min_corner: 10f64.to_radians(),
-            max_corner: 170f64.to_radians(),
-            min_front: 5f64.to_radians(),
-        };
-        //    The sharpest front nodes are looked at first, the rest only
-        //    when none of them gives an element (a ring with no corner
-        //    left is long, and its row may start at any of them).
+        sharp.into_iter().find_map(|s| self.try_seam(s))
+    }
+
+    /// [`Rung::Relaxed`]: the best rule-based element with
+    /// [`RELAXED_LIMITS`], anywhere. The [`SHARPEST`] front nodes are
+    /// looked at first, the rest only when none of them gives an element
+    /// (a ring with no corner left is long, and its row may start at any
+    /// of them).
+    fn relaxed_rung(&mut self) -> Result<Option<StepReport>, MeshError> {
+        let relaxed = RELAXED_LIMITS.radians();
         let mut all: Vec<(f64, SlotId)> = self
             .front
             .live_loops()
@@ -301,69 +562,43 @@ impl Mesher {
             }
         }
         let best = self.confirmed(best, relaxed, true)?;
-        if let Some(c) = best {
+        Ok(best.map(|c| {
             let mut r = self.commit_chosen(c);
             r.remedy = Remedy::RuleBased;
-            r.skipped = skipped;
-            return Ok(r);
+            r
+        }))
+    }
+
+    /// [`Rung::Relax`]: the smallest stuck loop `lid` straightened, at
+    /// most [`RELAX_STREAK`] times in a row and within the run's budget
+    /// ([`RELAXES`]).
+    fn relax_rung(&mut self, lid: u32) -> Option<StepReport> {
+        let budget = RELAXES + self.mesh.quads.len() / RELAX_QUADS;
+        if self.repairs.relaxes >= budget || self.repairs.relax_streak >= RELAX_STREAK {
+            return None;
         }
-        // 7b. Start a row around a small hole no front has reached.
-        if let Some(mut r) = self.square_cut(Squares::SmallHoles, limits) {
-            r.skipped = skipped;
-            return Ok(r);
+        let r = self.relax_loop(lid)?;
+        self.repairs.relaxes += 1;
+        self.repairs.relax_streak += 1;
+        Some(r)
+    }
+
+    /// [`Rung::RipUp`]: the elements around the smallest stuck loop `lid`
+    /// removed, one to [`RIP_UP_RINGS`] rings in turn, within the run's
+    /// budget ([`RIP_UPS`]).
+    fn rip_up_rung(&mut self, lid: u32) -> Option<StepReport> {
+        if self.repairs.rip_ups >= RIP_UPS + self.mesh.quads.len() / RIP_UP_QUADS {
+            return None;
         }
-        // 8. Split a loop along a chord.
-        for &lid in &loops {
-            if let Some(r) = self.chord_split(lid) {
-                return Ok(r);
-            }
+        let r = self.rip_up(lid, 1 + self.repairs.rip_ups % RIP_UP_RINGS);
+        self.repairs.rip_ups += 1;
+        if r.removed > 0 || !r.quads.is_empty() {
+            return Some(r);
         }
-        // 9. Straighten the smallest stuck loop, moving its interior nodes.
-        if let Some(&lid) = loops.first() {
-            if self.relaxes < RELAXES + self.mesh.quads.len() / RELAX_QUADS && self.relax_streak < 3
-            {
-                if let Some(r) = self.relax_loop(lid) {
-                    self.relaxes += 1;
-                    self.relax_streak += 1;
-                    return Ok(r);
-                }
-            }
-        }
-        // 9b. A strip no step could take, closed by its best mapped grid.
-        for &lid in &loops {
-            if let Some(r) = self.close_strip(lid) {
-                return Ok(r);
-            }
-        }
-        // 9c. Two facing front edges joined across a gap.
-        if let Some(r) = self.bridge(None, 0.0, BRIDGE_GAP) {
-            return Ok(r);
-        }
-        // 10. Give the smallest stuck loop room: remove the elements around it.
-        if let Some(&lid) = loops.first() {
-            if self.rip_ups < RIP_UPS + self.mesh.quads.len() / RIP_UP_QUADS {
-                let r = self.rip_up(lid, 1 + self.rip_ups % 4);
-                self.rip_ups += 1;
-                if r.removed > 0 || !r.quads.is_empty() {
-                    return Ok(r);
-                }
-                // Nothing around the loop to remove and no split: rip-ups
-                // cannot help any more.
-                self.rip_ups = usize::MAX / 2;
-            }
-        }
-        // 11. Fill the region left.
-        if self.params.fill {
-            if let Some(r) = self.fill_rest() {
-                return Ok(r);
-            }
-        }
-        let lid = self.front.live_loops().next().unwrap_or(0);
-        let head = self.front.loops[lid as usize].head;
-        Err(MeshError::Stuck {
-            loop_index: lid,
-            node: self.front.node(head),
-        })
+        // Nothing around the loop to remove and no split: rip-ups cannot
+        // help any more.
+        self.repairs.rip_ups = usize::MAX / 2;
+        None
     }
 
     /// A remembered element checked again before it is taken (its box was
@@ -396,7 +631,7 @@ impl Mesher {
         }
         let r = self.evaluate(s, limits, true)?;
         self.memo
-            .put(Eval::Relaxed, s, node, self.evaluated, r.clone());
+            .put(Eval::Relaxed, s, node, self.memo.read_box, r.clone());
         Ok(r)
     }
 
@@ -412,10 +647,10 @@ impl Mesher {
         let Some(top) = self.queue_top() else {
             return;
         };
-        if top <= self.row_key {
+        if top <= self.rows.key {
             return;
         }
-        self.row_key = top;
+        self.rows.key = top;
         let hi = self.params.row_angle.to_radians();
         let loops: Vec<u32> = self.front.live_loops().collect();
         for lid in loops {
@@ -429,7 +664,7 @@ impl Mesher {
                 .map(|&s| self.front.angle(s, &self.mesh.nodes) > hi)
                 .collect();
             if open.iter().all(|&o| o) {
-                self.row_start.push(lid);
+                self.rows.loops.push(lid);
                 continue;
             }
             // Stretches of the given boundary no row has reached yet (the
@@ -449,7 +684,7 @@ impl Mesher {
                         .map(|w| (self.world(w[0]).distance(self.world(w[1])), w[0]))
                         .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
                     if let Some((_, s)) = best {
-                        self.row_edges.push(s);
+                        self.rows.edges.push(s);
                     }
                 }
                 run.clear();

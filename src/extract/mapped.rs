@@ -37,6 +37,15 @@ pub const MAX_LOOP: usize = 400;
 
 /// A structured grid over a logical rectangle: `m × n` quads, the nodes
 /// `(i, j)` for `0 ≤ i ≤ m`, `0 ≤ j ≤ n`, row by row.
+/// The mapped rungs' state: per loop, the
+/// [`crate::front::FrontLoop::version`] last looked at for a mapped grid
+/// (`mapped`) and for a strip's best grid (`strip`); 0: never.
+#[derive(Clone, Debug, Default)]
+pub(super) struct GridsSeen {
+    pub(super) mapped: Vec<u32>,
+    pub(super) strip: Vec<u32>,
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Grid {
     pub m: usize,
@@ -238,7 +247,7 @@ impl Mesher {
     /// most [`MeshParams::mapped_rows`](super::MeshParams::mapped_rows)
     /// across whose grid is good enough.
     pub(super) fn close_mapped(&mut self, lid: u32) -> Option<StepReport> {
-        let (rows, (slots, nodes, pts)) = self.grid_loop(lid, |m| &mut m.mapped_seen)?;
+        let (rows, (slots, nodes, pts)) = self.grid_loop(lid, |m| &mut m.grids.mapped)?;
         let corners = rectangle(&pts)?;
         let g = grid(&pts, corners);
         if g.n > rows || !g.min_sj().is_some_and(|sj| sj >= MIN_SJ) {
@@ -258,7 +267,7 @@ impl Mesher {
     /// would move them, a fill would meet the same skew, and a convex grid
     /// is taken.
     pub(super) fn close_strip(&mut self, lid: u32) -> Option<StepReport> {
-        let (rows, (slots, nodes, pts)) = self.grid_loop(lid, |m| &mut m.strip_seen)?;
+        let (rows, (slots, nodes, pts)) = self.grid_loop(lid, |m| &mut m.grids.strip)?;
         let (g, sj) = best_strip(&pts, rows)?;
         let fixed = nodes.iter().all(|&v| self.mesh.is_boundary(v));
         if (sj < STRIP_SJ && !fixed) || !self.loop_is_clear(&slots, &nodes, &pts) {

@@ -38,6 +38,13 @@ pub(super) enum Eval {
 #[derive(Clone, Debug, Default)]
 pub(super) struct EvalMemo {
     entries: BTreeMap<(Eval, SlotId), Entry>,
+    /// The box of the front the last [`super::session::Mesher::evaluate`]
+    /// read: what [`EvalMemo::put`] is given for it.
+    pub(super) read_box: (Point, Point),
+    /// The box of the front the last seam changed (its corner, the edges
+    /// beside it and the mesh edges at the merged node), forgotten after
+    /// the step.
+    pub(super) seam_box: Option<crate::geom::Aabb>,
 }
 
 impl EvalMemo {

@@ -18,6 +18,7 @@ mod bridge;
 mod candidate;
 pub mod closure;
 pub mod fill;
+mod fill_step;
 pub mod guard;
 mod ladder;
 pub mod mapped;
@@ -29,8 +30,10 @@ mod report;
 mod session;
 pub mod size;
 mod transition;
+mod watch;
 
 pub use candidate::CandidateReport;
+pub use ladder::{Rung, LADDER};
 pub use params::{MeshParams, Strategy};
 pub use report::{
     Action, CheckedElement, Correction, MeshError, Remedy, RunProgress, StepKind, StepOutcome,

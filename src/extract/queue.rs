@@ -17,9 +17,19 @@ use super::params::Strategy;
 use super::session::Mesher;
 use crate::front::SlotId;
 use std::cmp::Ordering;
+use std::collections::BinaryHeap;
 
 /// Strategy B takes sizes within this ratio of each other as alike.
 const BAND: f64 = 1.6;
+
+/// The queue itself: a max-heap of [`Entry`], each slot's current version
+/// (an entry of an older version is stale) and the push counter.
+#[derive(Clone, Debug, Default)]
+pub(super) struct RefQueue {
+    pub(super) heap: BinaryHeap<Entry>,
+    pub(super) version: Vec<u32>,
+    pub(super) seq: u64,
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct Entry {
@@ -54,10 +64,10 @@ impl Mesher {
     /// (Re)queues slot `s` if its angle makes it a reference point.
     pub(super) fn push(&mut self, s: SlotId) {
         let i = s as usize;
-        if self.version.len() <= i {
-            self.version.resize(i + 1, 0);
+        if self.queue.version.len() <= i {
+            self.queue.version.resize(i + 1, 0);
         }
-        self.version[i] = self.version[i].wrapping_add(1);
+        self.queue.version[i] = self.queue.version[i].wrapping_add(1);
         let sl = *self.front.slot(s);
         if !sl.alive {
             return;
@@ -73,15 +83,15 @@ impl Mesher {
         } else {
             return;
         };
-        self.seq += 1;
+        self.queue.seq += 1;
         let (band, layer) = self.slot_key(s);
-        self.queue.push(Entry {
+        self.queue.heap.push(Entry {
             class,
             band,
             layer,
-            seq: self.seq,
+            seq: self.queue.seq,
             slot: s,
-            version: self.version[i],
+            version: self.queue.version[i],
         });
     }
 
@@ -93,9 +103,12 @@ impl Mesher {
     /// band asks the size field); any other is pushed anew.
     pub(super) fn requeue(&mut self, deferred: Vec<Entry>) {
         for e in deferred {
-            if self.front.slot(e.slot).alive && self.version[e.slot as usize] == e.version {
-                self.seq += 1;
-                self.queue.push(Entry { seq: self.seq, ..e });
+            if self.front.slot(e.slot).alive && self.queue.version[e.slot as usize] == e.version {
+                self.queue.seq += 1;
+                self.queue.heap.push(Entry {
+                    seq: self.queue.seq,
+                    ..e
+                });
             } else {
                 self.push(e.slot);
             }
@@ -119,11 +132,11 @@ impl Mesher {
     /// Band and layer of the first live entry of the queue (stale entries
     /// dropped).
     pub(super) fn queue_top(&mut self) -> Option<(u32, u32)> {
-        while let Some(e) = self.queue.peek() {
-            if self.front.slot(e.slot).alive && self.version[e.slot as usize] == e.version {
+        while let Some(e) = self.queue.heap.peek() {
+            if self.front.slot(e.slot).alive && self.queue.version[e.slot as usize] == e.version {
                 return Some((e.band, e.layer));
             }
-            self.queue.pop();
+            self.queue.heap.pop();
         }
         None
     }

@@ -30,6 +30,15 @@ const TIDY_ANGLE: f64 = 20.0 * PI / 180.0;
 /// See [`TIDY_EDGE`].
 const TIDY_ROUNDS: usize = 6;
 
+/// The repairs' budgets: rip-ups and relaxations taken so far, and
+/// relaxations since the last other step.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Repairs {
+    pub(super) rip_ups: usize,
+    pub(super) relaxes: usize,
+    pub(super) relax_streak: usize,
+}
+
 /// Where [`Mesher::square_cut`] looks for the shortest front edge.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Squares {
@@ -88,7 +97,7 @@ impl Mesher {
                 r.new_nodes = split.new_nodes;
             }
         }
-        self.row_start = self.front.live_loops().collect();
+        self.rows.loops = self.front.live_loops().collect();
         r
     }
 
@@ -156,15 +165,15 @@ impl Mesher {
             &self.mesh.nodes,
             super::session::grid_cell(&self.size),
         );
-        self.queue.clear();
-        self.version.clear();
+        self.queue.heap.clear();
+        self.queue.version.clear();
         for s in 0..self.front.slots.len() as SlotId {
             self.push(s);
         }
         // The front was built anew: loop and slot ids from before mean
         // nothing now.
-        self.row_start = self.front.live_loops().collect();
-        self.row_edges.clear();
+        self.rows.loops = self.front.live_loops().collect();
+        self.rows.edges.clear();
         (count, mark)
     }
 
@@ -352,7 +361,7 @@ impl Mesher {
         }
         let mut rep = self.report(StepKind::Seam);
         rep.reference = Some(self.front.node(s));
-        self.seam_box = crate::geom::Aabb::of(
+        self.memo.seam_box = crate::geom::Aabb::of(
             cut.into_iter()
                 .chain(ends.iter().map(|&w| self.mesh.nodes[w as usize])),
         );
@@ -665,8 +674,8 @@ impl Mesher {
         let ids = self.front.insert_after(a, &seq, layer, &self.mesh.nodes);
         let b_star = ids[k];
         self.front.exchange_successors(b_star, b, &self.mesh.nodes);
-        self.row_start.push(self.front.slot(a).loop_id);
-        self.row_start.push(self.front.slot(b).loop_id);
+        self.rows.loops.push(self.front.slot(a).loop_id);
+        self.rows.loops.push(self.front.slot(b).loop_id);
         let mut touched = vec![a, b, b_star, ids[ids.len() - 1]];
         touched.extend(ids.iter().copied());
         for s in touched {

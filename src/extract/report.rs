@@ -2,6 +2,7 @@
 //! report of one step, step counts, the user's corrections and the actions
 //! a run records (replayed by undo and by project files).
 
+use super::ladder::Rung;
 use crate::geom::Point;
 use crate::model::{ElementType, Prediction};
 use crate::quality::QuadQuality;
@@ -117,6 +118,10 @@ pub struct StepReport {
     /// Pure-model mode: the model's predictions the guard rejected before
     /// this step.
     pub rejected: usize,
+    /// The rung of the step ladder that took the step
+    /// ([`Rung::User`] for the user's element).
+    #[serde(default)]
+    pub rung: Rung,
 }
 
 impl StepReport {
@@ -137,6 +142,7 @@ impl StepReport {
             quads: Vec::new(),
             new_nodes: Vec::new(),
             removed: 0,
+            rung: Rung::User,
         }
     }
 
@@ -171,6 +177,9 @@ pub struct StepStats {
     pub skipped_references: usize,
     /// Pure-model mode: predictions the guard rejected.
     pub rejected_predictions: usize,
+    /// Steps by the rung of the step ladder that took them.
+    #[serde(default)]
+    pub by_rung: BTreeMap<Rung, usize>,
 }
 
 impl StepStats {
@@ -223,6 +232,7 @@ impl StepStats {
         self.steps += 1;
         self.standing = standing;
         *self.by_kind.entry(r.kind).or_default() += 1;
+        *self.by_rung.entry(r.rung).or_default() += 1;
         *self.quads_by_kind.entry(r.kind).or_default() += r.quads.len();
         if let Some(t) = r.element_type {
             self.by_type[t as usize] += 1;

@@ -5,21 +5,28 @@
 //! switched at the same point on replay.
 
 use super::candidate::Cand;
-use super::fill;
+use super::candidate::Rejections;
+use super::closure::SmallLoops;
+use super::fill_step::FillBudget;
 use super::guard::{Limits, Scratch};
+use super::ladder::RowStarts;
+use super::mapped::GridsSeen;
+use super::memo::EvalMemo;
 use super::params::MeshParams;
-use super::queue::Entry;
+use super::queue::RefQueue;
+use super::repair::Repairs;
 use super::report::{
     Action, CheckedElement, Correction, MeshError, RunProgress, StepKind, StepOutcome, StepReport,
     StepStats,
 };
 use super::size::SizeField;
+use super::transition::RowRuns;
+use super::watch::ProgressWatch;
 use crate::boundary::Boundary;
 use crate::front::{Front, SlotId};
 use crate::geom::Point;
 use crate::mesh::QuadMesh;
 use crate::model::{ElementType, Model, RulesModel};
-use std::collections::BinaryHeap;
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
 use std::sync::Arc;
@@ -32,50 +39,6 @@ use std::sync::Arc;
 /// it in a tangle no rewind could fill.
 const FILL_BUDGET: f64 = 3.0;
 
-/// A mesh made by rewinding and filling whose worst quad is at least this
-/// good (scaled Jacobian, before finishing) is taken without trying earlier
-/// steps ([`Mesher::rewind_and_fill`]).
-const REWIND_GOOD: f64 = 0.2;
-
-/// The progress watch: every [`PROGRESS_EVERY`] steps the area the front
-/// still encloses is noted. A run whose last [`PROGRESS_WINDOW`] steps took
-/// off less than [`PROGRESS_RATE`] of the mean area of its quads so far per
-/// step is going round in circles (elements cut and ripped up again, rows
-/// that grow the front where they should close it), and the region left is
-/// filled. The window is long enough for the place where the rows of a
-/// large disk meet: its rip-ups and relaxations take some 700 steps before
-/// the front closes there by itself (disk1600 finishes by extraction alone;
-/// with a window of 1,024 steps it was filled).
-///
-/// The mean of the quads so far is not what a graded domain's fine part
-/// asks for: its quads can be a hundredth of the mean's size while the
-/// rows there move on as they should. So a run is also held to the size
-/// field: the window is no progress only if the area it took off is also
-/// under [`PROGRESS_RATE`] of the area the size field asks of the quads it
-/// made (h² at each one's centre, quads later ripped up included). Knots of
-/// quads far finer than the field and rows cut and ripped up again fail
-/// both.
-pub(super) const PROGRESS_EVERY: usize = 128;
-/// See [`PROGRESS_EVERY`].
-pub(super) const PROGRESS_WINDOW: usize = 2048;
-/// See [`PROGRESS_EVERY`].
-pub(super) const PROGRESS_RATE: f64 = 0.25;
-/// The progress watch's window in the end game, when the front encloses
-/// less than one [`PROGRESS_WINDOW`] is held to take off: the last pockets
-/// where rows met close one after another, each by rip-ups and
-/// relaxations that give area back before the pocket closes, so a window
-/// sees little progress however well the run goes (disk3200 and disk4800
-/// close their last few hundred front nodes by extraction some 2,000
-/// steps after a 2,048-step window calls them stalled).
-pub(super) const END_WINDOW: usize = 4 * PROGRESS_WINDOW;
-/// A region the fill cannot take has this many element rings around it
-/// removed, one ring more at each try, before the fill gives up on it
-/// ([`Mesher::fill_rest`]).
-const FILL_RINGS: usize = 3;
-/// A window whose front lost at least this share of its nodes made
-/// progress whatever the area: pockets are closing.
-pub(super) const FRONT_SHRINK: f64 = 0.1;
-
 /// Cell width of the front's edge grid: as fine as the finest elements (the
 /// grid caps its cell count), so a query near fine elements stays short.
 pub(super) fn grid_cell(size: &SizeField) -> f64 {
@@ -83,95 +46,74 @@ pub(super) fn grid_cell(size: &SizeField) -> f64 {
 }
 
 /// The element extraction loop over one boundary.
+///
+/// Its fields fall in three parts: the input (boundary, parameters,
+/// model, size field), the mesh state (the mesh, the front, node
+/// incidence and the reference-point queue) with each heuristic's own
+/// state beside it, and the [`Record`] of the session (history, undo,
+/// replay, step counts).
 #[derive(Clone)]
 pub struct Mesher {
+    // The input.
+    pub(super) boundary: Boundary,
+    pub(super) params: MeshParams,
+    /// The model meshing goes on with (see [`Record::model_changes`]).
+    pub(super) model: Arc<dyn Model>,
+    /// The element size wanted anywhere in the domain.
+    pub(super) size: Arc<SizeField>,
+    /// The rule-based model the relaxed rung and the remedies use.
+    pub(super) rules: RulesModel,
+    /// The area inside the boundary.
+    pub(super) domain_area: f64,
+
+    // The mesh state.
+    pub(super) mesh: QuadMesh,
+    pub(super) front: Front,
+    /// Quads incident to each node.
+    pub(super) incident: Vec<Vec<u32>>,
+    pub(super) queue: RefQueue,
+    /// Buffers the guard reuses.
+    pub(super) scratch: Scratch,
+
+    // Each heuristic's state.
+    pub(super) rows: RowStarts,
+    pub(super) small: SmallLoops,
+    pub(super) grids: GridsSeen,
+    pub(super) runs: RowRuns,
+    pub(super) repairs: Repairs,
+    pub(super) fill: FillBudget,
+    pub(super) watch: ProgressWatch,
+    pub(super) rejections: Rejections,
+    /// Evaluations of reference points put back in the queue.
+    pub(super) memo: EvalMemo,
+
+    // The session.
+    pub(super) record: Record,
+}
+
+/// A run's record: what undo, redo, replay and project files use.
+#[derive(Clone)]
+pub(super) struct Record {
     /// The model the run started with (replays start from it).
     pub(super) initial_model: Arc<dyn Model>,
     /// Models set with [`Mesher::set_model`], each with the number of
     /// actions taken before it.
     pub(super) model_changes: Vec<(usize, Arc<dyn Model>)>,
-    pub(super) boundary: Boundary,
-    pub(super) params: MeshParams,
-    pub(super) model: Arc<dyn Model>,
-    pub(super) mesh: QuadMesh,
-    pub(super) front: Front,
-    pub(super) queue: BinaryHeap<Entry>,
-    /// The box of the front the last seam changed (its corner, the edges
-    /// beside it and the mesh edges at the merged node), for the memory.
-    pub(super) seam_box: Option<crate::geom::Aabb>,
-    pub(super) version: Vec<u32>,
-    pub(super) seq: u64,
     pub(super) history: Vec<Action>,
     /// Actions undone, the most recent last: what [`Mesher::redo`] takes
     /// again. A new step or correction clears it.
     pub(super) undone: Vec<Action>,
-    pub(super) stats: StepStats,
-    pub(super) scratch: Scratch,
-    pub(super) step_limit: usize,
-    /// The coarsest band and deepest layer the queue had reached when loops
-    /// left behind were last looked for.
-    pub(super) row_key: (u32, u32),
-    /// The element size wanted anywhere in the domain.
-    pub(super) size: Arc<SizeField>,
-    pub(super) rules: RulesModel,
-    /// Loops to check for a first row (no reference point on them).
-    pub(super) row_start: Vec<u32>,
-    /// Front edges (by start slot) to start a row on: stretches of the
-    /// boundary left behind.
-    pub(super) row_edges: Vec<SlotId>,
-    pub(super) rip_ups: usize,
-    /// The area inside the boundary.
-    pub(super) domain_area: f64,
-    /// Quads incident to each node.
-    pub(super) incident: Vec<Vec<u32>>,
-    /// Per node made by a row: the row's elements since its last
-    /// transition ([`super::transition`]), counted at the element's top.
-    pub(super) row_run: Vec<u32>,
-    pub(super) relaxes: usize,
-    /// Relaxations since the last other step.
-    pub(super) relax_streak: usize,
-    /// Steps after which the region left is filled.
-    pub(super) fill_after: usize,
-    /// No fill is tried before this step (set after a fill fails).
-    pub(super) fill_retry_at: usize,
-    /// Set while history is being replayed (no rewinding then).
-    pub(super) replaying: bool,
-    /// A rewind has been tried.
-    pub(super) rewound: bool,
-    /// Pure-model rejections since the last step.
-    pub(super) rejected: usize,
-    /// Pure-model: the leading points (node ids) of every rejected
-    /// prediction, so a prediction met again is counted once.
-    pub(super) rejected_inputs: std::collections::BTreeSet<Vec<u32>>,
-    /// Per loop id, the [`Mesher::small_loop_key`] of the state in which
-    /// that small loop last neither closed nor settled (0: none): the same
-    /// state is not tried again.
-    pub(super) small_stuck: Vec<u64>,
-    /// Per loop, the [`crate::front::FrontLoop::version`] last looked at
-    /// for a mapped grid (see [`super::mapped`]; 0: never).
-    pub(super) mapped_seen: Vec<u32>,
-    /// The same for [`Mesher::close_strip`].
-    pub(super) strip_seen: Vec<u32>,
-    /// The progress watch's checkpoints: (step, area still open, [`Mesher::asked`]
-    /// then, front nodes then), one per [`PROGRESS_EVERY`] steps.
-    pub(super) progress: Vec<(usize, f64, f64, usize)>,
-    /// The area the size field asks of the quads made so far: the sum of
-    /// h² at the centre of every quad extraction has made (the progress
-    /// watch's second measure, [`PROGRESS_EVERY`]).
-    pub(super) asked: f64,
-    /// Quads that closed a needle ([`Mesher::needle_kite`]) and their area:
-    /// the progress watch leaves them out of its mean (a fan of long
-    /// needles would make every later quad look like no progress).
-    pub(super) needle_quads: (usize, f64),
-    /// Evaluations of reference points put back in the queue.
-    pub(super) memo: super::memo::EvalMemo,
-    /// The box of the front the last [`Mesher::evaluate`] read.
-    pub(super) evaluated: (Point, Point),
     /// This run as it was after the first actions of its history (as many
     /// as the checkpoint's own history holds): replays start from it
     /// rather than from the boundary ([`Mesher::undo`]). Kept only while
     /// those actions are still the first of the history.
     pub(super) checkpoint: Option<Arc<Mesher>>,
+    /// Set while history is being replayed (no rewinding then).
+    pub(super) replaying: bool,
+    /// A rewind has been tried.
+    pub(super) rewound: bool,
+    pub(super) stats: StepStats,
+    pub(super) step_limit: usize,
 }
 
 /// [`Mesher::undo`] keeps a [`Mesher::checkpoint`] this many actions
@@ -211,53 +153,46 @@ impl Mesher {
         let work = est.max(boundary.node_count());
         let step_limit = params.max_steps.unwrap_or(8 * work + 10_000);
         let quads = size.quad_estimate().min(1e9);
+        let fill_after = (FILL_BUDGET * quads) as usize + boundary.node_count() + 200;
         let mut m = Mesher {
-            step_limit,
-            row_key: (0, 0),
-            size,
-            fill_after: (FILL_BUDGET * quads) as usize + boundary.node_count() + 200,
-            fill_retry_at: 0,
-            replaying: false,
-            rewound: false,
-            rejected: 0,
-            rejected_inputs: Default::default(),
             boundary,
             params,
-            initial_model: model.clone(),
-            model_changes: Vec::new(),
-            model,
+            model: model.clone(),
+            size,
+            rules: RulesModel::DEFAULT,
+            domain_area,
             mesh,
             front,
-            queue: BinaryHeap::new(),
-            seam_box: None,
-            version: Vec::new(),
-            seq: 0,
-            history: Vec::new(),
-            undone: Vec::new(),
-            stats: StepStats::default(),
-            scratch: Scratch::default(),
-            rules: RulesModel::DEFAULT,
-            row_start: Vec::new(),
-            row_edges: Vec::new(),
-            rip_ups: 0,
-            domain_area,
             incident: Vec::new(),
-            row_run: Vec::new(),
-            small_stuck: Vec::new(),
-            mapped_seen: Vec::new(),
-            strip_seen: Vec::new(),
-            memo: Default::default(),
-            progress: Vec::new(),
-            asked: 0.0,
-            needle_quads: (0, 0.0),
-            evaluated: (Point::ZERO, Point::ZERO),
-            relaxes: 0,
-            relax_streak: 0,
-            checkpoint: None,
+            queue: RefQueue::default(),
+            scratch: Scratch::default(),
+            rows: RowStarts::default(),
+            small: SmallLoops::default(),
+            grids: GridsSeen::default(),
+            runs: RowRuns::default(),
+            repairs: Repairs::default(),
+            fill: FillBudget {
+                after: fill_after,
+                retry_at: 0,
+            },
+            watch: ProgressWatch::default(),
+            rejections: Rejections::default(),
+            memo: EvalMemo::default(),
+            record: Record {
+                initial_model: model,
+                model_changes: Vec::new(),
+                history: Vec::new(),
+                undone: Vec::new(),
+                checkpoint: None,
+                replaying: false,
+                rewound: false,
+                stats: StepStats::default(),
+                step_limit,
+            },
         };
-        m.row_start = m.front.live_loops().collect();
+        m.rows.loops = m.front.live_loops().collect();
         m.incident = vec![Vec::new(); m.mesh.nodes.len()];
-        m.row_run = vec![super::transition::FRESH_ROW; m.mesh.nodes.len()];
+        m.runs.since = vec![super::transition::FRESH_ROW; m.mesh.nodes.len()];
         for s in 0..m.front.slots.len() as SlotId {
             m.push(s);
         }
@@ -302,12 +237,12 @@ impl Mesher {
     }
 
     pub fn stats(&self) -> &StepStats {
-        &self.stats
+        &self.record.stats
     }
 
     /// Steps taken so far.
     pub fn steps(&self) -> usize {
-        self.history.len()
+        self.record.history.len()
     }
 
     /// Quads that use node `v`.
@@ -393,16 +328,16 @@ impl Mesher {
         if self.front.is_empty() {
             return Ok(StepOutcome::Done);
         }
-        if self.history.len() >= self.step_limit {
+        if self.record.history.len() >= self.record.step_limit {
             return Err(MeshError::StepLimit {
-                limit: self.step_limit,
+                limit: self.record.step_limit,
                 remaining: self.front.len(),
             });
         }
         let mut r = match self.auto_step() {
             Ok(r) => r,
             Err(e) => {
-                if self.params.fill && !self.replaying {
+                if self.params.fill && !self.record.replaying {
                     if let Some(r) = self.rewind_and_fill() {
                         self.memo.clear();
                         return Ok(StepOutcome::Stepped(Box::new(r)));
@@ -415,7 +350,7 @@ impl Mesher {
         // the quads it made (an element, a transition, a small loop or a
         // narrow rectangle closed, a row's first square), the region a
         // seam gave up, or everything after any other step.
-        let seam_box = self.seam_box.take();
+        let seam_box = self.memo.seam_box.take();
         let local = match r.kind {
             _ if r.removed > 0 => None,
             StepKind::Element
@@ -436,102 +371,18 @@ impl Mesher {
             Some(bb) => self.memo.changed(bb.min, bb.max),
             None => self.memo.clear(),
         }
-        r.rejected = std::mem::take(&mut self.rejected);
+        r.rejected = std::mem::take(&mut self.rejections.count);
         if r.kind != StepKind::Relax {
-            self.relax_streak = 0;
+            self.repairs.relax_streak = 0;
         }
-        self.history.push(Action::Auto);
-        self.undone.clear();
-        self.stats.record(&r, self.mesh.quads.len());
+        self.record.history.push(Action::Auto);
+        self.record.undone.clear();
+        self.record.stats.record(&r, self.mesh.quads.len());
         Ok(StepOutcome::Stepped(Box::new(r)))
     }
 
     pub(super) fn report(&self, kind: StepKind) -> StepReport {
-        StepReport::new(self.history.len(), kind)
-    }
-
-    /// The progress watch ([`PROGRESS_EVERY`]): true when the last
-    /// [`PROGRESS_WINDOW`] steps ([`END_WINDOW`] once the area still open
-    /// is less than that window is held to take off) made too little of
-    /// the mesh and did not shrink the front by [`FRONT_SHRINK`].
-    pub(super) fn stalled(&mut self) -> bool {
-        let n = self.history.len();
-        if n == 0 || n % PROGRESS_EVERY != 0 || self.progress.last().is_some_and(|p| p.0 == n) {
-            return false;
-        }
-        let open = self.front.open_area(&self.mesh.nodes);
-        self.progress.push((n, open, self.asked, self.front.len()));
-        let (needles, needle_area) = self.needle_quads;
-        let quads = self.mesh.quads.len().saturating_sub(needles);
-        if quads == 0 {
-            return false;
-        }
-        let mean = (self.domain_area - open - needle_area) / quads as f64;
-        let window = if open < PROGRESS_RATE * END_WINDOW as f64 * mean {
-            END_WINDOW
-        } else {
-            PROGRESS_WINDOW
-        };
-        let Some(k) = n.checked_sub(window) else {
-            return false;
-        };
-        let Some(&(_, before, asked_before, front_before)) =
-            self.progress.iter().rev().find(|p| p.0 <= k)
-        else {
-            return false;
-        };
-        if (self.front.len() as f64) < (1.0 - FRONT_SHRINK) * front_before as f64 {
-            return false;
-        }
-        before - open < PROGRESS_RATE * (self.asked - asked_before)
-            && before - open < PROGRESS_RATE * window as f64 * mean
-    }
-
-    /// When extraction has led the front into a state no fill can take, the
-    /// run goes back to an earlier step (3/4, 1/2, 1/4, 1/8, 1/16 and 1/32
-    /// of the way, then the start) and fills the region left there: a fill
-    /// that fails on a front extraction has tangled may still take the
-    /// front of the first rows. The first mesh whose worst quad has a scaled
-    /// Jacobian of at least [`REWIND_GOOD`] is taken; if none has, the best
-    /// of those made. The history then holds the steps kept and the fill,
-    /// so undo goes back to the step rewound to.
-    /// Each step is tried once and only before the current one: a replay is
-    /// deterministic, so a step tried again (a run of fewer than four steps)
-    /// or the current step (a run stuck at its first step, whose fill has
-    /// just failed on the same front) would fail the same way, at the cost
-    /// of a whole fill (seconds on a front of thousands of nodes).
-    pub(super) fn rewind_and_fill(&mut self) -> Option<StepReport> {
-        if self.rewound {
-            return None;
-        }
-        self.rewound = true;
-        let n = self.history.len();
-        let mut tried = n;
-        let mut best: Option<(f64, Mesher, StepReport)> = None;
-        for k in [3 * n / 4, n / 2, n / 4, n / 8, n / 16, n / 32, 0] {
-            if k >= tried {
-                continue;
-            }
-            tried = k;
-            let mut fresh = self.replayed(&self.history[..k]);
-            let kept = fresh.mesh.quads.len();
-            // Only a fill that closes the whole front ends the run.
-            let filled = fresh.commit_fill().filter(|_| fresh.front.is_empty());
-            if let Some(mut r) = filled {
-                r.removed = self.mesh.quads.len().saturating_sub(kept);
-                let worst = fresh.mesh.worst_scaled_jacobian();
-                if best.as_ref().is_none_or(|b| worst > b.0) {
-                    best = Some((worst, fresh, r));
-                }
-                if worst >= REWIND_GOOD {
-                    break;
-                }
-            }
-        }
-        let (_, mut fresh, r) = best?;
-        fresh.rewound = true;
-        *self = fresh;
-        Some(r)
+        StepReport::new(self.record.history.len(), kind)
     }
 
     /// Replays one recorded action.
@@ -543,161 +394,12 @@ impl Mesher {
         }
     }
 
-    /// A fill taken as a step of its own (after rewinding, or replayed).
-    pub(super) fn commit_fill(&mut self) -> Option<StepReport> {
-        self.fill_retry_at = 0;
-        let r = self.fill_rest()?;
-        self.history.push(Action::Fill);
-        self.undone.clear();
-        self.stats.record(&r, self.mesh.quads.len());
-        Some(r)
-    }
-
-    /// Fills the whole region left with [`fill::fill_region`] and empties
-    /// the front; where that fails, fills the regions left one by one,
-    /// removing up to [`FILL_RINGS`] rings of elements around those it
-    /// cannot take. `None` when nothing changed (tried again after a
-    /// quarter as many steps as made so far).
-    pub(super) fn fill_rest(&mut self) -> Option<StepReport> {
-        let step = self.history.len();
-        if step < self.fill_retry_at {
-            return None;
-        }
-        let ids: Vec<u32> = self.front.live_loops().collect();
-        let loops: Vec<Vec<u32>> = ids.iter().map(|&l| self.front.loop_nodes(l)).collect();
-        let mut r = self.report(StepKind::Fill);
-        if let Ok(f) = fill::fill_region(&loops, &self.mesh.nodes) {
-            self.commit_region(f, &ids, &mut r);
-            return Some(r);
-        }
-        // The regions left one by one (each counter-clockwise loop with the
-        // clockwise loops inside it: holes, or islands of elements a
-        // rip-up cut loose), and where none of those can be filled
-        // either, the elements around what is left are removed ring by
-        // ring and the wider regions filled: a pocket where a coarse row
-        // met a fine one is a sliver no fill takes, but a few rings out its
-        // loop runs through whole elements. This only ever takes off the
-        // elements around the regions left, never the whole run.
-        for rings in 0..=FILL_RINGS {
-            if rings > 0 {
-                let ids: Vec<u32> = self.front.live_loops().collect();
-                let (removed, _) = self.remove_around(&ids, 1, true);
-                r.removed += removed;
-            }
-            let ids: Vec<u32> = self.front.live_loops().collect();
-            let regions = self.regions(&ids);
-            if rings == 0 && regions.len() == 1 {
-                continue;
-            }
-            for region in regions {
-                let part: Vec<Vec<u32>> = region
-                    .iter()
-                    .map(|&k| self.front.loop_nodes(ids[k]))
-                    .collect();
-                let ff = fill::fill_region(&part, &self.mesh.nodes);
-                if let Ok(f) = ff {
-                    let lids: Vec<u32> = region.iter().map(|&k| ids[k]).collect();
-                    self.commit_region(f, &lids, &mut r);
-                }
-            }
-            if self.front.is_empty() {
-                self.keep_standing(&mut r);
-                return Some(r);
-            }
-        }
-        if r.quads.is_empty() {
-            self.fill_retry_at = step + (step / 4).max(50);
-            if r.removed == 0 {
-                return None;
-            }
-            // Nothing filled, but elements were removed: the step is the
-            // rip-up it was.
-            r.kind = StepKind::RipUp;
-        }
-        self.keep_standing(&mut r);
-        Some(r)
-    }
-
-    /// Keeps in report `r` only the quads still in the mesh: a fill that
-    /// removes rings of elements round what it could not take may remove
-    /// quads it made itself a ring before.
-    fn keep_standing(&self, r: &mut StepReport) {
-        if r.removed == 0 {
-            return;
-        }
-        let standing: std::collections::BTreeSet<[u32; 4]> =
-            self.mesh.quads.iter().copied().collect();
-        r.quads.retain(|q| standing.contains(q));
-    }
-
-    /// The regions bounded by front loops `ids`, as indices into `ids`: each
-    /// counter-clockwise loop, followed by the clockwise loops most of
-    /// whose nodes lie inside it and inside no smaller one. A clockwise loop in no
-    /// counter-clockwise one makes every loop one region.
-    fn regions(&self, ids: &[u32]) -> Vec<Vec<usize>> {
-        let nodes = &self.mesh.nodes;
-        let area: Vec<f64> = ids
-            .iter()
-            .map(|&l| self.front.loop_area(l, nodes))
-            .collect();
-        let outline: Vec<Vec<Point>> = ids
-            .iter()
-            .map(|&l| {
-                self.front
-                    .loop_nodes(l)
-                    .iter()
-                    .map(|&v| nodes[v as usize])
-                    .collect()
-            })
-            .collect();
-        let mut regions: Vec<Vec<usize>> = Vec::new();
-        let mut region_of = vec![usize::MAX; ids.len()];
-        for k in (0..ids.len()).filter(|&k| area[k] > 0.0) {
-            region_of[k] = regions.len();
-            regions.push(vec![k]);
-        }
-        for k in (0..ids.len()).filter(|&k| area[k] <= 0.0) {
-            let inside = (0..ids.len())
-                .filter(|&o| {
-                    // Most of its nodes (a node it shares with the loop
-                    // around it, at a pinch, may test either way).
-                    let inside = outline[k]
-                        .iter()
-                        .filter(|&&p| crate::geom::point_in_polygon(p, &outline[o]))
-                        .count();
-                    area[o] > 0.0 && 2 * inside > outline[k].len()
-                })
-                .min_by(|&a, &b| area[a].total_cmp(&area[b]));
-            match inside {
-                Some(o) => regions[region_of[o]].push(k),
-                None => return vec![(0..ids.len()).collect()],
-            }
-        }
-        regions
-    }
-
-    /// Adds a region fill's nodes and quads to the mesh and to report `r`,
-    /// and takes the loops it filled off the front.
-    fn commit_region(&mut self, f: fill::RegionFill, loops: &[u32], r: &mut StepReport) {
-        for p in f.points {
-            let v = self.add_node(p);
-            r.new_nodes.push(v);
-        }
-        for q in f.quads {
-            self.push_quad(q);
-            r.quads.push(q);
-        }
-        for &l in loops {
-            self.front.remove_loop(l);
-        }
-    }
-
     /// Commits an element chosen by the user at reference node `c.reference`.
     pub fn correct(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
         let r = self.apply_correction(c)?;
-        self.history.push(Action::Correction(c.clone()));
-        self.undone.clear();
-        self.stats.record(&r, self.mesh.quads.len());
+        self.record.history.push(Action::Correction(c.clone()));
+        self.record.undone.clear();
+        self.record.stats.record(&r, self.mesh.quads.len());
         Ok(r)
     }
 
@@ -814,7 +516,7 @@ impl Mesher {
         let mut taken = 0;
         while let StepOutcome::Stepped(r) = self.step()? {
             taken += 1;
-            if taken % PROGRESS_EVERY == 0 || self.front.is_empty() {
+            if taken % super::watch::PROGRESS_EVERY == 0 || self.front.is_empty() {
                 meshed = self.meshed_share();
             }
             let at = RunProgress {
@@ -836,25 +538,25 @@ impl Mesher {
     /// thus replays a few hundred steps, not the whole run.
     /// Returns false when there is nothing to undo.
     pub fn undo(&mut self) -> bool {
-        let Some(a) = self.history.pop() else {
+        let Some(a) = self.record.history.pop() else {
             return false;
         };
-        let n = self.history.len();
+        let n = self.record.history.len();
         let near = self
             .usable_checkpoint(n)
-            .is_some_and(|c| n - c.history.len() <= 2 * CHECKPOINT_BEHIND);
+            .is_some_and(|c| n - c.record.history.len() <= 2 * CHECKPOINT_BEHIND);
         let keep_at = (!near && n > CHECKPOINT_BEHIND).then(|| n - CHECKPOINT_BEHIND);
-        let mut fresh = self.replayed_keeping(&self.history, keep_at);
-        fresh.rewound = self.rewound;
-        fresh.undone = std::mem::take(&mut self.undone);
-        fresh.undone.push(a);
+        let mut fresh = self.replayed_keeping(&self.record.history, keep_at);
+        fresh.record.rewound = self.record.rewound;
+        fresh.record.undone = std::mem::take(&mut self.record.undone);
+        fresh.record.undone.push(a);
         *self = fresh;
         true
     }
 
     /// The actions taken so far, in order.
     pub fn actions(&self) -> &[Action] {
-        &self.history
+        &self.record.history
     }
 
     /// Takes one recorded action: an automatic step, a correction or a
@@ -873,21 +575,21 @@ impl Mesher {
     /// Steps that [`Mesher::undo`] took back and [`Mesher::redo`] can take
     /// again.
     pub fn redo_len(&self) -> usize {
-        self.undone.len()
+        self.record.undone.len()
     }
 
     /// Takes the most recently undone step again (the same action: an
     /// automatic step, the user's correction, or a fill) and returns its
     /// report; `Ok(None)` when nothing was undone.
     pub fn redo(&mut self) -> Result<Option<StepReport>, MeshError> {
-        let Some(a) = self.undone.pop() else {
+        let Some(a) = self.record.undone.pop() else {
             return Ok(None);
         };
-        let rest = std::mem::take(&mut self.undone);
+        let rest = std::mem::take(&mut self.record.undone);
         let r = self.take(&a);
-        self.undone = rest;
+        self.record.undone = rest;
         if r.is_err() {
-            self.undone.push(a);
+            self.record.undone.push(a);
         }
         r
     }
@@ -903,8 +605,12 @@ impl Mesher {
     /// The [`Mesher::checkpoint`], if a replay of the first `n` actions of
     /// the history can start from it.
     fn usable_checkpoint(&self, n: usize) -> Option<&Arc<Mesher>> {
-        let c = self.checkpoint.as_ref().filter(|c| c.history.len() <= n)?;
-        debug_assert!(self.history.starts_with(&c.history));
+        let c = self
+            .record
+            .checkpoint
+            .as_ref()
+            .filter(|c| c.record.history.len() <= n)?;
+        debug_assert!(self.record.history.starts_with(&c.record.history));
         Some(c)
     }
 
@@ -912,23 +618,24 @@ impl Mesher {
     /// start there; keeps a new checkpoint after `keep_at` actions (if the
     /// replay passes there), else the one it started from.
     fn replayed_keeping(&self, actions: &[Action], keep_at: Option<usize>) -> Mesher {
-        debug_assert!(self.history.starts_with(actions));
+        debug_assert!(self.record.history.starts_with(actions));
         let base = self.usable_checkpoint(actions.len());
         let (mut fresh, start) = match base {
-            Some(c) => (Mesher::clone(c), c.history.len()),
+            Some(c) => (Mesher::clone(c), c.record.history.len()),
             None => (
                 Mesher::with_size(
                     self.boundary.clone(),
-                    self.initial_model.clone(),
+                    self.record.initial_model.clone(),
                     self.params.clone(),
                     self.size.clone(),
                 ),
                 0,
             ),
         };
-        fresh.replaying = true;
+        fresh.record.replaying = true;
         // The checkpoint's model is already the one set before `start`.
         let mut changes = self
+            .record
             .model_changes
             .iter()
             .filter(|(at, _)| *at >= start)
@@ -947,8 +654,8 @@ impl Mesher {
         if let Some((_, m)) = changes.last() {
             fresh.set_model(m.clone());
         }
-        fresh.replaying = false;
-        fresh.checkpoint = kept.or_else(|| base.cloned());
+        fresh.record.replaying = false;
+        fresh.record.checkpoint = kept.or_else(|| base.cloned());
         fresh
     }
 
@@ -956,7 +663,9 @@ impl Mesher {
     /// taken stay as they are; undo and replay switch models at the same
     /// point.
     pub fn set_model(&mut self, model: Arc<dyn Model>) {
-        self.model_changes.push((self.history.len(), model.clone()));
+        self.record
+            .model_changes
+            .push((self.record.history.len(), model.clone()));
         self.model = model;
         self.memo.clear();
     }
@@ -964,7 +673,7 @@ impl Mesher {
     pub(super) fn add_node(&mut self, p: Point) -> u32 {
         self.mesh.nodes.push(p);
         self.incident.push(Vec::new());
-        self.row_run.push(super::transition::FRESH_ROW);
+        self.runs.since.push(super::transition::FRESH_ROW);
         (self.mesh.nodes.len() - 1) as u32
     }
 
@@ -975,7 +684,7 @@ impl Mesher {
             self.incident[v as usize].push(k);
             centre += self.mesh.nodes[v as usize];
         }
-        self.asked += self.size.at(centre * 0.25).powi(2);
+        self.watch.asked += self.size.at(centre * 0.25).powi(2);
         self.mesh.quads.push(q);
     }
 

@@ -29,6 +29,14 @@ use crate::geom::Point;
 use crate::quality::Shape;
 use std::f64::consts::PI;
 
+/// The transitions' state: per node made by a row, the row's elements
+/// since its last transition, counted at the element's top
+/// ([`FRESH_ROW`] for a node no row made).
+#[derive(Clone, Debug, Default)]
+pub(super) struct RowRuns {
+    pub(super) since: Vec<u32>,
+}
+
 /// What a node's row count ([`Mesher::row_run`]) starts at: a row's first
 /// element may be a transition.
 pub(super) const FRESH_ROW: u32 = u32::MAX / 2;
@@ -136,7 +144,7 @@ impl Mesher {
         // (three edges to one) per `k` ordinary elements (one to one):
         // (3 + k) / (1 + k) = ratio.
         let k = ((3.0 - ratio) / (ratio - 1.0)).max(0.0).round();
-        if f64::from(self.row_run[top_id as usize]) < k {
+        if f64::from(self.runs.since[top_id as usize]) < k {
             return None;
         }
         // The new top: over the other end, along the mean of the chord's
@@ -233,7 +241,7 @@ impl Mesher {
             r.quads.push(q);
         }
         r.new_nodes = vec![v1, v2, vt];
-        self.row_run[vt as usize] = 0;
+        self.runs.since[vt as usize] = 0;
         self.front.replace_node(s, vt, layer, &self.mesh.nodes);
         self.front.remove_pair(a[1], &self.mesh.nodes);
         let other_end = if row.right { a[3] } else { a[0] };
