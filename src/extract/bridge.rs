@@ -14,32 +14,13 @@
 //! taken; the guard checks it as any element, with angle limits loose
 //! enough for the slanted quads of a gap.
 
-use super::guard::{self, Corner, Limits};
+use super::guard::{self, Corner};
 use super::report::StepKind;
 use super::report::StepReport;
 use super::session::Mesher;
 use crate::front::SlotId;
 use crate::geom::{is_strictly_convex, polygon_area, Point};
 use crate::quality::Shape;
-
-/// Front edges searched for a partner around an edge, in lengths of that
-/// edge.
-const REACH: f64 = 1.5;
-
-/// The two front edges a bridge joins differ in length by at most this
-/// ratio: the two sides of a gap, not a long edge against a short one
-/// (which is a region to grade, not a gap to close).
-const EDGE_RATIO: f64 = 3.0;
-
-/// The guard's limits for a bridge: a gap's quads are slanted (a hole
-/// 0.05 of a spacing above the boundary, its nodes offset by half a
-/// spacing, leaves corners of 6°), and the front beside them keeps such
-/// angles until the next bridge takes them.
-const BRIDGE_LIMITS: Limits = Limits {
-    min_corner: 2.0 * std::f64::consts::PI / 180.0,
-    max_corner: 178.0 * std::f64::consts::PI / 180.0,
-    min_front: 2.0 * std::f64::consts::PI / 180.0,
-};
 
 /// A bridge: the two front edges (by start slot) and the quad's scaled
 /// Jacobian.
@@ -77,7 +58,7 @@ impl Mesher {
         for &s in &edges {
             let s1 = self.front.next(s);
             let (a, b) = (self.world(s), self.world(s1));
-            let reach = REACH * a.distance(b);
+            let reach = self.params.tuning.bridge.reach * a.distance(b);
             let pad = Point::splat(reach);
             self.front
                 .edges_near(a.min(b) - pad, a.max(b) + pad, &mut near);
@@ -112,7 +93,8 @@ impl Mesher {
         }
         let p = ids.map(|v| self.mesh.nodes[v as usize]);
         let (ls, lt) = (p[0].distance(p[1]), p[2].distance(p[3]));
-        if ls.max(lt) > EDGE_RATIO * ls.min(lt) || !is_strictly_convex(p) {
+        if ls.max(lt) > self.params.tuning.bridge.edge_ratio * ls.min(lt) || !is_strictly_convex(p)
+        {
             return None;
         }
         let lid = f.slot(s).loop_id;
@@ -142,7 +124,7 @@ impl Mesher {
             &self.mesh.nodes,
             corners,
             &[s, t],
-            BRIDGE_LIMITS,
+            self.params.tuning.bridge.limits,
             size,
             &mut self.scratch,
         )?;

@@ -22,13 +22,6 @@ use crate::mesh::QuadMesh;
 use crate::quality::Shape;
 use crate::smooth::pattern_search;
 
-/// A small loop whose closure and whose nodes' quads are all at least this
-/// good (scaled Jacobian) is not settled.
-const SETTLED: f64 = 0.3;
-/// Settling never takes a quad under this (or under its own measure, if
-/// lower).
-const SETTLE_FLOOR: f64 = 0.1;
-
 /// A way to fill a 6-node loop: the quads (indices into the loop, with
 /// 6 and 7 standing for the interior nodes) and the interior nodes.
 #[derive(Clone, Debug, PartialEq)]
@@ -281,7 +274,7 @@ impl Mesher {
     /// the loop's best closure ([`closure_quality`]) is best, keeping the
     /// front free of crossings and the loop running the way it ran
     /// (paving's smoothing before closure); no quad at a moved node falls
-    /// under [`SETTLE_FLOOR`] (or its own measure, if lower). True when a
+    /// under [`ClosureTuning::settle_floor`](super::tuning::ClosureTuning::settle_floor) (or its own measure, if lower). True when a
     /// node moved.
     pub(super) fn settle_small(&mut self, lid: u32) -> bool {
         let slots = self.front.loop_slots(lid);
@@ -304,7 +297,7 @@ impl Mesher {
                 let sides = (MAX_SIDE_RATIO / shape.side_ratio()).min(1.0);
                 shape.scaled_jacobian.min(sides)
             };
-            // No quad may fall under its own measure or SETTLE_FLOOR,
+            // No quad may fall under its own measure or `ClosureTuning::settle_floor`,
             // whichever is lower: where the loop's closure is folded (a
             // negative quality), any quad over that would otherwise do,
             // and a node settled again at every step crept onto its
@@ -312,7 +305,8 @@ impl Mesher {
             let floors: Vec<f64> = quads
                 .iter()
                 .map(|&q| {
-                    measure(self.mesh.corners(&self.mesh.quads[q as usize])).min(SETTLE_FLOOR)
+                    measure(self.mesh.corners(&self.mesh.quads[q as usize]))
+                        .min(self.params.tuning.closure.settle_floor)
                 })
                 .collect();
             let quality = |m: &QuadMesh| {
@@ -336,7 +330,7 @@ impl Mesher {
             let Some(start) = quality(&self.mesh) else {
                 continue;
             };
-            if start.0 >= SETTLED {
+            if start.0 >= self.params.tuning.closure.settled {
                 continue;
             }
             let mut nbs: Vec<u32> = quads

@@ -10,15 +10,6 @@ use super::report::{Action, StepKind, StepReport};
 use super::session::Mesher;
 use crate::geom::Point;
 
-/// A mesh made by rewinding and filling whose worst quad is at least this
-/// good (scaled Jacobian, before finishing) is taken without trying earlier
-/// steps ([`Mesher::rewind_and_fill`]).
-const REWIND_GOOD: f64 = 0.2;
-
-/// A region the fill cannot take has this many element rings around it
-/// removed, one ring more at each try, before the fill gives up on it
-/// ([`Mesher::fill_rest`]).
-const FILL_RINGS: usize = 3;
 /// The fill's budget: the steps after which the region left is filled,
 /// and the step before which no fill is tried again (set after a fill
 /// fails).
@@ -34,7 +25,7 @@ impl Mesher {
     /// of the way, then the start) and fills the region left there: a fill
     /// that fails on a front extraction has tangled may still take the
     /// front of the first rows. The first mesh whose worst quad has a scaled
-    /// Jacobian of at least [`REWIND_GOOD`] is taken; if none has, the best
+    /// Jacobian of at least [`FillTuning::rewind_good`](super::tuning::FillTuning::rewind_good) is taken; if none has, the best
     /// of those made. The history then holds the steps kept and the fill,
     /// so undo goes back to the step rewound to.
     /// Each step is tried once and only before the current one: a replay is
@@ -65,7 +56,7 @@ impl Mesher {
                 if best.as_ref().is_none_or(|b| worst > b.0) {
                     best = Some((worst, fresh, r));
                 }
-                if worst >= REWIND_GOOD {
+                if worst >= self.params.tuning.fill.rewind_good {
                     break;
                 }
             }
@@ -89,7 +80,7 @@ impl Mesher {
 
     /// Fills the whole region left with [`fill::fill_region`] and empties
     /// the front; where that fails, fills the regions left one by one,
-    /// removing up to [`FILL_RINGS`] rings of elements around those it
+    /// removing up to [`FillTuning::rings`](super::tuning::FillTuning::rings) rings of elements around those it
     /// cannot take. `None` when nothing changed (tried again after a
     /// quarter as many steps as made so far).
     pub(super) fn fill_rest(&mut self) -> Option<StepReport> {
@@ -112,7 +103,7 @@ impl Mesher {
         // met a fine one is a sliver no fill takes, but a few rings out its
         // loop runs through whole elements. This only ever takes off the
         // elements around the regions left, never the whole run.
-        for rings in 0..=FILL_RINGS {
+        for rings in 0..=self.params.tuning.fill.rings {
             if rings > 0 {
                 let ids: Vec<u32> = self.front.live_loops().collect();
                 let (removed, _) = self.remove_around(&ids, 1, true);

@@ -3,10 +3,13 @@
 //! limits, it crosses and contains no front edge or node, and the front it
 //! leaves has no sliver angle.
 
+use super::candidate::Cand;
+use super::session::Mesher;
 use crate::front::{Front, SlotId};
 use crate::geom::{
     ccw_angle, is_strictly_convex, orient, point_segment_distance, segments_intersect, Point,
 };
+use std::f64::consts::PI;
 
 /// One corner of a candidate quad.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -21,7 +24,7 @@ pub enum Corner {
 }
 
 /// Angle limits the guard applies, in radians.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Limits {
     pub min_corner: f64,
     pub max_corner: f64,
@@ -257,6 +260,179 @@ fn touches(ids: &[Option<u32>; 4], c: u32, d: u32) -> bool {
 
 /// A sunburst of `n` needles from radius 0.05 to 1, counter-clockwise:
 /// tips at even indices, the ends between them at odd ones.
+
+impl Mesher {
+    /// The guard on one candidate: its score when it passes.
+    pub(super) fn check(&mut self, c: Cand, limits: Limits) -> Option<f64> {
+        let p0 = c.slot();
+        // The element at a sharp corner of the front has that corner's
+        // angle; the corner opposite may open as far as a kite with right
+        // angles beside the tip needs.
+        let tip = self.front.angle(p0, &self.mesh.nodes);
+        let limits = if tip < self.params.reference_angle[0].to_radians() {
+            Limits {
+                max_corner: limits
+                    .max_corner
+                    .max(PI - tip + self.params.tuning.choice.tip_slack),
+                ..limits
+            }
+        } else {
+            limits
+        };
+        let at = match c {
+            Cand::New { s, pn } => 0.5 * (self.world(s) + pn),
+            Cand::Snap { s, .. } | Cand::Right { s } | Cand::Left { s } => self.world(s),
+        };
+        // A needle's element is as wide as its narrow end, however long.
+        let size = self.needle_span(p0).unwrap_or_else(|| self.size.at(at));
+        let f = &self.front;
+        let n = self.front.loop_len(p0);
+        let (corners, consumed): ([Corner; 4], Vec<SlotId>) = match c {
+            Cand::New { s, pn } => {
+                let (l, r) = (f.prev(s), f.next(s));
+                // On a four-node loop the element leaves another four-node
+                // loop (P0 moved to Pn), which must run the way it ran.
+                if n == 4 {
+                    let p = |t: SlotId| self.mesh.nodes[f.node(t) as usize];
+                    let before = crate::geom::polygon_area([p(l), p(s), p(r), p(f.next(r))]);
+                    let after = crate::geom::polygon_area([p(l), pn, p(r), p(f.next(r))]);
+                    if before * after <= 0.0 {
+                        return None;
+                    }
+                }
+                (
+                    [
+                        Corner::Full(s),
+                        Corner::Partial(r),
+                        Corner::New(pn),
+                        Corner::Partial(l),
+                    ],
+                    vec![l, s],
+                )
+            }
+            Cand::Snap { s, q } => {
+                let (l, r) = (f.prev(s), f.next(s));
+                if q == s || q == l || q == r || q == f.next(r) || q == f.prev(l) {
+                    return None;
+                }
+                (
+                    [
+                        Corner::Full(s),
+                        Corner::Partial(r),
+                        Corner::Partial(q),
+                        Corner::Partial(l),
+                    ],
+                    vec![l, s],
+                )
+            }
+            Cand::Right { s } => {
+                if n < 6 {
+                    return None;
+                }
+                let (l, r) = (f.prev(s), f.next(s));
+                let r2 = f.next(r);
+                (
+                    [
+                        Corner::Full(s),
+                        Corner::Full(r),
+                        Corner::Partial(r2),
+                        Corner::Partial(l),
+                    ],
+                    vec![l, s, r],
+                )
+            }
+            Cand::Left { s } => {
+                if n < 6 {
+                    return None;
+                }
+                let (l, r) = (f.prev(s), f.next(s));
+                let l2 = f.prev(l);
+                (
+                    [
+                        Corner::Full(s),
+                        Corner::Partial(r),
+                        Corner::Partial(l2),
+                        Corner::Full(l),
+                    ],
+                    vec![l2, l, s],
+                )
+            }
+        };
+        let passed = check(
+            f,
+            &self.mesh.nodes,
+            corners,
+            &consumed,
+            limits,
+            size,
+            &mut self.scratch,
+        )?;
+        let p = passed.corners;
+        let ids = corners.map(|c| match c {
+            Corner::Full(s) | Corner::Partial(s) => Some(self.front.node(s)),
+            Corner::New(_) => None,
+        });
+        if !self.pinned_corners_turn(p, ids) {
+            return None;
+        }
+        let mut score = passed.score;
+        if let Cand::New { s, pn } = c {
+            // Where a row goes on along the front, the element's corner
+            // at the next node should take its share of that node's angle,
+            // as paving's rows do: half of a side node's (the bisector),
+            // a third of a reflex corner's. Much more or less opens the
+            // row into a fan or closes it into a wedge.
+            if let Some(row) = self.row_at(s) {
+                let theta = self.front.angle(row.base, &self.mesh.nodes);
+                if theta > self.params.tuning.choice.row_side {
+                    let share = if theta < self.params.tuning.choice.row_corner {
+                        theta / 2.0
+                    } else {
+                        theta / 3.0
+                    };
+                    let corner = theta - self.row_angle_left(&row, pn);
+                    let off = (corner - share).abs() - self.params.tuning.choice.row_slack;
+                    score = score.min(
+                        (1.0 - off.max(0.0) / self.params.tuning.choice.row_falloff)
+                            .clamp(0.3, 1.0),
+                    );
+                }
+            }
+        }
+        if let Cand::Snap { s, q } = c {
+            // The quad's corner at X must sit inside X's front wedge with
+            // room on both sides, and a split must leave two even loops.
+            let x = p[2];
+            let (qn, qp) = (self.world(f.next(q)), self.world(f.prev(q)));
+            let a1 = ccw_angle(x, qn, p[3]);
+            let a2 = ccw_angle(x, p[1], qp);
+            let corner = ccw_angle(x, p[3], p[1]);
+            let wedge = f.angle(q, &self.mesh.nodes);
+            if (a1 + corner + a2 - wedge).abs() > 1e-9
+                || a1 < limits.min_front
+                || a2 < limits.min_front
+            {
+                return None;
+            }
+            if f.slot(q).loop_id == f.slot(s).loop_id {
+                let d = self.loop_distance(s, q);
+                // The part between s and q (the shorter way round) with the
+                // odd loops it takes in must be even.
+                let (from, to) = if f.walk(s, d as isize) == q {
+                    (s, q)
+                } else {
+                    (q, s)
+                };
+                let odd = self.part_parity(f.slot(s).loop_id, from, to);
+                if (d + odd) % 2 == 1 || d < 4 || n - d < 4 {
+                    return None;
+                }
+            }
+        }
+        Some(score)
+    }
+}
+
 #[cfg(test)]
 pub(crate) fn sunburst(n: usize) -> Vec<Point> {
     (0..n)

@@ -15,52 +15,8 @@ use serde::{Deserialize, Serialize};
 use super::repair::Squares;
 use super::report::{MeshError, Remedy, StepReport};
 use super::session::Mesher;
-use super::watch::PROGRESS_WINDOW;
 use crate::front::SlotId;
 use std::f64::consts::PI;
-
-/// Rip-ups a run may take, plus one per [`RIP_UP_QUADS`] quads made: a
-/// large domain has fronts meet in many places, each of which may need one.
-const RIP_UPS: usize = 64;
-/// See [`RIP_UPS`].
-const RIP_UP_QUADS: usize = 4096;
-/// Relaxations a run may take, plus one per [`RELAX_QUADS`] quads made.
-const RELAXES: usize = 400;
-/// See [`RELAXES`].
-const RELAX_QUADS: usize = 512;
-
-/// Loops up to this many nodes are split along a chord before a square is
-/// cut on them.
-const SMALL_LOOP: usize = 48;
-
-/// A stretch of the given boundary this long (nodes) that no row has
-/// reached when the queue moves on gets a row start.
-const ROW_RUN: usize = 4;
-/// A loop about to start a row first looks for a bridge of at least this
-/// scaled Jacobian across a gap at most [`ROW_BRIDGE_GAP`] times as high
-/// as the edges it joins are long: a gap a row would not fit.
-const ROW_BRIDGE_SJ: f64 = 0.5;
-/// See [`ROW_BRIDGE_SJ`].
-const ROW_BRIDGE_GAP: f64 = 1.0;
-/// A stuck front takes a bridge of any shape across a gap at most this
-/// many times as high as the edges it joins are long (the slanted quads
-/// of a gap between offset nodes have a scaled Jacobian of about 0.1, and
-/// no quad there does better).
-const BRIDGE_GAP: f64 = 0.5;
-/// Front nodes looked at first, sharpest first, for the best rule-based
-/// element anywhere ([`Rung::Relaxed`]).
-const SHARPEST: usize = 32;
-/// [`Rung::Relax`] is taken at most this many times in a row.
-const RELAX_STREAK: usize = 3;
-/// [`Rung::RipUp`] removes one ring around the loop, then two, … up to
-/// this many, then one again.
-const RIP_UP_RINGS: usize = 4;
-/// The limits of [`Rung::Relaxed`] (degrees): wider than the guard's.
-const RELAXED_LIMITS: Limits = Limits {
-    min_corner: 10.0,
-    max_corner: 170.0,
-    min_front: 5.0,
-};
 
 /// The row-start rung's state (strategy B): the coarsest band and deepest
 /// layer the queue had reached when loops left behind were last looked
@@ -247,7 +203,7 @@ impl Mesher {
                 let loops = self.loops_smallest_first(climb);
                 let mut split = None;
                 for lid in loops {
-                    if self.front.loops[lid as usize].len <= SMALL_LOOP {
+                    if self.front.loops[lid as usize].len <= self.params.tuning.ladder.small_loop {
                         split = self.chord_split(lid);
                         if split.is_some() {
                             break;
@@ -271,7 +227,7 @@ impl Mesher {
                 let loops = self.loops_smallest_first(climb);
                 loops.into_iter().find_map(|lid| self.close_strip(lid))
             }
-            Rung::Bridge => self.bridge(None, 0.0, BRIDGE_GAP),
+            Rung::Bridge => self.bridge(None, 0.0, self.params.tuning.ladder.bridge_gap),
             Rung::RipUp => {
                 let loops = self.loops_smallest_first(climb);
                 loops.first().and_then(|&lid| self.rip_up_rung(lid))
@@ -315,7 +271,7 @@ impl Mesher {
             Rung::FillStalled => (
                 self.stalled(),
                 (!self.record.rewound).then(|| MeshError::Stalled {
-                    steps: PROGRESS_WINDOW,
+                    steps: self.params.tuning.watch.window,
                     remaining: self.front.len(),
                 }),
             ),
@@ -367,7 +323,11 @@ impl Mesher {
                 && self.front.loops[lid as usize].len > 6
                 && !self.loop_has_reference(lid)
             {
-                if let Some(r) = self.bridge(Some(lid), ROW_BRIDGE_SJ, ROW_BRIDGE_GAP) {
+                if let Some(r) = self.bridge(
+                    Some(lid),
+                    self.params.tuning.ladder.row_bridge_sj,
+                    self.params.tuning.ladder.row_bridge_gap,
+                ) {
                     return Some(r);
                 }
                 if let Some(r) = self.square_cut(Squares::Loop(lid), limits) {
@@ -533,12 +493,12 @@ impl Mesher {
     }
 
     /// [`Rung::Relaxed`]: the best rule-based element with
-    /// [`RELAXED_LIMITS`], anywhere. The [`SHARPEST`] front nodes are
+    /// [`LadderTuning::relaxed_limits`](super::tuning::LadderTuning::relaxed_limits), anywhere. The [`LadderTuning::sharpest`](super::tuning::LadderTuning::sharpest) front nodes are
     /// looked at first, the rest only when none of them gives an element
     /// (a ring with no corner left is long, and its row may start at any
     /// of them).
     fn relaxed_rung(&mut self) -> Result<Option<StepReport>, MeshError> {
-        let relaxed = RELAXED_LIMITS.radians();
+        let relaxed = self.params.tuning.ladder.relaxed_limits.radians();
         let mut all: Vec<(f64, SlotId)> = self
             .front
             .live_loops()
@@ -549,8 +509,8 @@ impl Mesher {
         all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut best: Option<Chosen> = None;
         for part in [
-            &all[..all.len().min(SHARPEST)],
-            &all[all.len().min(SHARPEST)..],
+            &all[..all.len().min(self.params.tuning.ladder.sharpest)],
+            &all[all.len().min(self.params.tuning.ladder.sharpest)..],
         ] {
             for &(_, s) in part {
                 if let Some(c) = self.evaluate_relaxed(s, relaxed)? {
@@ -570,11 +530,14 @@ impl Mesher {
     }
 
     /// [`Rung::Relax`]: the smallest stuck loop `lid` straightened, at
-    /// most [`RELAX_STREAK`] times in a row and within the run's budget
-    /// ([`RELAXES`]).
+    /// most [`LadderTuning::relax_streak`](super::tuning::LadderTuning::relax_streak) times in a row and within the run's budget
+    /// ([`LadderTuning::relaxes`](super::tuning::LadderTuning::relaxes)).
     fn relax_rung(&mut self, lid: u32) -> Option<StepReport> {
-        let budget = RELAXES + self.mesh.quads.len() / RELAX_QUADS;
-        if self.repairs.relaxes >= budget || self.repairs.relax_streak >= RELAX_STREAK {
+        let budget = self.params.tuning.ladder.relaxes
+            + self.mesh.quads.len() / self.params.tuning.ladder.relax_quads;
+        if self.repairs.relaxes >= budget
+            || self.repairs.relax_streak >= self.params.tuning.ladder.relax_streak
+        {
             return None;
         }
         let r = self.relax_loop(lid)?;
@@ -584,13 +547,19 @@ impl Mesher {
     }
 
     /// [`Rung::RipUp`]: the elements around the smallest stuck loop `lid`
-    /// removed, one to [`RIP_UP_RINGS`] rings in turn, within the run's
-    /// budget ([`RIP_UPS`]).
+    /// removed, one to [`LadderTuning::rip_up_rings`](super::tuning::LadderTuning::rip_up_rings) rings in turn, within the run's
+    /// budget ([`LadderTuning::rip_ups`](super::tuning::LadderTuning::rip_ups)).
     fn rip_up_rung(&mut self, lid: u32) -> Option<StepReport> {
-        if self.repairs.rip_ups >= RIP_UPS + self.mesh.quads.len() / RIP_UP_QUADS {
+        if self.repairs.rip_ups
+            >= self.params.tuning.ladder.rip_ups
+                + self.mesh.quads.len() / self.params.tuning.ladder.rip_up_quads
+        {
             return None;
         }
-        let r = self.rip_up(lid, 1 + self.repairs.rip_ups % RIP_UP_RINGS);
+        let r = self.rip_up(
+            lid,
+            1 + self.repairs.rip_ups % self.params.tuning.ladder.rip_up_rings,
+        );
         self.repairs.rip_ups += 1;
         if r.removed > 0 || !r.quads.is_empty() {
             return Some(r);
@@ -678,7 +647,7 @@ impl Mesher {
                     run.push(slots[i]);
                     continue;
                 }
-                if run.len() >= ROW_RUN {
+                if run.len() >= self.params.tuning.ladder.row_run {
                     let best = run
                         .windows(2)
                         .map(|w| (self.world(w[0]).distance(self.world(w[1])), w[0]))

@@ -13,7 +13,7 @@
 //! rectangle whose sides are divided unevenly (13 × 4 segments on a 50 × 1
 //! plate) gets its grid instead of rows from the long sides that cannot
 //! match. The grid is taken only if every quad is convex with a scaled
-//! Jacobian of at least [`MIN_SJ`] and no other loop lies inside.
+//! Jacobian of at least [`MappedTuning::min_sj`](super::tuning::MappedTuning::min_sj) and no other loop lies inside.
 
 use super::closure::{is_pinched, LoopGeometry};
 use super::report::{StepKind, StepReport};
@@ -25,15 +25,6 @@ use crate::quality::Shape;
 pub const CORNER_MAX: f64 = 150.0;
 /// A node on a side may turn the side by at most this (degrees) either way.
 pub const SIDE_TURN: f64 = 35.0;
-/// The worst quad a mapped grid may have (scaled Jacobian).
-pub const MIN_SJ: f64 = 0.4;
-/// The worst quad [`Mesher::close_strip`] takes on a loop with nodes
-/// extraction made (scaled Jacobian).
-pub const STRIP_SJ: f64 = 0.2;
-/// Loops longer than this (nodes) are not looked at: a loop is looked at
-/// again whenever it has changed, and the front of a large domain changes
-/// every step (a 4 × 196 strip is the longest mapped).
-pub const MAX_LOOP: usize = 400;
 
 /// A structured grid over a logical rectangle: `m × n` quads, the nodes
 /// `(i, j)` for `0 ≤ i ≤ m`, `0 ≤ j ≤ n`, row by row.
@@ -250,7 +241,11 @@ impl Mesher {
         let (rows, (slots, nodes, pts)) = self.grid_loop(lid, |m| &mut m.grids.mapped)?;
         let corners = rectangle(&pts)?;
         let g = grid(&pts, corners);
-        if g.n > rows || !g.min_sj().is_some_and(|sj| sj >= MIN_SJ) {
+        if g.n > rows
+            || !g
+                .min_sj()
+                .is_some_and(|sj| sj >= self.params.tuning.mapped.min_sj)
+        {
             return None;
         }
         if !self.loop_is_clear(&slots, &nodes, &pts) {
@@ -262,7 +257,7 @@ impl Mesher {
     /// Closes loop `lid`, which no step could reduce, by its
     /// [`best_strip`] at most
     /// [`MeshParams::mapped_rows`](super::MeshParams::mapped_rows) across.
-    /// Its worst quad must reach [`STRIP_SJ`], unless every node of the loop
+    /// Its worst quad must reach [`MappedTuning::strip_sj`](super::tuning::MappedTuning::strip_sj), unless every node of the loop
     /// is a node of the given boundary: then nothing extraction could do
     /// would move them, a fill would meet the same skew, and a convex grid
     /// is taken.
@@ -270,7 +265,9 @@ impl Mesher {
         let (rows, (slots, nodes, pts)) = self.grid_loop(lid, |m| &mut m.grids.strip)?;
         let (g, sj) = best_strip(&pts, rows)?;
         let fixed = nodes.iter().all(|&v| self.mesh.is_boundary(v));
-        if (sj < STRIP_SJ && !fixed) || !self.loop_is_clear(&slots, &nodes, &pts) {
+        if (sj < self.params.tuning.mapped.strip_sj && !fixed)
+            || !self.loop_is_clear(&slots, &nodes, &pts)
+        {
             return None;
         }
         let mut r = self.commit_grid(lid, &nodes, &g);
@@ -280,7 +277,7 @@ impl Mesher {
 
     /// The rows a grid may have across and loop `lid`'s slots, nodes and
     /// points, if the loop is to be looked at for a grid: mapping is on,
-    /// the loop has 8 to [`MAX_LOOP`] nodes, is not pinched, and has
+    /// the loop has 8 to [`MappedTuning::max_loop`](super::tuning::MappedTuning::max_loop) nodes, is not pinched, and has
     /// changed since it was last looked at (`seen` picks the record: per
     /// loop, the version last looked at, 0 for none; updated here).
     fn grid_loop(
@@ -290,7 +287,7 @@ impl Mesher {
     ) -> Option<(usize, LoopGeometry)> {
         let rows = self.params.mapped_rows?;
         let l = self.front.loops[lid as usize];
-        if !(8..=MAX_LOOP).contains(&l.len) {
+        if !(8..=self.params.tuning.mapped.max_loop).contains(&l.len) {
             return None;
         }
         let (k, seen) = (lid as usize, seen(self));

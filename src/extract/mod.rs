@@ -23,6 +23,7 @@ pub mod guard;
 mod ladder;
 pub mod mapped;
 mod memo;
+mod model_path;
 mod params;
 mod queue;
 mod repair;
@@ -30,6 +31,7 @@ mod report;
 mod session;
 pub mod size;
 mod transition;
+pub mod tuning;
 mod watch;
 
 pub use candidate::CandidateReport;
@@ -40,3 +42,4 @@ pub use report::{
     StepReport, StepStats, RESCALED_BEYOND,
 };
 pub use session::{Mesher, CHECKPOINT_BEHIND};
+pub use tuning::Tuning;

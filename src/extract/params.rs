@@ -88,6 +88,11 @@ pub struct MeshParams {
     /// interpolated inside.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub size_target: Option<super::size::SizeTarget>,
+    /// The heuristics' constants ([`super::Tuning`]; default
+    /// [`super::Tuning::DEFAULT`]). Written to files only where they
+    /// differ from the defaults.
+    #[serde(skip_serializing_if = "super::Tuning::is_default")]
+    pub tuning: super::Tuning,
 }
 
 impl MeshParams {
@@ -110,6 +115,7 @@ impl MeshParams {
         transition_ratio: Some(1.3),
         mapped_rows: Some(4),
         size_target: None,
+        tuning: super::Tuning::DEFAULT,
     };
 }
 

@@ -1,6 +1,6 @@
 //! The reference-point queue (thesis §5.1, Figure 40): front slots whose
 //! angle makes them reference points, sharp corners first; strategy B
-//! orders them by the element size wanted there, in bands of [`BAND`]
+//! orders them by the element size wanted there, in bands of [`QueueTuning::band`](super::tuning::QueueTuning::band)
 //! from the smallest, then by layer, the newest first within a layer (so a
 //! row goes on from its last element); strategy A by recency alone.
 //!
@@ -18,9 +18,6 @@ use super::session::Mesher;
 use crate::front::SlotId;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
-
-/// Strategy B takes sizes within this ratio of each other as alike.
-const BAND: f64 = 1.6;
 
 /// The queue itself: a max-heap of [`Entry`], each slot's current version
 /// (an entry of an older version is stale) and the push counter.
@@ -123,7 +120,7 @@ impl Mesher {
             Strategy::B => {
                 let sl = self.front.slot(s);
                 let h = self.size.at(self.mesh.nodes[sl.node as usize]);
-                let band = (h / self.size.range()[0]).ln() / BAND.ln();
+                let band = (h / self.size.range()[0]).ln() / self.params.tuning.queue.band.ln();
                 (band.max(0.0) as u32, sl.layer)
             }
         }

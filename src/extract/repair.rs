@@ -10,26 +10,6 @@ use crate::front::{Front, SlotId};
 use crate::geom::{ccw_angle, Point};
 use std::f64::consts::PI;
 
-/// A chord passes every front node other than its ends at least this far,
-/// as a share of the front's spacing at its ends.
-const CHORD_CLEARANCE: f64 = 0.1;
-
-/// A square cut where no reference point works ([`Squares::Any`]) is made
-/// lower than its edge is long (0.7 or 0.5 of it) only if its sides stay
-/// at least this share of the size there. Otherwise a stuck loop's
-/// squares shrink by half at each cut, each on the side of the one before
-/// (the shortest edge), and spiral down to nothing.
-const SQUARE_FLOOR: f64 = 0.5;
-
-/// A removal around regions to be filled ([`Mesher::tidy_removal`]) also
-/// takes the quads at boundary edges shorter than this share of the size.
-const TIDY_EDGE: f64 = 0.2;
-/// ... and the quads at corners of the boundary sharper than this, or more
-/// reflex than a full turn less this (radians, 20°).
-const TIDY_ANGLE: f64 = 20.0 * PI / 180.0;
-/// See [`TIDY_EDGE`].
-const TIDY_ROUNDS: usize = 6;
-
 /// The repairs' budgets: rip-ups and relaxations taken so far, and
 /// relaxations since the last other step.
 #[derive(Clone, Debug, Default)]
@@ -205,20 +185,22 @@ impl Mesher {
 
     /// Grows a removal until the region's boundary is one a fill can take:
     /// no node the boundary passes twice (two removed quads meeting at a
-    /// corner only) and no boundary edge under [`TIDY_EDGE`] of the size
+    /// corner only) and no boundary edge under [`RepairTuning::tidy_edge`](super::tuning::RepairTuning::tidy_edge) of the size
     /// there (the knots of tiny quads where rows met) and no slit
-    /// ([`TIDY_ANGLE`]). All quads at such a node go, for at most
-    /// [`TIDY_ROUNDS`] rounds.
+    /// ([`RepairTuning::tidy_angle`](super::tuning::RepairTuning::tidy_angle)). All quads at such a node go, for at most
+    /// [`RepairTuning::tidy_rounds`](super::tuning::RepairTuning::tidy_rounds) rounds.
     fn tidy_removal(&self, region: &mut Removal) {
         let nodes = &self.mesh.nodes;
-        for _ in 0..TIDY_ROUNDS {
+        for _ in 0..self.params.tuning.repair.tidy_rounds {
             let edges = &region.edges;
             let mut seen: std::collections::BTreeMap<u32, usize> = Default::default();
             let mut bad: Vec<u32> = Vec::new();
             for &(a, b) in edges.iter() {
                 *seen.entry(a).or_default() += 1;
                 let (pa, pb) = (nodes[a as usize], nodes[b as usize]);
-                if pa.distance(pb) < TIDY_EDGE * self.size.at(0.5 * (pa + pb)) {
+                if pa.distance(pb)
+                    < self.params.tuning.repair.tidy_edge * self.size.at(0.5 * (pa + pb))
+                {
                     bad.extend([a, b]);
                 }
             }
@@ -235,7 +217,10 @@ impl Mesher {
                 if let Some(&u) = prev.get(&v) {
                     let p = nodes[v as usize];
                     let angle = crate::geom::ccw_angle(p, nodes[w as usize], nodes[u as usize]);
-                    if !(TIDY_ANGLE..=2.0 * PI - TIDY_ANGLE).contains(&angle) {
+                    if !(self.params.tuning.repair.tidy_angle
+                        ..=2.0 * PI - self.params.tuning.repair.tidy_angle)
+                        .contains(&angle)
+                    {
                         bad.push(v);
                     }
                 }
@@ -505,7 +490,7 @@ impl Mesher {
         edges.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         edges.iter().take(64).find_map(|&(_, s)| {
             let floor = if only == Squares::Any {
-                SQUARE_FLOOR
+                self.params.tuning.repair.square_floor
             } else {
                 0.0
             };
@@ -651,7 +636,7 @@ impl Mesher {
                 if best.is_some_and(|(bs, ..)| score >= bs) {
                     continue;
                 }
-                if !self.chord_clear(a, b, CHORD_CLEARANCE * h) {
+                if !self.chord_clear(a, b, self.params.tuning.repair.chord_clearance * h) {
                     continue;
                 }
                 best = Some((score, a, b, k));

@@ -31,14 +31,6 @@ use std::f64::consts::PI;
 use std::ops::ControlFlow;
 use std::sync::Arc;
 
-/// Steps allowed before the region left is filled, per element a mesh
-/// following the size field would have (plus one per boundary node and
-/// 200). The size field's estimate runs low where rows cannot coarsen as
-/// fast as it asks (a fine side facing a coarse one), so the budget is
-/// three times it: at twice, a 201-against-3-node strip (`R06a`) reached
-/// it in a tangle no rewind could fill.
-const FILL_BUDGET: f64 = 3.0;
-
 /// Cell width of the front's edge grid: as fine as the finest elements (the
 /// grid caps its cell count), so a query near fine elements stays short.
 pub(super) fn grid_cell(size: &SizeField) -> f64 {
@@ -153,7 +145,7 @@ impl Mesher {
         let work = est.max(boundary.node_count());
         let step_limit = params.max_steps.unwrap_or(8 * work + 10_000);
         let quads = size.quad_estimate().min(1e9);
-        let fill_after = (FILL_BUDGET * quads) as usize + boundary.node_count() + 200;
+        let fill_after = (params.tuning.fill.budget * quads) as usize + boundary.node_count() + 200;
         let mut m = Mesher {
             boundary,
             params,
@@ -510,13 +502,13 @@ impl Mesher {
         &mut self,
         mut each: impl FnMut(&StepReport, RunProgress) -> ControlFlow<()>,
     ) -> Result<bool, MeshError> {
-        // The meshed share is measured every PROGRESS_EVERY steps (it walks
+        // The meshed share is measured every `tuning.watch.every` steps (it walks
         // the front).
         let mut meshed = self.meshed_share();
         let mut taken = 0;
         while let StepOutcome::Stepped(r) = self.step()? {
             taken += 1;
-            if taken % super::watch::PROGRESS_EVERY == 0 || self.front.is_empty() {
+            if taken % self.params.tuning.watch.every == 0 || self.front.is_empty() {
                 meshed = self.meshed_share();
             }
             let at = RunProgress {

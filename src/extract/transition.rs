@@ -40,44 +40,6 @@ pub(super) struct RowRuns {
 /// What a node's row count ([`Mesher::row_run`]) starts at: a row's first
 /// element may be a transition.
 pub(super) const FRESH_ROW: u32 = u32::MAX / 2;
-/// The nodes inside the stretch (`a1`, `a2`) must be this straight: their
-/// front angle within this of 180°.
-const STRAIGHT: f64 = 30.0 * PI / 180.0;
-/// Longest over shortest of the three front edges, at most.
-const EVEN: f64 = 1.6;
-/// The row's height over the mean width, at least: a lower row would give
-/// the template flat quads.
-const MIN_HEIGHT: f64 = 0.9;
-/// Height of `m1`, `m2` as a fraction of the way from `a1`, `a2` to the top.
-const MID: f64 = 0.45;
-/// The template's height moves towards the size field by at most this
-/// factor (as a row's does element by element).
-const HEIGHT_STEP: f64 = 1.1;
-/// Every quad of the template must have at least this scaled Jacobian.
-const MIN_SJ: f64 = 0.4;
-/// The guard's score of the template's outline, at least: where another
-/// front comes near, or the front left would be sharp, the row goes on
-/// with ordinary elements and the fronts meet as they would.
-const MIN_SCORE: f64 = 0.5;
-/// Loops shorter than this are left to the closures.
-const MIN_LOOP: usize = 10;
-/// Front edges either side of the stretch looked at for the top of an
-/// earlier transition. A row coarsened by transitions leaves a front of
-/// one wide edge (a template's top, carried up by the rows after it)
-/// between runs of fine ones; judged by a fine run's own edges, the rows
-/// after it would take transitions again, row after row, and coarsen far
-/// past the size field (on `disk6400` to 2–4 times the boundary's spacing
-/// inside). There the mean over the window counts instead. Twice the
-/// longest run between transitions (`k` ≈ 6 at the default ratio) always
-/// takes in a template's top; at a ratio nearer one, transitions stand
-/// further apart and [`Mesher::spacing_reach`] looks further.
-const SPACING_REACH: isize = 6;
-/// A front edge this many times as wide as the stretch's mean is taken for
-/// the top of an earlier transition (a template's top is three times as
-/// wide as the edges it replaced). Where no such edge is near, the
-/// stretch is judged by its own edges, as on a graded front, whose edges
-/// grow far more slowly.
-const WIDE: f64 = 2.5;
 
 impl Mesher {
     /// The transition element at reference slot `s` when the row `s`
@@ -87,7 +49,7 @@ impl Mesher {
         let coarser = self.params.transition_ratio?;
         let row = self.row_at(s)?;
         let f = &self.front;
-        if f.loop_len(s) < MIN_LOOP {
+        if f.loop_len(s) < self.params.tuning.transition.min_loop {
             return None;
         }
         let along = |x: SlotId| if row.right { f.next(x) } else { f.prev(x) };
@@ -109,7 +71,7 @@ impl Mesher {
             }
         }
         for x in [b1, b2] {
-            if (f.angle(x, &self.mesh.nodes) - PI).abs() > STRAIGHT {
+            if (f.angle(x, &self.mesh.nodes) - PI).abs() > self.params.tuning.transition.straight {
                 return None;
             }
         }
@@ -124,13 +86,13 @@ impl Mesher {
         });
         let total = e[0] + e[1] + e[2];
         let width = total / 3.0;
-        if !(lo > 0.0 && hi / lo <= EVEN) {
+        if !(lo > 0.0 && hi / lo <= self.params.tuning.transition.even) {
             return None;
         }
         let under = if row.right { p[0] } else { p[3] };
         let pt = self.world(top);
         let h0 = under.distance(pt);
-        if h0 < MIN_HEIGHT * width {
+        if h0 < self.params.tuning.transition.min_height * width {
             return None;
         }
         let chord = p[3] - p[0];
@@ -154,15 +116,18 @@ impl Mesher {
         if dir == Point::ZERO {
             return None;
         }
-        let h = want.clamp(h0 / HEIGHT_STEP, h0 * HEIGHT_STEP);
+        let h = want.clamp(
+            h0 / self.params.tuning.transition.height_step,
+            h0 * self.params.tuning.transition.height_step,
+        );
         let (t0, t3) = if row.right {
             (pt, p[3] + dir * h)
         } else {
             (p[0] + dir * h, pt)
         };
         let on_top = |u: f64| t0 + (t3 - t0) * u;
-        let m1 = p[1] + (on_top(e[0] / total) - p[1]) * MID;
-        let m2 = p[2] + (on_top((e[0] + e[1]) / total) - p[2]) * MID;
+        let m1 = p[1] + (on_top(e[0] / total) - p[1]) * self.params.tuning.transition.mid;
+        let m2 = p[2] + (on_top((e[0] + e[1]) / total) - p[2]) * self.params.tuning.transition.mid;
         let quads = [
             [p[0], p[1], m1, t0],
             [p[1], p[2], m2, m1],
@@ -170,7 +135,9 @@ impl Mesher {
             [m1, m2, t3, t0],
         ];
         for q in quads {
-            if !crate::geom::is_strictly_convex(q) || Shape::of(q).scaled_jacobian < MIN_SJ {
+            if !crate::geom::is_strictly_convex(q)
+                || Shape::of(q).scaled_jacobian < self.params.tuning.transition.min_sj
+            {
                 return None;
             }
         }
@@ -216,7 +183,7 @@ impl Mesher {
             want,
             &mut self.scratch,
         )?;
-        if passed.score < MIN_SCORE {
+        if passed.score < self.params.tuning.transition.min_score {
             return None;
         }
         // Commit: the reference slot becomes the new top and a1, a2 leave
@@ -252,18 +219,18 @@ impl Mesher {
     }
 
     /// Front edges either side of a stretch looked at for the top of an
-    /// earlier transition: [`SPACING_REACH`], or more at a ratio closer to
+    /// earlier transition: [`TransitionTuning::spacing_reach`](super::tuning::TransitionTuning::spacing_reach), or more at a ratio closer to
     /// one, where transitions stand further apart along a row (the `k`
     /// ordinary elements per transition at the ratio itself, rounded up).
     fn spacing_reach(&self) -> isize {
         let t = self.params.transition_ratio.unwrap_or(1.3).max(1.0 + 1e-3);
         let k = ((3.0 - t) / (t - 1.0)).ceil().clamp(0.0, 64.0) as isize;
-        SPACING_REACH.max(k)
+        self.params.tuning.transition.spacing_reach.max(k)
     }
 
     /// The width the stretch from slot `from` to slot `to` (its three edges
     /// `stretch` long in all) is judged by: its own mean edge, or, where an
-    /// edge [`WIDE`] times that lies within [`SPACING_REACH`] edges either
+    /// edge [`TransitionTuning::wide`](super::tuning::TransitionTuning::wide) times that lies within [`TransitionTuning::spacing_reach`](super::tuning::TransitionTuning::spacing_reach) edges either
     /// side (the top of an earlier transition, carried up by the rows
     /// since), the mean edge length over the stretch and those edges (fewer
     /// where the loop is short).
@@ -282,7 +249,7 @@ impl Mesher {
                 self.world(b).distance(self.world(back)),
                 self.world(ahead).distance(self.world(a)),
             );
-            wide |= lb.max(la) > WIDE * width;
+            wide |= lb.max(la) > self.params.tuning.transition.wide * width;
             sum += lb + la;
             edges += 2.0;
             (back, ahead) = (b, a);

@@ -4,45 +4,10 @@
 
 use super::session::Mesher;
 
-/// The progress watch: every [`PROGRESS_EVERY`] steps the area the front
-/// still encloses is noted. A run whose last [`PROGRESS_WINDOW`] steps took
-/// off less than [`PROGRESS_RATE`] of the mean area of its quads so far per
-/// step is going round in circles (elements cut and ripped up again, rows
-/// that grow the front where they should close it), and the region left is
-/// filled. The window is long enough for the place where the rows of a
-/// large disk meet: its rip-ups and relaxations take some 700 steps before
-/// the front closes there by itself (disk1600 finishes by extraction alone;
-/// with a window of 1,024 steps it was filled).
-///
-/// The mean of the quads so far is not what a graded domain's fine part
-/// asks for: its quads can be a hundredth of the mean's size while the
-/// rows there move on as they should. So a run is also held to the size
-/// field: the window is no progress only if the area it took off is also
-/// under [`PROGRESS_RATE`] of the area the size field asks of the quads it
-/// made (h² at each one's centre, quads later ripped up included). Knots of
-/// quads far finer than the field and rows cut and ripped up again fail
-/// both.
-pub(super) const PROGRESS_EVERY: usize = 128;
-/// See [`PROGRESS_EVERY`].
-pub(super) const PROGRESS_WINDOW: usize = 2048;
-/// See [`PROGRESS_EVERY`].
-pub(super) const PROGRESS_RATE: f64 = 0.25;
-/// The progress watch's window in the end game, when the front encloses
-/// less than one [`PROGRESS_WINDOW`] is held to take off: the last pockets
-/// where rows met close one after another, each by rip-ups and
-/// relaxations that give area back before the pocket closes, so a window
-/// sees little progress however well the run goes (disk3200 and disk4800
-/// close their last few hundred front nodes by extraction some 2,000
-/// steps after a 2,048-step window calls them stalled).
-pub(super) const END_WINDOW: usize = 4 * PROGRESS_WINDOW;
-/// A window whose front lost at least this share of its nodes made
-/// progress whatever the area: pockets are closing.
-pub(super) const FRONT_SHRINK: f64 = 0.1;
-
 /// The progress watch's state.
 #[derive(Clone, Debug, Default)]
 pub(super) struct ProgressWatch {
-    /// One checkpoint per [`PROGRESS_EVERY`] steps: (step, area still
+    /// One checkpoint per [`WatchTuning::every`](super::tuning::WatchTuning::every) steps: (step, area still
     /// open, [`ProgressWatch::asked`] then, front nodes then).
     pub(super) checkpoints: Vec<(usize, f64, f64, usize)>,
     /// The area the size field asks of the quads made so far: the sum of
@@ -56,14 +21,14 @@ pub(super) struct ProgressWatch {
 }
 
 impl Mesher {
-    /// The progress watch ([`PROGRESS_EVERY`]): true when the last
-    /// [`PROGRESS_WINDOW`] steps ([`END_WINDOW`] once the area still open
+    /// The progress watch ([`WatchTuning::every`](super::tuning::WatchTuning::every)): true when the last
+    /// [`WatchTuning::window`](super::tuning::WatchTuning::window) steps ([`WatchTuning::end_window`](super::tuning::WatchTuning::end_window) once the area still open
     /// is less than that window is held to take off) made too little of
-    /// the mesh and did not shrink the front by [`FRONT_SHRINK`].
+    /// the mesh and did not shrink the front by [`WatchTuning::front_shrink`](super::tuning::WatchTuning::front_shrink).
     pub(super) fn stalled(&mut self) -> bool {
         let n = self.record.history.len();
         if n == 0
-            || n % PROGRESS_EVERY != 0
+            || n % self.params.tuning.watch.every != 0
             || self.watch.checkpoints.last().is_some_and(|p| p.0 == n)
         {
             return false;
@@ -78,10 +43,12 @@ impl Mesher {
             return false;
         }
         let mean = (self.domain_area - open - needle_area) / quads as f64;
-        let window = if open < PROGRESS_RATE * END_WINDOW as f64 * mean {
-            END_WINDOW
+        let window = if open
+            < self.params.tuning.watch.rate * self.params.tuning.watch.end_window as f64 * mean
+        {
+            self.params.tuning.watch.end_window
         } else {
-            PROGRESS_WINDOW
+            self.params.tuning.watch.window
         };
         let Some(k) = n.checked_sub(window) else {
             return false;
@@ -91,10 +58,12 @@ impl Mesher {
         else {
             return false;
         };
-        if (self.front.len() as f64) < (1.0 - FRONT_SHRINK) * front_before as f64 {
+        if (self.front.len() as f64)
+            < (1.0 - self.params.tuning.watch.front_shrink) * front_before as f64
+        {
             return false;
         }
-        before - open < PROGRESS_RATE * (self.watch.asked - asked_before)
-            && before - open < PROGRESS_RATE * window as f64 * mean
+        before - open < self.params.tuning.watch.rate * (self.watch.asked - asked_before)
+            && before - open < self.params.tuning.watch.rate * window as f64 * mean
     }
 }
