@@ -359,7 +359,9 @@ impl Mesher {
             }
         }
         if let Some(g) = gap {
-            if g > 0.8 * size && g < self.params.tuning.choice.gap_reach * size {
+            if g > self.params.tuning.choice.gap_min * size
+                && g < self.params.tuning.choice.gap_reach * size
+            {
                 let k = 0.5 * g / along;
                 out.push((
                     Cand::New {
@@ -412,7 +414,7 @@ impl Mesher {
         out.push((
             Cand::New {
                 s,
-                pn: p0 + (rule_pn - p0) * 0.7,
+                pn: p0 + (rule_pn - p0) * self.params.tuning.choice.short_rule,
             },
             Remedy::CorrectedPn,
         ));

@@ -41,7 +41,8 @@ impl Mesher {
         let n = self.record.history.len();
         let mut tried = n;
         let mut best: Option<(f64, Mesher, StepReport)> = None;
-        for k in [3 * n / 4, n / 2, n / 4, n / 8, n / 16, n / 32, 0] {
+        for (a, b) in self.params.tuning.fill.rewind_to {
+            let k = a * n / b;
             if k >= tried {
                 continue;
             }
@@ -131,7 +132,8 @@ impl Mesher {
             }
         }
         if r.quads.is_empty() {
-            self.fill.retry_at = step + (step / 4).max(50);
+            let fill = &self.params.tuning.fill;
+            self.fill.retry_at = step + (step / fill.retry_share).max(fill.retry_min);
             if r.removed == 0 {
                 return None;
             }

@@ -68,6 +68,17 @@ pub struct Passed {
     pub score: f64,
 }
 
+/// The front angle an element leaves at a node it takes part of costs
+/// nothing from [`FRONT_REST_BAD`] + [`FRONT_REST_SPAN`] degrees up, and
+/// grows to rejection as it falls to [`FRONT_REST_BAD`] degrees.
+pub const FRONT_REST_BAD: f64 = 15.0;
+/// See [`FRONT_REST_BAD`].
+pub const FRONT_REST_SPAN: f64 = 45.0;
+/// A new side `len` long where the size is `h` scores
+/// `1 − SIZE_FIT_SLOPE · |ln(len / h)|`, at least [`SIZE_FIT_FLOOR`].
+pub const SIZE_FIT_SLOPE: f64 = 0.35;
+/// See [`SIZE_FIT_SLOPE`].
+pub const SIZE_FIT_FLOOR: f64 = 0.2;
 /// Room, in local element sizes, from a candidate's new sides and node to
 /// the rest of the front that is enough for the next element.
 pub const CLEAR_GOOD: f64 = 0.7;
@@ -165,8 +176,8 @@ pub fn check(
                 if rest < limits.min_front {
                     return None;
                 }
-                front_factor =
-                    front_factor.min(((rest.to_degrees() - 15.0) / 45.0).clamp(0.0, 1.0));
+                front_factor = front_factor
+                    .min(((rest.to_degrees() - FRONT_REST_BAD) / FRONT_REST_SPAN).clamp(0.0, 1.0));
             }
         }
     }
@@ -244,7 +255,7 @@ pub fn check(
     let mut fit: f64 = 1.0;
     for &k in &new_sides {
         let len = p[k].distance(p[(k + 1) % 4]);
-        fit = fit.min((1.0 - 0.35 * (len / size).ln().abs()).clamp(0.2, 1.0));
+        fit = fit.min((1.0 - SIZE_FIT_SLOPE * (len / size).ln().abs()).clamp(SIZE_FIT_FLOOR, 1.0));
     }
     Some(Passed {
         corners: p,
@@ -394,7 +405,7 @@ impl Mesher {
                     let off = (corner - share).abs() - self.params.tuning.choice.row_slack;
                     score = score.min(
                         (1.0 - off.max(0.0) / self.params.tuning.choice.row_falloff)
-                            .clamp(0.3, 1.0),
+                            .clamp(self.params.tuning.choice.row_floor, 1.0),
                     );
                 }
             }

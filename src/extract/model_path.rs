@@ -224,7 +224,8 @@ impl Mesher {
             .chain(pts[2 * k + 1..].iter().copied())
             .map(|p| self.size.at(p))
             .fold(0.0, f64::max);
-        let reach = Point::splat(1.5 * (self.params.tuning.choice.gap_reach + 1.0) * size);
+        let choice = &self.params.tuning.choice;
+        let reach = Point::splat(choice.read_margin * (choice.gap_reach + 1.0) * size);
         (lo - reach, hi + reach)
     }
 

@@ -288,7 +288,7 @@ impl Mesher {
             if !crate::geom::is_strictly_convex(p) {
                 return None;
             }
-            if crate::quality::Shape::of(p).scaled_jacobian < 0.2 {
+            if crate::quality::Shape::of(p).scaled_jacobian < self.params.tuning.repair.relax_sj {
                 return None;
             }
         }
@@ -411,7 +411,7 @@ impl Mesher {
                 let p = self.mesh.corners(&self.mesh.quads[k as usize]);
                 let s = crate::quality::Shape::of(p);
                 crate::geom::is_strictly_convex(p)
-                    && s.scaled_jacobian >= sj.min(0.3)
+                    && s.scaled_jacobian >= sj.min(self.params.tuning.repair.tidy_sj)
                     && s.side_ratio() <= sides.max(MAX_SIDE_RATIO)
             });
             // The node may not pass over the front on its way: front
@@ -470,11 +470,12 @@ impl Mesher {
                 // A short loop is closed rather than cut, except a small
                 // hole (asked for apart, after everything else).
                 let len = self.front.loops[l as usize].len;
+                let min_loop = self.params.tuning.repair.square_min_loop;
                 match only {
-                    Squares::Loop(o) => o == l && len >= 16,
-                    Squares::Any => len >= 16,
+                    Squares::Loop(o) => o == l && len >= min_loop,
+                    Squares::Any => len >= min_loop,
                     Squares::SmallHoles => {
-                        len < 16
+                        len < min_loop
                             && self
                                 .front
                                 .loop_slots(l)
@@ -488,14 +489,17 @@ impl Mesher {
             .map(|s| (self.world(s).distance(self.world(self.front.next(s))), s))
             .collect();
         edges.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        edges.iter().take(64).find_map(|&(_, s)| {
-            let floor = if only == Squares::Any {
-                self.params.tuning.repair.square_floor
-            } else {
-                0.0
-            };
-            self.square_on(s, limits, floor)
-        })
+        edges
+            .iter()
+            .take(self.params.tuning.repair.square_edges)
+            .find_map(|&(_, s)| {
+                let floor = if only == Squares::Any {
+                    self.params.tuning.repair.square_floor
+                } else {
+                    0.0
+                };
+                self.square_on(s, limits, floor)
+            })
     }
 
     /// True when loop `lid` runs clockwise: a hole's front, with the
@@ -519,7 +523,7 @@ impl Mesher {
             let len = a.distance(b);
             let up = (b - a).perp() / len;
             let least = floor * self.size.at(0.5 * (a + b));
-            for height in [1.0, 0.7, 0.5] {
+            for height in self.params.tuning.repair.square_heights {
                 if height < 1.0 && len * height < least {
                     break;
                 }
@@ -573,12 +577,14 @@ impl Mesher {
     pub(super) fn chord_split(&mut self, lid: u32) -> Option<StepReport> {
         let slots = self.front.loop_slots(lid);
         let n = slots.len();
-        if n < 8 {
+        let tuning = &self.params.tuning.repair;
+        if n < tuning.chord_min_loop {
             return None;
         }
-        let min_part = 40f64.to_radians();
+        let min_part = tuning.chord_min_part.to_radians();
+        let [spacing_lo, spacing_hi] = tuning.chord_spacing;
         let mut best: Option<(f64, SlotId, SlotId, usize)> = None;
-        let stride = (n / 200).max(1);
+        let stride = (n / tuning.chord_ends).max(1);
         let any_odd = self
             .front
             .live_loops()
@@ -629,7 +635,7 @@ impl Mesher {
                     k = 2;
                 }
                 let spacing = (len / (k + 1) as f64) / h;
-                if !(0.4..=2.5).contains(&spacing) || k > n {
+                if !(spacing_lo..=spacing_hi).contains(&spacing) || k > n {
                     continue;
                 }
                 score += 0.5 * (spacing - 1.0).abs();

@@ -143,9 +143,13 @@ impl Mesher {
         let domain_area = boundary.area();
         let est = (domain_area / (min_seg * min_seg)).min(1e9) as usize;
         let work = est.max(boundary.node_count());
-        let step_limit = params.max_steps.unwrap_or(8 * work + 10_000);
+        let step_limit = params.max_steps.unwrap_or(
+            params.tuning.fill.step_limit_per_element * work + params.tuning.fill.step_limit_extra,
+        );
         let quads = size.quad_estimate().min(1e9);
-        let fill_after = (params.tuning.fill.budget * quads) as usize + boundary.node_count() + 200;
+        let fill_after = (params.tuning.fill.budget * quads) as usize
+            + boundary.node_count()
+            + params.tuning.fill.budget_extra;
         let mut m = Mesher {
             boundary,
             params,

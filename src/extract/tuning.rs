@@ -197,6 +197,17 @@ pub struct ChoiceTuning {
     pub row_slack: f64,
     /// ... and the cost grows to its floor over this much more.
     pub row_falloff: f64,
+    /// The front ahead at less than this many local sizes is not split
+    /// evenly by a corrected Pn (a gap of one to three sizes is).
+    pub gap_min: f64,
+    /// The last remedy: the rule-based Pn drawn this far from P0 towards
+    /// its full height.
+    pub short_rule: f64,
+    /// The box of the front an evaluation reads (for the memory) reaches
+    /// this many times the gap search and a local size past its points.
+    pub read_margin: f64,
+    /// The floor of the cost [`ChoiceTuning::row_falloff`] leads to.
+    pub row_floor: f64,
 }
 
 impl ChoiceTuning {
@@ -214,6 +225,10 @@ impl ChoiceTuning {
         row_corner: 225.0 * PI / 180.0,
         row_slack: 20.0 * PI / 180.0,
         row_falloff: 60.0 * PI / 180.0,
+        gap_min: 0.8,
+        short_rule: 0.7,
+        read_margin: 1.5,
+        row_floor: 0.3,
     };
 }
 
@@ -310,6 +325,29 @@ pub struct RepairTuning {
     pub tidy_angle: f64,
     /// See [`RepairTuning::tidy_edge`].
     pub tidy_rounds: usize,
+    /// A loop is straightened only if every quad around it keeps a
+    /// scaled Jacobian of at least this.
+    pub relax_sj: f64,
+    /// A node tidied may lower a quad around it to this scaled Jacobian
+    /// (or to the quad's own, if lower).
+    pub tidy_sj: f64,
+    /// Loops shorter than this (nodes) are closed rather than cut by a
+    /// square, except small holes no front has reached.
+    pub square_min_loop: usize,
+    /// The shortest front edges a square cut tries, at most.
+    pub square_edges: usize,
+    /// The heights a square is tried at, in edge lengths.
+    pub square_heights: [f64; 3],
+    /// Loops shorter than this (nodes) are not split along a chord.
+    pub chord_min_loop: usize,
+    /// A chord split looks at about this many ends along a loop (every
+    /// node of a shorter loop, a stride along a longer one).
+    pub chord_ends: usize,
+    /// A chord leaves at least this angle (degrees) on each side of its ends.
+    pub chord_min_part: f64,
+    /// The spacing of a chord's new nodes, in the front's local edge
+    /// lengths, lies in this range.
+    pub chord_spacing: [f64; 2],
 }
 
 impl RepairTuning {
@@ -320,6 +358,15 @@ impl RepairTuning {
         tidy_edge: 0.2,
         tidy_angle: 20.0 * PI / 180.0,
         tidy_rounds: 6,
+        relax_sj: 0.2,
+        tidy_sj: 0.3,
+        square_min_loop: 16,
+        square_edges: 64,
+        square_heights: [1.0, 0.7, 0.5],
+        chord_min_loop: 8,
+        chord_ends: 200,
+        chord_min_part: 40.0,
+        chord_spacing: [0.4, 2.5],
     };
 }
 
@@ -498,6 +545,23 @@ pub struct FillTuning {
     /// good (scaled Jacobian, before finishing) is taken without trying earlier
     /// steps ([`Mesher::rewind_and_fill`]).
     pub rewind_good: f64,
+    /// Steps a run may take (unless [`super::MeshParams::max_steps`] is set):
+    /// this many per element its finest segment would make of the domain
+    /// (or per boundary node, if more), plus [`FillTuning::step_limit_extra`].
+    pub step_limit_per_element: usize,
+    /// See [`FillTuning::step_limit_per_element`].
+    pub step_limit_extra: usize,
+    /// Steps the fill budget allows beyond [`FillTuning::budget`] elements
+    /// and one step per boundary node.
+    pub budget_extra: usize,
+    /// Where a rewind goes back to, as fractions `a / b` of the steps taken,
+    /// tried in order ([`FillTuning::rewind_good`]).
+    pub rewind_to: [(usize, usize); 7],
+    /// A fill that fails is tried again after the steps taken so far over
+    /// this many, and at least [`FillTuning::retry_min`] steps.
+    pub retry_share: usize,
+    /// See [`FillTuning::retry_share`].
+    pub retry_min: usize,
 }
 
 impl FillTuning {
@@ -506,6 +570,12 @@ impl FillTuning {
         budget: 3.0,
         rings: 3,
         rewind_good: 0.2,
+        step_limit_per_element: 8,
+        step_limit_extra: 10_000,
+        budget_extra: 200,
+        rewind_to: [(3, 4), (1, 2), (1, 4), (1, 8), (1, 16), (1, 32), (0, 1)],
+        retry_share: 4,
+        retry_min: 50,
     };
 }
 
