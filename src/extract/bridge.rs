@@ -140,8 +140,8 @@ impl Mesher {
         self.push_quad(quad);
         r.quads.push(quad);
         self.front.relink(s, t, &self.mesh.nodes);
-        self.rows.loops.push(self.front.slot(s).loop_id);
-        self.rows.loops.push(self.front.slot(t).loop_id);
+        self.rows.check_loop(self.front.slot(s).loop_id);
+        self.rows.check_loop(self.front.slot(t).loop_id);
         for x in [s, s1, t, t1, self.front.prev(s), self.front.prev(t)] {
             self.push(x);
         }

@@ -18,8 +18,22 @@ use crate::normalize::{Frame, LeadingPoints};
 /// rejected prediction, so a prediction met again is counted once.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Rejections {
-    pub(super) count: usize,
-    pub(super) inputs: std::collections::BTreeSet<Vec<u32>>,
+    count: usize,
+    inputs: std::collections::BTreeSet<Vec<u32>>,
+}
+
+impl Rejections {
+    /// The model's prediction at leading points `leading` was rejected.
+    pub(super) fn reject(&mut self, leading: &[u32]) {
+        if self.inputs.insert(leading.to_vec()) {
+            self.count += 1;
+        }
+    }
+
+    /// The rejections since the last step, counted afresh from here.
+    pub(super) fn take(&mut self) -> usize {
+        std::mem::take(&mut self.count)
+    }
 }
 
 /// A candidate element at a reference slot.
@@ -453,17 +467,16 @@ impl Mesher {
                 let (p0, r1, l1) = (f.node(s), f.node(rr), f.node(l));
                 let run = self.row_at(s).map(|row| {
                     let top = if row.right { l1 } else { r1 };
-                    self.runs.since[top as usize].saturating_add(1)
+                    self.runs.next(top)
                 });
                 let v = self.add_node(pn);
                 if let Some(run) = run {
-                    self.runs.since[v as usize] = run;
+                    self.runs.set(v, run);
                 }
                 self.push_quad([p0, r1, v, l1]);
                 if needle {
                     let corners = [p0, r1, v, l1].map(|k| self.mesh.nodes[k as usize]);
-                    self.watch.needle_quads.0 += 1;
-                    self.watch.needle_quads.1 += crate::geom::polygon_area(corners);
+                    self.watch.needle(crate::geom::polygon_area(corners));
                 }
                 self.front.replace_node(s, v, layer, &self.mesh.nodes);
                 r.new_nodes.push(v);

@@ -162,15 +162,6 @@ pub fn fill_six(pts: &[Point; 6]) -> Option<Fill> {
 
 /// A loop's slots, nodes and points, in loop order
 /// ([`Mesher::loop_geometry`]).
-/// The small-loop rung's state: per loop id, the
-/// [`Mesher::small_loop_key`] of the state in which that small loop last
-/// neither closed nor settled (0: none), so the same state is not tried
-/// again.
-#[derive(Clone, Debug, Default)]
-pub(super) struct SmallLoops {
-    pub(super) stuck: Vec<u64>,
-}
-
 pub(super) type LoopGeometry = (Vec<SlotId>, Vec<u32>, Vec<Point>);
 
 /// True when a loop's nodes repeat one (the loop touches itself there):

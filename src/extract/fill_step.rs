@@ -15,8 +15,20 @@ use crate::geom::Point;
 /// fails).
 #[derive(Clone, Debug, Default)]
 pub(super) struct FillBudget {
-    pub(super) after: usize,
-    pub(super) retry_at: usize,
+    after: usize,
+    retry_at: usize,
+}
+
+impl FillBudget {
+    /// A budget of `after` steps.
+    pub(super) fn new(after: usize) -> FillBudget {
+        FillBudget { after, retry_at: 0 }
+    }
+
+    /// The steps after which the region left is filled.
+    pub(super) fn after(&self) -> usize {
+        self.after
+    }
 }
 
 impl Mesher {

@@ -25,9 +25,64 @@ use std::f64::consts::PI;
 /// the boundary left behind.
 #[derive(Clone, Debug, Default)]
 pub(super) struct RowStarts {
-    pub(super) key: (u32, u32),
-    pub(super) loops: Vec<u32>,
-    pub(super) edges: Vec<SlotId>,
+    key: (u32, u32),
+    loops: Vec<u32>,
+    edges: Vec<SlotId>,
+}
+
+impl RowStarts {
+    /// Row starts for every loop of `loops` (a new front).
+    pub(super) fn new(loops: impl Iterator<Item = u32>) -> RowStarts {
+        RowStarts {
+            loops: loops.collect(),
+            ..RowStarts::default()
+        }
+    }
+
+    /// Loop `lid` is new (a split or a join made it): it is checked for a
+    /// first row.
+    pub(super) fn check_loop(&mut self, lid: u32) {
+        self.loops.push(lid);
+    }
+
+    /// Every loop of `live` is checked for a first row (instead of those
+    /// waiting).
+    pub(super) fn check_loops(&mut self, live: Vec<u32>) {
+        self.loops = live;
+    }
+
+    /// The front was built anew (loop and slot ids from before mean
+    /// nothing now): every loop of `live` is checked for a first row, and
+    /// no front edge waits for one.
+    pub(super) fn front_rebuilt(&mut self, live: Vec<u32>) {
+        self.loops = live;
+        self.edges.clear();
+    }
+}
+
+/// The small-loop rung's state: per loop id, the
+/// [`Mesher::small_loop_key`] of the state in which that small loop last
+/// neither closed nor settled (0: none), so the same state is not tried
+/// again.
+#[derive(Clone, Debug, Default)]
+pub(super) struct SmallLoops {
+    stuck: Vec<u64>,
+}
+
+/// The repairs' budgets: rip-ups and relaxations taken so far, and
+/// relaxations since the last other step.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Repairs {
+    rip_ups: usize,
+    relaxes: usize,
+    relax_streak: usize,
+}
+
+impl Repairs {
+    /// A step of another kind than a relaxation was taken.
+    pub(super) fn other_step(&mut self) {
+        self.relax_streak = 0;
+    }
 }
 
 /// The rungs of the step ladder: what one automatic step tries, in the
@@ -262,9 +317,9 @@ impl Mesher {
         }
         let (due, error) = match rung {
             Rung::FillDue => (
-                self.record.history.len() >= self.fill.after,
+                self.record.history.len() >= self.fill.after(),
                 Some(MeshError::StepLimit {
-                    limit: self.fill.after,
+                    limit: self.fill.after(),
                     remaining: self.front.len(),
                 }),
             ),

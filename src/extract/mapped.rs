@@ -33,8 +33,8 @@ pub const SIDE_TURN: f64 = 35.0;
 /// (`mapped`) and for a strip's best grid (`strip`); 0: never.
 #[derive(Clone, Debug, Default)]
 pub(super) struct GridsSeen {
-    pub(super) mapped: Vec<u32>,
-    pub(super) strip: Vec<u32>,
+    mapped: Vec<u32>,
+    strip: Vec<u32>,
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -82,9 +82,7 @@ impl Mesher {
         for (c, remedy) in cands {
             let Some(score) = self.check(c, limits) else {
                 if self.params.pure_model && !rules {
-                    if self.rejections.inputs.insert(leading.clone()) {
-                        self.rejections.count += 1;
-                    }
+                    self.rejections.reject(&leading);
                     return Ok(None);
                 }
                 continue;

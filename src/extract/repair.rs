@@ -10,15 +10,6 @@ use crate::front::{Front, SlotId};
 use crate::geom::{ccw_angle, Point};
 use std::f64::consts::PI;
 
-/// The repairs' budgets: rip-ups and relaxations taken so far, and
-/// relaxations since the last other step.
-#[derive(Clone, Debug, Default)]
-pub(super) struct Repairs {
-    pub(super) rip_ups: usize,
-    pub(super) relaxes: usize,
-    pub(super) relax_streak: usize,
-}
-
 /// Where [`Mesher::square_cut`] looks for the shortest front edge.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Squares {
@@ -77,7 +68,8 @@ impl Mesher {
                 r.new_nodes = split.new_nodes;
             }
         }
-        self.rows.loops = self.front.live_loops().collect();
+        let live: Vec<u32> = self.front.live_loops().collect();
+        self.rows.check_loops(live);
         r
     }
 
@@ -152,8 +144,8 @@ impl Mesher {
         }
         // The front was built anew: loop and slot ids from before mean
         // nothing now.
-        self.rows.loops = self.front.live_loops().collect();
-        self.rows.edges.clear();
+        let live: Vec<u32> = self.front.live_loops().collect();
+        self.rows.front_rebuilt(live);
         (count, mark)
     }
 
@@ -665,8 +657,8 @@ impl Mesher {
         let ids = self.front.insert_after(a, &seq, layer, &self.mesh.nodes);
         let b_star = ids[k];
         self.front.exchange_successors(b_star, b, &self.mesh.nodes);
-        self.rows.loops.push(self.front.slot(a).loop_id);
-        self.rows.loops.push(self.front.slot(b).loop_id);
+        self.rows.check_loop(self.front.slot(a).loop_id);
+        self.rows.check_loop(self.front.slot(b).loop_id);
         let mut touched = vec![a, b, b_star, ids[ids.len() - 1]];
         touched.extend(ids.iter().copied());
         for s in touched {

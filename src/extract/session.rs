@@ -6,15 +6,13 @@
 
 use super::candidate::Cand;
 use super::candidate::Rejections;
-use super::closure::SmallLoops;
 use super::fill_step::FillBudget;
 use super::guard::{Limits, Scratch};
-use super::ladder::RowStarts;
+use super::ladder::{Repairs, RowStarts, SmallLoops};
 use super::mapped::GridsSeen;
 use super::memo::EvalMemo;
 use super::params::MeshParams;
 use super::queue::RefQueue;
-use super::repair::Repairs;
 use super::report::{
     Action, CheckedElement, Correction, MeshError, RunProgress, StepKind, StepOutcome, StepReport,
     StepStats,
@@ -167,10 +165,7 @@ impl Mesher {
             grids: GridsSeen::default(),
             runs: RowRuns::default(),
             repairs: Repairs::default(),
-            fill: FillBudget {
-                after: fill_after,
-                retry_at: 0,
-            },
+            fill: FillBudget::new(fill_after),
             watch: ProgressWatch::default(),
             rejections: Rejections::default(),
             memo: EvalMemo::default(),
@@ -186,9 +181,9 @@ impl Mesher {
                 step_limit,
             },
         };
-        m.rows.loops = m.front.live_loops().collect();
+        m.rows = RowStarts::new(m.front.live_loops());
         m.incident = vec![Vec::new(); m.mesh.nodes.len()];
-        m.runs.since = vec![super::transition::FRESH_ROW; m.mesh.nodes.len()];
+        m.runs = RowRuns::new(m.mesh.nodes.len());
         for s in 0..m.front.slots.len() as SlotId {
             m.push(s);
         }
@@ -367,9 +362,9 @@ impl Mesher {
             Some(bb) => self.memo.changed(bb.min, bb.max),
             None => self.memo.clear(),
         }
-        r.rejected = std::mem::take(&mut self.rejections.count);
+        r.rejected = self.rejections.take();
         if r.kind != StepKind::Relax {
-            self.repairs.relax_streak = 0;
+            self.repairs.other_step();
         }
         self.record.history.push(Action::Auto);
         self.record.undone.clear();
@@ -669,7 +664,7 @@ impl Mesher {
     pub(super) fn add_node(&mut self, p: Point) -> u32 {
         self.mesh.nodes.push(p);
         self.incident.push(Vec::new());
-        self.runs.since.push(super::transition::FRESH_ROW);
+        self.runs.add_node();
         (self.mesh.nodes.len() - 1) as u32
     }
 
@@ -680,7 +675,7 @@ impl Mesher {
             self.incident[v as usize].push(k);
             centre += self.mesh.nodes[v as usize];
         }
-        self.watch.asked += self.size.at(centre * 0.25).powi(2);
+        self.watch.made(self.size.at(centre * 0.25));
         self.mesh.quads.push(q);
     }
 

@@ -34,12 +34,37 @@ use std::f64::consts::PI;
 /// ([`FRESH_ROW`] for a node no row made).
 #[derive(Clone, Debug, Default)]
 pub(super) struct RowRuns {
-    pub(super) since: Vec<u32>,
+    since: Vec<u32>,
+}
+
+impl RowRuns {
+    /// Runs for `nodes` nodes no row made.
+    pub(super) fn new(nodes: usize) -> RowRuns {
+        RowRuns {
+            since: vec![FRESH_ROW; nodes],
+        }
+    }
+
+    /// A new node, made by no row yet.
+    pub(super) fn add_node(&mut self) {
+        self.since.push(FRESH_ROW);
+    }
+
+    /// The run of the row element whose top is node `top`, one element
+    /// on: what the element's new node carries.
+    pub(super) fn next(&self, top: u32) -> u32 {
+        self.since[top as usize].saturating_add(1)
+    }
+
+    /// Node `v` carries run `run`.
+    pub(super) fn set(&mut self, v: u32, run: u32) {
+        self.since[v as usize] = run;
+    }
 }
 
 /// What a node's row count ([`Mesher::row_run`]) starts at: a row's first
 /// element may be a transition.
-pub(super) const FRESH_ROW: u32 = u32::MAX / 2;
+const FRESH_ROW: u32 = u32::MAX / 2;
 
 impl Mesher {
     /// The transition element at reference slot `s` when the row `s`

@@ -9,15 +9,28 @@ use super::session::Mesher;
 pub(super) struct ProgressWatch {
     /// One checkpoint per [`WatchTuning::every`](super::tuning::WatchTuning::every) steps: (step, area still
     /// open, [`ProgressWatch::asked`] then, front nodes then).
-    pub(super) checkpoints: Vec<(usize, f64, f64, usize)>,
+    checkpoints: Vec<(usize, f64, f64, usize)>,
     /// The area the size field asks of the quads made so far: the sum of
     /// h² at the centre of every quad extraction has made (the watch's
     /// second measure).
-    pub(super) asked: f64,
+    asked: f64,
     /// Quads that closed a needle ([`Mesher::needle_kite`]) and their
     /// area: the watch leaves them out of its mean (a fan of long needles
     /// would make every later quad look like no progress).
-    pub(super) needle_quads: (usize, f64),
+    needle_quads: (usize, f64),
+}
+
+impl ProgressWatch {
+    /// A quad was made where the size field asks for `h`.
+    pub(super) fn made(&mut self, h: f64) {
+        self.asked += h.powi(2);
+    }
+
+    /// A quad of `area` closed a needle.
+    pub(super) fn needle(&mut self, area: f64) {
+        self.needle_quads.0 += 1;
+        self.needle_quads.1 += area;
+    }
 }
 
 impl Mesher {
