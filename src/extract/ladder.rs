@@ -147,6 +147,11 @@ pub enum Rung {
     User,
 }
 
+/// Loops of at most this many nodes are closed by the final patterns
+/// ([`Rung::SmallLoop`]: 4 nodes by one quad, 6 by the patterns of thesis
+/// Figure 20); fixed by the method, not tuned.
+const CLOSED_LOOP: usize = 6;
+
 /// The step ladder: the order one automatic step tries its rungs in.
 pub const LADDER: [Rung; 18] = [
     Rung::FillDue,
@@ -375,7 +380,7 @@ impl Mesher {
         self.queue_rows_behind();
         while let Some(lid) = self.rows.loops.pop() {
             if self.front.loops[lid as usize].alive
-                && self.front.loops[lid as usize].len > 6
+                && self.front.loops[lid as usize].len > CLOSED_LOOP
                 && !self.loop_has_reference(lid)
             {
                 if let Some(r) = self.bridge(
@@ -394,7 +399,7 @@ impl Mesher {
         while let Some(s) = self.rows.edges.pop() {
             let t = self.front.next(s);
             if self.front.slot(s).alive
-                && self.front.loop_len(s) > 6
+                && self.front.loop_len(s) > CLOSED_LOOP
                 && self.front.angle(s, &self.mesh.nodes) > hi
                 && self.front.angle(t, &self.mesh.nodes) > hi
             {
@@ -413,7 +418,7 @@ impl Mesher {
         let small: Vec<u32> = self
             .front
             .live_loops()
-            .filter(|&l| self.front.loops[l as usize].len <= 6)
+            .filter(|&l| self.front.loops[l as usize].len <= CLOSED_LOOP)
             .collect();
         for lid in small {
             let key = self.small_loop_key(lid);
@@ -680,7 +685,7 @@ impl Mesher {
         for lid in loops {
             let slots = self.front.loop_slots(lid);
             let n = slots.len();
-            if n <= 6 || !slots.iter().any(|&s| self.slot_key(s) < top) {
+            if n <= CLOSED_LOOP || !slots.iter().any(|&s| self.slot_key(s) < top) {
                 continue;
             }
             let open: Vec<bool> = slots

@@ -106,6 +106,14 @@ pub(super) struct Record {
     pub(super) step_limit: usize,
 }
 
+/// A user's correction is checked with angle limits this near to none
+/// (radians): any element that is not degenerate is the user's to choose.
+const ANY_ANGLE: f64 = 1e-6;
+
+/// Element counts estimated from a domain's area are capped here, so a
+/// domain of microscopic segments gets a large budget, not an overflow.
+const ESTIMATE_CAP: f64 = 1e9;
+
 /// [`Mesher::undo`] keeps a [`Mesher::checkpoint`] this many actions
 /// before the end of the history, so the undos after it replay at most
 /// this many steps each, not the whole run.
@@ -139,12 +147,12 @@ impl Mesher {
             min_seg = min_seg.min(boundary.points[a].distance(boundary.points[b]));
         }
         let domain_area = boundary.area();
-        let est = (domain_area / (min_seg * min_seg)).min(1e9) as usize;
+        let est = (domain_area / (min_seg * min_seg)).min(ESTIMATE_CAP) as usize;
         let work = est.max(boundary.node_count());
         let step_limit = params.max_steps.unwrap_or(
             params.tuning.fill.step_limit_per_element * work + params.tuning.fill.step_limit_extra,
         );
-        let quads = size.quad_estimate().min(1e9);
+        let quads = size.quad_estimate().min(ESTIMATE_CAP);
         let fill_after = (params.tuning.fill.budget * quads) as usize
             + boundary.node_count()
             + params.tuning.fill.budget_extra;
@@ -433,9 +441,9 @@ impl Mesher {
             }
         };
         let relaxed = Limits {
-            min_corner: 1e-6,
-            max_corner: PI - 1e-6,
-            min_front: 1e-6,
+            min_corner: ANY_ANGLE,
+            max_corner: PI - ANY_ANGLE,
+            min_front: ANY_ANGLE,
         };
         match self.check(cand, relaxed) {
             Some(score) => Ok((s, cand, score)),
