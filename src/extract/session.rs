@@ -114,7 +114,7 @@ const ANY_ANGLE: f64 = 1e-6;
 /// domain of microscopic segments gets a large budget, not an overflow.
 const ESTIMATE_CAP: f64 = 1e9;
 
-/// [`Mesher::undo`] keeps a [`Mesher::checkpoint`] this many actions
+/// [`Mesher::undo`] keeps a [`Record::checkpoint`] this many actions
 /// before the end of the history, so the undos after it replay at most
 /// this many steps each, not the whole run.
 pub const CHECKPOINT_BEHIND: usize = 512;
@@ -530,7 +530,7 @@ impl Mesher {
     }
 
     /// Undoes the last step by replaying the others (steps are
-    /// deterministic), from the [`Mesher::checkpoint`] if there is one
+    /// deterministic), from the [`Record::checkpoint`] if there is one
     /// before the step, else from the start. Unless the checkpoint is at
     /// most `2 ×` [`CHECKPOINT_BEHIND`] actions back, the replay keeps a new
     /// one [`CHECKPOINT_BEHIND`] actions before the end. Undo after undo
@@ -601,7 +601,7 @@ impl Mesher {
         self.replayed_keeping(actions, None)
     }
 
-    /// The [`Mesher::checkpoint`], if a replay of the first `n` actions of
+    /// The [`Record::checkpoint`], if a replay of the first `n` actions of
     /// the history can start from it.
     fn usable_checkpoint(&self, n: usize) -> Option<&Arc<Mesher>> {
         let c = self
@@ -613,7 +613,7 @@ impl Mesher {
         Some(c)
     }
 
-    /// [`Mesher::replayed`] from the [`Mesher::checkpoint`] when it can
+    /// [`Mesher::replayed`] from the [`Record::checkpoint`] when it can
     /// start there; keeps a new checkpoint after `keep_at` actions (if the
     /// replay passes there), else the one it started from.
     fn replayed_keeping(&self, actions: &[Action], keep_at: Option<usize>) -> Mesher {

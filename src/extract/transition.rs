@@ -62,7 +62,7 @@ impl RowRuns {
     }
 }
 
-/// What a node's row count ([`Mesher::row_run`]) starts at: a row's first
+/// What a node's row count ([`RowRuns`]) starts at: a row's first
 /// element may be a transition.
 const FRESH_ROW: u32 = u32::MAX / 2;
 

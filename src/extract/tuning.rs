@@ -272,7 +272,7 @@ pub struct TransitionTuning {
     /// inside). There the mean over the window counts instead. Twice the
     /// longest run between transitions (`k` ≈ 6 at the default ratio) always
     /// takes in a template's top; at a ratio nearer one, transitions stand
-    /// further apart and [`Mesher::spacing_reach`] looks further.
+    /// further apart and `spacing_reach` looks further.
     pub spacing_reach: isize,
     /// A front edge this many times as wide as the stretch's mean is taken for
     /// the top of an earlier transition (a template's top is three times as
@@ -311,7 +311,7 @@ pub struct RepairTuning {
     /// A chord passes every front node other than its ends at least this far,
     /// as a share of the front's spacing at its ends.
     pub chord_clearance: f64,
-    /// A square cut where no reference point works ([`Squares::Any`]) is made
+    /// A square cut where no reference point works (`Squares::Any`) is made
     /// lower than its edge is long (0.7 or 0.5 of it) only if its sides stay
     /// at least this share of the size there. Otherwise a stuck loop's
     /// squares shrink by half at each cut, each on the side of the one before
