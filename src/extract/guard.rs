@@ -269,9 +269,6 @@ fn touches(ids: &[Option<u32>; 4], c: u32, d: u32) -> bool {
     ids.contains(&Some(c)) || ids.contains(&Some(d))
 }
 
-/// A sunburst of `n` needles from radius 0.05 to 1, counter-clockwise:
-/// tips at even indices, the ends between them at odd ones.
-
 impl Mesher {
     /// The guard on one candidate: its score when it passes.
     pub(super) fn check(&mut self, c: Cand, limits: Limits) -> Option<f64> {
@@ -444,6 +441,8 @@ impl Mesher {
     }
 }
 
+/// A sunburst of `n` needles from radius 0.05 to 1, counter-clockwise:
+/// tips at even indices, the ends between them at odd ones.
 #[cfg(test)]
 pub(crate) fn sunburst(n: usize) -> Vec<Point> {
     (0..n)
