@@ -161,7 +161,10 @@ fn mesh<'py>(
 /// The figures of a mesh (`quadex quality`'s JSON) and its arrays.
 fn mesh_dict<'py>(py: Python<'py>, m: &QuadMesh) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    d.set_item("points", f64_bytes(py, m.nodes.iter().flat_map(|p| [p.x, p.y])))?;
+    d.set_item(
+        "points",
+        f64_bytes(py, m.nodes.iter().flat_map(|p| [p.x, p.y])),
+    )?;
     let quads: Vec<u32> = m.quads.iter().flatten().copied().collect();
     d.set_item("cells", u32_bytes(py, &quads))?;
     Ok(d)
@@ -173,6 +176,10 @@ fn element_type(t: u8) -> PyResult<ElementType> {
         .copied()
         .ok_or_else(|| PyTypeError::new_err(format!("element type {t}: 0, 1 or 2")))
 }
+
+/// An element as (type, xn, yn): the model's output in the normalised
+/// frame.
+type Element = (u8, f64, f64);
 
 /// The step API over one boundary (see the package's `quadex.Mesher`).
 #[pyclass(name = "_Mesher", module = "quadex._quadex")]
@@ -264,7 +271,7 @@ impl PyMesher {
 
     /// The model's element at the observed reference point: (type, xn,
     /// yn) in the normalised frame and Pn in the world frame.
-    fn predict(&mut self) -> PyResult<((u8, f64, f64), (f64, f64))> {
+    fn predict(&mut self) -> PyResult<(Element, (f64, f64))> {
         let (p, w) = guarded(|| self.s.predict())?;
         Ok(((p.element_type.number(), p.pn.x, p.pn.y), (w.x, w.y)))
     }

@@ -226,7 +226,9 @@ pub fn read_boundary(src: &Source, resample: Option<f64>) -> Result<Boundary, St
     let loops = match src {
         Source::File(path) => {
             if is_geometry(path) {
-                return Err(at(&"a drawing is meshed whole: use quadex.mesh(path, size=H)"));
+                return Err(at(
+                    &"a drawing is meshed whole: use quadex.mesh(path, size=H)",
+                ));
             }
             if crate::io::read_regions(path).map_err(|e| at(&e))?.is_some() {
                 return Err(at(
@@ -344,7 +346,9 @@ pub fn mesh(src: &Source, o: &Options) -> Result<Output, String> {
     let mut drawing = None;
     let graph = match src {
         Source::File(path) if is_geometry(path) => {
-            let is_dxf = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("dxf"));
+            let is_dxf = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("dxf"));
             let doc = if is_dxf {
                 crate::cad::CadDocument {
                     geometry: crate::cad::read_dxf(path).map_err(|e| at(&e))?,

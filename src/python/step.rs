@@ -309,7 +309,10 @@ impl Stepper {
             snap_to,
         };
         if element_type == ElementType::New && pn.is_none() && snap_to.is_none() {
-            return Err(format!("{}: a type 0 element needs pn or snap_to", self.label));
+            return Err(format!(
+                "{}: a type 0 element needs pn or snap_to",
+                self.label
+            ));
         }
         let score = match self.mesher.check_correction(&c) {
             Ok(e) => e.score,
@@ -354,7 +357,10 @@ impl Stepper {
     pub fn corners(&self, r: &StepReport) -> Vec<[Point; 4]> {
         r.quads
             .iter()
-            .filter(|q| q.iter().all(|&v| (v as usize) < self.mesher.mesh().nodes.len()))
+            .filter(|q| {
+                q.iter()
+                    .all(|&v| (v as usize) < self.mesher.mesh().nodes.len())
+            })
             .map(|q| self.mesher.mesh().corners(q).map(|p| p + self.origin))
             .collect()
     }
