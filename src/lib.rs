@@ -52,6 +52,8 @@ pub mod order2;
 pub mod pipeline;
 pub mod predict;
 pub mod pslg;
+#[cfg(feature = "python")]
+pub mod python;
 pub mod quality;
 pub mod reference;
 pub mod regions;
