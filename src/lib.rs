@@ -19,7 +19,7 @@
 //! (validation), [`front`] (the advancing front), [`normalize`] (thesis
 //! §3.2), [`model`] (rules, the thesis preset, fitted models and their
 //! files), [`extract`] (the step loop, guard, closure, fill), [`smooth`],
-//! [`cleanup`], [`coarsen`] (chord coarsening), [`quality`], [`io`] (file
+//! [`finish`] (cleanup, chord coarsening, remeshing), [`quality`], [`io`] (file
 //! formats), [`samples`] (training samples, thesis Chapter 3), [`fit`]
 //! (model fitting and fit figures, Chapter 4), [`factors`] (critical
 //! factors, §4.2), [`predict`] (a model's answers
@@ -34,12 +34,11 @@ pub mod app;
 pub mod boundary;
 pub mod boundary_edit;
 pub mod cad;
-pub mod cleanup;
-pub mod coarsen;
 pub mod compare;
 pub mod domains;
 pub mod extract;
 pub mod factors;
+pub mod finish;
 pub mod fit;
 pub mod front;
 pub mod geom;
@@ -55,7 +54,6 @@ pub mod pslg;
 pub mod quality;
 pub mod reference;
 pub mod regions;
-pub mod remesh;
 pub mod rng;
 pub mod samples;
 pub mod smooth;
@@ -68,3 +66,7 @@ pub use mesh::QuadMesh;
 pub use model::{ElementType, Model, Prediction};
 pub use pipeline::{mesh_boundary, FinishParams, Params};
 pub use quality::{MeshQuality, QuadQuality};
+
+// The finishing steps under their former paths, for the command line and
+// the editor until their imports name `finish`.
+pub use finish::{cleanup, coarsen, remesh};
