@@ -49,8 +49,8 @@
 //!   default cargo feature `gui`).
 //!
 //! Private: `mapped` (transfinite mapped meshing of four-sided blocks, for
-//! the reference meshes, and the Coons patch extraction's mapped closure
-//! shares), `spade_guard` (calls into spade that may panic) and `domains`
+//! the reference meshes, and the Coons patch of extraction's mapped
+//! closure), `spade_guard` (calls into spade that may panic) and `domains`
 //! (the seeded generator of awkward test domains the reference meshes and
 //! the tests use), which the cargo feature `domains` (not default) makes
 //! public as `quadex::domains`.
