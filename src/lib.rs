@@ -96,7 +96,3 @@ pub use mesh::QuadMesh;
 pub use model::{ElementType, Model, Prediction};
 pub use pipeline::{mesh_boundary, FinishParams, Params};
 pub use quality::{MeshQuality, QuadQuality};
-
-// The finishing steps under their former paths, for the command line and
-// the editor until their imports name `finish`.
-pub use finish::{cleanup, coarsen, remesh};
