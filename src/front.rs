@@ -143,7 +143,8 @@ impl EdgeGrid {
     }
 
     /// Files `s` under every cell of the box `lo..hi` (an id already filed
-    /// is moved).
+    /// is moved). Only the editor's quad index uses it.
+    #[cfg_attr(not(feature = "gui"), allow(dead_code))]
     pub(crate) fn insert_box(&mut self, s: SlotId, lo: Point, hi: Point) {
         self.file(s, lo, hi, None);
     }

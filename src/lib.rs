@@ -15,36 +15,65 @@
 //! io::write_mesh(&mesh, "square.msh".as_ref()).unwrap();
 //! ```
 //!
-//! Modules, one algorithm each: [`geom`] (predicates), [`boundary`]
-//! (validation), [`front`] (the advancing front), [`normalize`] (thesis
-//! §3.2), [`model`] (rules, the thesis preset, fitted models and their
-//! files), [`extract`] (the step loop, guard, closure, fill), [`smooth`],
-//! [`cleanup`], [`coarsen`] (chord coarsening), [`quality`], [`io`] (file
-//! formats), [`samples`] (training samples, thesis Chapter 3), [`fit`]
-//! (model fitting and fit figures, Chapter 4), [`factors`] (critical
-//! factors, §4.2), [`predict`] (a model's answers
-//! for rows of inputs), [`domains`] (seeded awkward test
-//! domains), [`mapped`] (transfinite mapped meshing) and
-//! [`reference`](mod@reference) (the meshes the shipped model learns from).
-//! `app` is the desktop editor, the only module that uses egui (behind the
-//! default cargo feature `gui`).
+//! ## The public surface
+//!
+//! The items most programs need are re-exported here at the root:
+//! [`Boundary`], [`Point`], [`QuadMesh`], the [`Mesher`] step API and its
+//! parameters and reports, [`mesh_boundary`] with [`Params`] and
+//! [`FinishParams`], the [`Model`] trait and [`ElementType`], and the
+//! quality figures [`MeshQuality`] and [`QuadQuality`].
+//!
+//! The public namespaces, one subject each, in layers (each uses only those
+//! above it):
+//!
+//! - geometry: [`geom`] (predicates, angles), [`rng`] (the seeded
+//!   generator), [`boundary`] (validation), [`boundary_edit`] (the
+//!   editor's boundary drafts), [`pslg`] (graphs of several regions);
+//! - mesh: [`mesh`], [`quality`], [`smooth`], [`order2`] (9-node quads),
+//!   [`io`] (file formats);
+//! - the advancing front and the models: [`front`], [`normalize`] (thesis
+//!   §3.2), [`model`] (rules, the thesis preset, fitted models, their
+//!   files and the training sample they carry);
+//! - [`extract`]: element extraction, the [`Mesher`] step API;
+//! - [`finish`]: cleanup, chord coarsening, remeshing of bad regions;
+//!   [`pipeline`]: extraction then finishing; [`regions`]: several faces
+//!   meshed and merged; [`compare`]: one boundary by several models;
+//!   [`cad`]: drawings (DXF, JSON geometry) joined into graphs at a size
+//!   field;
+//! - the learning side: [`samples`] (training sets, thesis Chapter 3),
+//!   [`fit`] (fitting and fit figures, Chapter 4), [`factors`] (critical
+//!   factors, §4.2), [`predict`] (a model's answers for rows of inputs),
+//!   [`reference`](mod@reference) (the meshes the shipped model learns
+//!   from);
+//! - `app`: the desktop editor, the only module that uses egui (behind the
+//!   default cargo feature `gui`).
+//!
+//! Private: `mapped` (transfinite mapped meshing of four-sided blocks, for
+//! the reference meshes, and the Coons patch of extraction's mapped
+//! closure), `spade_guard` (calls into spade that may panic) and `domains`
+//! (the seeded generator of awkward test domains the reference meshes and
+//! the tests use), which the cargo feature `domains` (not default) makes
+//! public as `quadex::domains`.
 
 #[cfg(feature = "gui")]
 pub mod app;
 pub mod boundary;
 pub mod boundary_edit;
 pub mod cad;
-pub mod cleanup;
-pub mod coarsen;
 pub mod compare;
+#[cfg(feature = "domains")]
 pub mod domains;
+#[cfg(not(feature = "domains"))]
+#[allow(dead_code)] // most of it serves the tests, through the feature
+mod domains;
 pub mod extract;
 pub mod factors;
+pub mod finish;
 pub mod fit;
 pub mod front;
 pub mod geom;
 pub mod io;
-pub mod mapped;
+mod mapped;
 pub mod mesh;
 pub mod model;
 pub mod normalize;
@@ -57,7 +86,6 @@ pub mod python;
 pub mod quality;
 pub mod reference;
 pub mod regions;
-pub mod remesh;
 pub mod rng;
 pub mod samples;
 pub mod smooth;

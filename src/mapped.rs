@@ -36,7 +36,11 @@ impl Block {
         }
     }
 
-    /// The Coons patch at `(u, v)`.
+    /// The Coons patch at `(u, v)`: [`coons`]' formula with the corner
+    /// terms summed in the order 00, 10, 01, 11. The shipped reference
+    /// meshes and the models fitted to them were made with this order;
+    /// [`coons`]' order changes four of them and both shipped models at the
+    /// rounding level, and with the default model the benchmark meshes.
     pub fn at(&self, u: f64, v: f64) -> Point {
         let (b, t, l, r) = (&self.bottom, &self.top, &self.left, &self.right);
         let (p00, p10, p01, p11) = (b(0.0), b(1.0), t(0.0), t(1.0));
@@ -51,6 +55,19 @@ impl Block {
     pub fn grid(&self, us: &[f64], vs: &[f64]) -> Vec<[Point; 4]> {
         map_grid(us, vs, |u, v| self.at(u, v))
     }
+}
+
+/// The Coons patch (bilinearly blended transfinite interpolation) at
+/// `(u, v)`: `sides` are the points of the bottom and top at `u` and of
+/// the left and right at `v`, `corners` the corners 00, 10, 11 and 01
+/// (counter-clockwise). Extraction's mapped closure places its grid nodes
+/// with it; the sum's order is the one its meshes were made with.
+#[inline]
+pub fn coons(u: f64, v: f64, sides: [Point; 4], corners: [Point; 4]) -> Point {
+    let [bottom, top, left, right] = sides;
+    let [c00, c10, c11, c01] = corners;
+    (1.0 - v) * bottom + v * top + (1.0 - u) * left + u * right
+        - ((1.0 - u) * (1.0 - v) * c00 + u * (1.0 - v) * c10 + u * v * c11 + (1.0 - u) * v * c01)
 }
 
 /// Quads of the grid over parameter values `us × vs` (each increasing from

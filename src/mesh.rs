@@ -115,14 +115,6 @@ impl QuadMesh {
         q.map(|i| self.nodes[i as usize])
     }
 
-    /// The smallest scaled Jacobian of the quads (infinity with none).
-    pub fn worst_scaled_jacobian(&self) -> f64 {
-        self.quads
-            .iter()
-            .map(|q| crate::quality::Shape::of(self.corners(q)).scaled_jacobian)
-            .fold(f64::INFINITY, f64::min)
-    }
-
     /// Area of the domain the boundary loops enclose.
     pub fn domain_area(&self) -> f64 {
         self.loops

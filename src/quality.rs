@@ -87,6 +87,18 @@ impl Shape {
     }
 }
 
+/// Mesh-wide figures that need [`Shape`]: kept here, beside the formulas,
+/// so that `mesh` does not import `quality`.
+impl QuadMesh {
+    /// The smallest scaled Jacobian of the quads (infinity with none).
+    pub fn worst_scaled_jacobian(&self) -> f64 {
+        self.quads
+            .iter()
+            .map(|q| Shape::of(self.corners(q)).scaled_jacobian)
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
 /// Quality figures of one quad.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct QuadQuality {

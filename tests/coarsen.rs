@@ -4,8 +4,8 @@
 
 mod common;
 
-use quadex::coarsen::CoarsenParams;
 use quadex::extract::Mesher;
+use quadex::finish::coarsen::CoarsenParams;
 use quadex::pipeline::{finish, FinishParams};
 use quadex::{io, MeshParams, MeshQuality};
 use std::sync::Arc;

@@ -2398,7 +2398,7 @@ fn chord_coarsening_is_turned_off_in_the_finishing_panel_without_stepping_again(
     let without = refinished(&mut h, with);
     assert_eq!(
         h.state().doc().settings.coarsen,
-        quadex::coarsen::CoarsenParams::OFF
+        quadex::finish::coarsen::CoarsenParams::OFF
     );
     assert_eq!(h.state().doc().steps(), steps);
     // As the command line finishes the same boundary with --no-coarsen.
@@ -2406,7 +2406,7 @@ fn chord_coarsening_is_turned_off_in_the_finishing_panel_without_stepping_again(
     let model = std::sync::Arc::new(quadex::model::default_model().unwrap());
     let params = quadex::Params {
         finish: quadex::FinishParams {
-            coarsen: quadex::coarsen::CoarsenParams::OFF,
+            coarsen: quadex::finish::coarsen::CoarsenParams::OFF,
             ..quadex::FinishParams::DEFAULT
         },
         ..quadex::Params::default()

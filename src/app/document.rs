@@ -11,12 +11,13 @@ use super::framed::Framed;
 use super::regions::Regions;
 use crate::boundary::BoundaryError;
 use crate::boundary_edit::Draft;
-use crate::cleanup::CleanupParams;
-use crate::coarsen::CoarsenParams;
 use crate::compare;
 use crate::extract::{
     Action, CheckedElement, Correction, MeshParams, StepKind, StepOutcome, StepReport, Strategy,
 };
+use crate::finish::cleanup::CleanupParams;
+use crate::finish::coarsen::CoarsenParams;
+use crate::finish::remesh::RemeshParams;
 use crate::fit::{self, Figures, FitParams, TypeFigures};
 use crate::geom::Point;
 use crate::io;
@@ -27,7 +28,6 @@ use crate::model::{self, ElementType, Form, Model as _, ModelFile};
 use crate::pipeline::FinishParams;
 use crate::pslg::Pslg;
 use crate::regions::RegionMesh;
-use crate::remesh::RemeshParams;
 use crate::samples::{Sample, SampleKeys, TrainingSet};
 use crate::smooth::SmoothParams;
 use crate::Boundary;

@@ -6,10 +6,10 @@
 use super::command::Command;
 use super::document::Settings;
 use super::{Document, Figures, MeshKind};
-use crate::cleanup::CleanupParams;
-use crate::coarsen::CoarsenParams;
+use crate::finish::cleanup::CleanupParams;
+use crate::finish::coarsen::CoarsenParams;
+use crate::finish::remesh::RemeshParams;
 use crate::quality::MeshQuality;
-use crate::remesh::RemeshParams;
 use crate::smooth::SmoothParams;
 use egui::Ui;
 use std::ops::RangeInclusive;

@@ -19,6 +19,7 @@ use super::closure::{is_pinched, LoopGeometry};
 use super::report::{StepKind, StepReport};
 use super::session::Mesher;
 use crate::geom::{is_measurably_convex, Point};
+use crate::mapped::coons;
 use crate::quality::Shape;
 
 /// A node whose front angle is under this (degrees) is a corner.
@@ -186,15 +187,8 @@ pub fn grid(pts: &[Point], corners: [usize; 4]) -> Grid {
             let (du, dv) = (ut[i] - ub[i], vr[j] - vl[j]);
             let u = (ub[i] + vl[j] * du) / (1.0 - du * dv);
             let v = vl[j] + u * dv;
-            let p = (1.0 - v) * pts[bottom[i]]
-                + v * pts[top[i]]
-                + (1.0 - u) * pts[left[j]]
-                + u * pts[right[j]]
-                - ((1.0 - u) * (1.0 - v) * c00
-                    + u * (1.0 - v) * c10
-                    + u * v * c11
-                    + (1.0 - u) * v * c01);
-            points.push(p);
+            let sides = [pts[bottom[i]], pts[top[i]], pts[left[j]], pts[right[j]]];
+            points.push(coons(u, v, sides, [c00, c10, c11, c01]));
         }
     }
     Grid { m, n, at, points }

@@ -470,7 +470,7 @@ impl Mesher {
     /// leading points, which never move while meshing) and the element
     /// committed. `None` for other steps. The editor appends these to the
     /// training set when the user accepts or corrects an element.
-    pub fn sample_of(&self, r: &StepReport) -> Option<crate::samples::Sample> {
+    pub fn sample_of(&self, r: &StepReport) -> Option<crate::model::sample::Sample> {
         if !matches!(r.kind, StepKind::Element | StepKind::Correction) {
             return None;
         }
@@ -481,13 +481,13 @@ impl Mesher {
         let pos = |v: u32| self.mesh.nodes.get(v as usize).copied();
         let left: Option<Vec<Point>> = (1..=n).map(|i| pos(r.leading[n - i])).collect();
         let right: Option<Vec<Point>> = (1..=n).map(|i| pos(r.leading[n + i])).collect();
-        crate::samples::Sample::from_front(
+        crate::model::sample::Sample::from_front(
             &left?,
             pos(p0)?,
             &right?,
             t,
             pos(pn)?,
-            crate::samples::Source::Correction,
+            crate::model::sample::Source::Correction,
         )
     }
 

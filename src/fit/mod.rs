@@ -13,11 +13,10 @@
 //! Linear algebra is nalgebra's.
 
 pub mod ann;
-pub mod figures;
 pub mod quadratic;
 pub mod thesis;
 
-pub use figures::{Figures, FitReport, Split, TypeFigures};
+pub use crate::model::figures::{Figures, FitReport, Split, TypeFigures};
 
 use crate::geom::Point;
 use crate::model::fitted::{Coefficients, ModelFile, TrainingSummary};

@@ -18,12 +18,12 @@
 //!
 //! The fitting itself is in [`crate::fit`].
 
+use super::figures::FitReport;
 use super::memory::CorrectionMemory;
+use super::sample::variable_points;
 use super::{ElementType, Model, Prediction};
-use crate::fit::FitReport;
 use crate::geom::Point;
 use crate::normalize::LeadingPoints;
-use crate::samples::variable_points;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 

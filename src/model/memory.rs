@@ -23,10 +23,10 @@
 //! square distance of the leading points that vary (every one but P0 and
 //! P_r1, [`distance`]).
 
+use super::sample::{variable_points, Sample};
 use super::{ElementType, Prediction};
 use crate::geom::Point;
 use crate::normalize::LeadingPoints;
-use crate::samples::{variable_points, Sample};
 use serde::{Deserialize, Serialize};
 
 /// The default radius of a correction, in normalised units (root mean
@@ -165,7 +165,7 @@ impl CorrectionMemory {
             ));
         }
         self.samples.iter().enumerate().find_map(|(k, s)| {
-            crate::samples::sample_problem(s, 2 * n + 1)
+            super::sample::sample_problem(s, 2 * n + 1)
                 .map(|msg| format!("correction {}: {msg}", k + 1))
         })
     }
@@ -174,7 +174,7 @@ impl CorrectionMemory {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::samples::Source;
+    use crate::model::sample::Source;
 
     fn input(dy: f64) -> LeadingPoints {
         let p = Point::new;

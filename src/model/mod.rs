@@ -9,9 +9,11 @@
 //! the editor treat the knowledge-based rules, the thesis's printed
 //! regression and fitted models alike.
 
+pub mod figures;
 pub mod fitted;
 pub mod memory;
 pub mod rules;
+pub mod sample;
 pub mod thesis;
 
 use crate::geom::Point;

@@ -5,16 +5,16 @@
 
 use crate::boundary::Boundary;
 use crate::boundary_edit::Draft;
-use crate::cleanup::CleanupParams;
-use crate::coarsen::CoarsenParams;
 use crate::extract::{MeshParams, StepStats, Strategy};
+use crate::finish::cleanup::CleanupParams;
+use crate::finish::coarsen::CoarsenParams;
+use crate::finish::remesh::RemeshParams;
 use crate::geom::Point;
 use crate::model::{self, Model};
 use crate::order2::Order2;
 use crate::pipeline::{self, FinishParams, Params};
 use crate::quality::MeshQuality;
 use crate::regions::RegionMesh;
-use crate::remesh::RemeshParams;
 use crate::smooth::SmoothParams;
 use std::path::PathBuf;
 use std::sync::Arc;

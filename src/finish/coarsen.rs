@@ -26,7 +26,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::cleanup::ideal_valences;
+use super::cleanup::ideal_valences;
 use crate::geom::{is_measurably_convex, Point};
 use crate::mesh::QuadMesh;
 use crate::quality::{QuadQuality, Shape};
@@ -553,7 +553,7 @@ mod tests {
 
     #[test]
     fn a_grid_has_no_closed_chord() {
-        let (nodes, quads) = crate::cleanup::tests::grid(6);
+        let (nodes, quads) = super::super::cleanup::tests::grid(6);
         let mesh = QuadMesh {
             nodes,
             quads,

@@ -665,10 +665,10 @@ pub(crate) mod tests {
         );
         let loops = vec![(0..56).collect(), (56..60).collect()];
         let b = crate::Boundary::new(pts, loops, None).unwrap();
-        let finish = crate::pipeline::FinishParams {
+        let finish = crate::finish::FinishParams {
             cleanup: CleanupParams::OFF,
-            remesh: crate::remesh::RemeshParams::OFF,
-            ..crate::pipeline::FinishParams::DEFAULT
+            remesh: crate::finish::remesh::RemeshParams::OFF,
+            ..crate::finish::FinishParams::DEFAULT
         };
         // Two layers and the region fill: a mesh with work for cleanup.
         let params = MeshParams {
@@ -677,7 +677,7 @@ pub(crate) mod tests {
         };
         let mut m = Mesher::new(b, std::sync::Arc::new(RulesModel::DEFAULT), params);
         m.run(|_| {}).unwrap();
-        crate::pipeline::finish(&m, &finish).unwrap()
+        crate::finish::finish(&m, &finish).unwrap()
     }
 
     #[test]

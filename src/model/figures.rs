@@ -3,7 +3,7 @@
 //! `DC = 1 − SSE/SST`; for the type also the accuracy and the confusion
 //! matrix. Laid out like thesis Table 8 by [`FitReport::table`].
 
-use crate::model::Form;
+use super::Form;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 

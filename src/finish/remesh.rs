@@ -28,54 +28,17 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use serde::{Deserialize, Serialize};
-
+use super::cleanup::{improve, CleanupParams};
+use super::params::FinishParams;
+pub use super::params::RemeshParams;
 use crate::boundary::Boundary;
-use crate::cleanup::{improve, CleanupParams};
 use crate::extract::size::SizeField;
 use crate::extract::{MeshParams, Mesher, StepKind, Strategy};
 use crate::geom::Point;
 use crate::mesh::{boundary_loops, QuadMesh};
 use crate::model::Model;
-use crate::pipeline::FinishParams;
 use crate::quality::{Shape, GOOD_RATIO};
 use crate::smooth::{after_change, smooth_and_optimize, unflatten, MAX_STRETCH};
-
-/// Local remeshing parameters.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
-pub struct RemeshParams {
-    /// Quads with a scaled Jacobian below this are remeshed with their
-    /// surroundings (default 0.7; 0 turns remeshing off).
-    pub below: f64,
-    /// Largest cavity, in rings of quads around the bad one (default 4;
-    /// cavities of 2 rings up to this are tried, the smallest that leaves
-    /// no bad quad wins).
-    pub rings: usize,
-    /// At most this many bad quads are tried per mesh (default 200), which
-    /// bounds the time remeshing can take on a large mesh.
-    pub max_regions: usize,
-}
-
-impl RemeshParams {
-    pub const DEFAULT: RemeshParams = RemeshParams {
-        below: 0.7,
-        rings: 4,
-        max_regions: 200,
-    };
-    /// No remeshing.
-    pub const OFF: RemeshParams = RemeshParams {
-        below: 0.0,
-        rings: 4,
-        max_regions: 200,
-    };
-}
-
-impl Default for RemeshParams {
-    fn default() -> Self {
-        Self::DEFAULT
-    }
-}
 
 /// Longest over shortest side a quad may have before it counts as bad:
 /// the thesis's bound on aspect and taper (§1.2).
@@ -422,7 +385,7 @@ pub fn remesh_bad(
     let cands = candidates(params);
     let patch_finish = FinishParams {
         remesh: RemeshParams::OFF,
-        coarsen: crate::coarsen::CoarsenParams::OFF,
+        coarsen: super::coarsen::CoarsenParams::OFF,
         cleanup: CleanupParams {
             sliver_sj: rp.below.max(finish.cleanup.sliver_sj),
             ..finish.cleanup
