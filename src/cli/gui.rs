@@ -29,21 +29,13 @@ pub(super) struct GuiArgs {
 }
 
 pub(super) fn run(a: GuiArgs) -> Result<()> {
-    let GuiArgs {
-        open,
-        steps,
-        run,
-        screenshot,
-        size,
-        panel,
-    } = a;
     launch(quadex::app::GuiOptions {
-        open,
-        steps,
-        run,
-        screenshot,
-        size,
-        panel,
+        open: a.open,
+        steps: a.steps,
+        run: a.run,
+        screenshot: a.screenshot,
+        size: a.size,
+        panel: a.panel,
     })
 }
 
