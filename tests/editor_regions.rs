@@ -4,68 +4,17 @@
 //! and exported with its physical names; an interface drawn with the
 //! pointer across a square; segments picked and named as a group; a
 //! project saved and opened again.
+#![cfg(feature = "gui")]
 
+mod common;
+
+use common::editor::*;
 use egui::Pos2;
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
 use quadex::app::{App, Command, Document, Settings};
 use quadex::Point;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
-
-fn harness(app: App) -> Harness<'static, App> {
-    Harness::builder()
-        .with_size([1400.0, 860.0])
-        .build_state(|ctx, app: &mut App| app.ui(ctx), app)
-}
-
-/// Runs frames until the background work is over.
-fn settle(h: &mut Harness<'static, App>) {
-    let t = Instant::now();
-    loop {
-        h.step();
-        if !h.state().busy() && !h.state().finishing() {
-            h.step();
-            if !h.state().busy() && !h.state().finishing() {
-                break;
-            }
-        }
-        assert!(
-            t.elapsed().as_secs() < 300,
-            "the background work did not end"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    h.run();
-}
-
-fn square() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/boundaries/square.poly")
-}
-
-fn machine() -> App {
-    App::new(Document::example("machine.json", Settings::default()).unwrap())
-}
-
-fn status(h: &Harness<'static, App>) -> String {
-    h.state().status().to_string()
-}
-
-/// The screen position of a world point on the canvas.
-fn screen(h: &Harness<'static, App>, p: Point) -> Pos2 {
-    let s = h.state();
-    s.view.canvas.to_screen(s.view.canvas_rect, p)
-}
-
-/// A primary click at a screen position.
-fn click_at(h: &mut Harness<'static, App>, pos: Pos2) {
-    h.hover_at(pos);
-    h.run();
-    h.drag_at(pos);
-    h.run();
-    h.drop_at(pos);
-    h.run();
-}
 
 /// A primary click with Shift held (the button events carry the
 /// modifier).
@@ -95,7 +44,9 @@ fn click_button(h: &mut Harness<'static, App>, label: &str) {
 /// the button of the left panel.
 fn square_as_regions() -> Harness<'static, App> {
     let mut h = harness(App::new(
-        Document::open(&square(), Settings::default()).unwrap().0,
+        Document::open(&boundary("square.poly"), Settings::default())
+            .unwrap()
+            .0,
     ));
     h.run();
     assert!(
@@ -168,7 +119,7 @@ fn the_machine_example_opens_from_the_menu_with_its_regions_and_groups() {
 
 #[test]
 fn stepping_goes_region_by_region_and_the_export_has_the_physical_names() {
-    let mut h = harness(machine());
+    let mut h = harness(example_named("machine.json"));
     h.run();
     for _ in 0..3 {
         h.get_by_label_contains("(Space)").click();

@@ -3,6 +3,10 @@
 
 use std::path::PathBuf;
 
+/// The editor tests' harness.
+#[cfg(feature = "gui")]
+pub mod editor;
+
 /// The benchmark boundaries the tests use, kept in the repository
 /// (`tests/data`, provenance in its README): `boundaries`, `peer`, `edge`
 /// and `bad`.

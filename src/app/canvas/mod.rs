@@ -3,10 +3,14 @@
 //! right), the mesh as one batched shape, the front, and the last step's
 //! reference point, leading points, predicted Pn and element, labelled
 //! without overlaps.
+//!
+//! Here: the view, the pointer, pan and zoom, the domain, the legend and
+//! the frame's drawing; `mesh_cache` keeps the mesh's batched shapes,
+//! `marks` draws the grid, the last step's marks and a drawing's curves.
 
 use super::quality_panel::Metric;
-use super::world_mesh::{QuadImage, WorldMesh, WorldMeshBuilder};
-use crate::extract::{Remedy, StepKind, StepReport};
+use super::world_mesh::QuadImage;
+use crate::extract::StepReport;
 use crate::front::EdgeGrid;
 use crate::geom::{point_in_polygon, Aabb, Point};
 use crate::mesh::QuadMesh;
@@ -15,6 +19,14 @@ use crate::Boundary;
 use egui::epaint::Mesh;
 use egui::{Color32, Pos2, Rect, Response, Shape, Stroke, Ui, Vec2};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+
+mod marks;
+mod mesh_cache;
+
+pub use marks::{draw_curves, CURVE_COLOUR, MIN_LABELLED_STEP};
+use marks::{draw_grid, draw_step};
+pub use mesh_cache::MeshCache;
+use mesh_cache::{push_fan, ScreenKey};
 
 /// The world-to-screen map: `screen = centre of the canvas + zoom · (x, −y)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -339,182 +351,6 @@ pub fn legend(painter: &egui::Painter, rect: egui::Rect, metric: super::quality_
 /// A canvas narrower or lower than this (points) gets the compact legend.
 pub const COMPACT_LEGEND_BELOW: [f32; 2] = [600.0, 400.0];
 
-/// Adds a convex polygon as a triangle fan.
-fn push_fan(mesh: &mut Mesh, pts: &[Pos2], color: Color32) {
-    let base = mesh.vertices.len() as u32;
-    for &p in pts {
-        mesh.colored_vertex(p, color);
-    }
-    for k in 1..pts.len().saturating_sub(1) as u32 {
-        mesh.add_triangle(base, base + k, base + k + 1);
-    }
-}
-
-/// What the canvas keeps between frames for one mesh: each quad's colour,
-/// each edge once, and the mesh, the boundary and the front as triangles
-/// in world coordinates that each frame maps to the screen (a pan or zoom
-/// moves vertices; nothing is built again). Rebuilt when the mesh or the
-/// colouring changes.
-#[derive(Default)]
-pub struct MeshCache {
-    key: Option<(u64, usize, Option<Metric>)>,
-    edges: Vec<[u32; 2]>,
-    /// Quads that miss the thesis criteria.
-    poor: Vec<u32>,
-    /// Mean edge length in world units.
-    mean_edge: f64,
-    /// The quads by place, for hovering.
-    pub index: QuadIndex,
-    /// Bumped whenever the key changes.
-    generation: u64,
-    /// The box of the mesh's nodes.
-    bounds: Option<Aabb>,
-    /// Each quad's colour.
-    colors: Vec<Color32>,
-    /// The quads filled in their colours, and those that miss the thesis
-    /// criteria tinted (built when first drawn).
-    fills: Option<(WorldMesh, WorldMesh)>,
-    /// The fills as an image.
-    image: Option<QuadImage>,
-    /// The edges in this colour (built when first drawn).
-    edge_lines: Option<(Color32, WorldMesh)>,
-    /// The boundary and the front.
-    lines: WorldMesh,
-    /// What [`MeshCache::dashes`] was built for.
-    dashes_key: Option<ScreenKey>,
-    /// The outlines of the quads that miss the thesis criteria, dashed in
-    /// screen space (the dashes are pixels long).
-    dashes: Vec<Shape>,
-}
-
-/// What the screen-space dashes depend on.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct ScreenKey {
-    mesh: Option<(u64, usize, Option<Metric>)>,
-    center: Point,
-    zoom: f64,
-    rect: Rect,
-}
-
-impl MeshCache {
-    fn refresh(&mut self, o: &Overlay) {
-        let key = (o.version, o.mesh.quads.len(), o.metric);
-        if self.key == Some(key) {
-            return;
-        }
-        self.key = Some(key);
-        self.generation += 1;
-        let m = o.mesh;
-        self.poor = (0..o.qualities.len() as u32)
-            .filter(|&k| !o.qualities[k as usize].meets_thesis())
-            .collect();
-        let mut edges: Vec<[u32; 2]> = m
-            .quads
-            .iter()
-            .flat_map(|q| {
-                (0..4).map(move |k| {
-                    let (a, b) = (q[k], q[(k + 1) % 4]);
-                    [a.min(b), a.max(b)]
-                })
-            })
-            .collect();
-        edges.sort_unstable();
-        edges.dedup();
-        let total: f64 = edges
-            .iter()
-            .map(|e| (m.nodes[e[0] as usize] - m.nodes[e[1] as usize]).length())
-            .sum();
-        self.mean_edge = if edges.is_empty() {
-            f64::INFINITY
-        } else {
-            total / edges.len() as f64
-        };
-        self.edges = edges;
-        self.index = QuadIndex::of(m);
-        self.bounds = Aabb::of(m.nodes.iter().copied());
-        let plain = Color32::from_rgb(70, 110, 90);
-        self.colors = (0..m.quads.len())
-            .map(|k| {
-                let c = match (o.metric, o.qualities.get(k)) {
-                    (Some(metric), Some(q)) => quality_color(metric.score(q)),
-                    _ => plain,
-                };
-                c.gamma_multiply(0.8)
-            })
-            .collect();
-        self.fills = None;
-        self.edge_lines = None;
-        // Boundary and front.
-        let loops = o.boundary.map_or(0, |b| b.points.len());
-        let front = o.front.iter().map(Vec::len).sum::<usize>();
-        let mut lines = WorldMeshBuilder::new(self.world_box(), loops + front);
-        if let Some(b) = o.boundary {
-            for l in &b.loops {
-                for k in 0..l.len() {
-                    let (a, c) = (b.points[l[k]], b.points[l[(k + 1) % l.len()]]);
-                    lines.segment(a, c, 1.5, Color32::from_gray(200));
-                }
-            }
-        }
-        let front_color = Color32::from_rgb(255, 150, 40);
-        for l in o.front {
-            for k in 0..l.len() {
-                let (a, c) = (l[k] as usize, l[(k + 1) % l.len()] as usize);
-                if let (Some(&a), Some(&c)) = (m.nodes.get(a), m.nodes.get(c)) {
-                    lines.segment(a, c, 3.0, front_color);
-                }
-            }
-        }
-        self.lines = lines.build();
-        self.dashes_key = None;
-    }
-
-    /// The box the chunks are filed in: the mesh's nodes (what lies
-    /// outside goes to the edge chunks).
-    fn world_box(&self) -> Aabb {
-        self.bounds.unwrap_or(Aabb {
-            min: Point::ZERO,
-            max: Point::ZERO,
-        })
-    }
-
-    /// The quads' fills and the tint, as triangles in world coordinates.
-    fn fills(&mut self, mesh: &QuadMesh) -> &mut (WorldMesh, WorldMesh) {
-        if self.fills.is_none() {
-            let bounds = self.world_box();
-            let mut quads = WorldMeshBuilder::new(bounds, mesh.quads.len());
-            for (q, &c) in mesh.quads.iter().zip(&self.colors) {
-                quads.fan(&mesh.corners(q), c);
-            }
-            let mut tint = WorldMeshBuilder::new(bounds, self.poor.len());
-            for q in self.poor.iter().filter_map(|&k| mesh.quads.get(k as usize)) {
-                tint.fan(&mesh.corners(q), POOR_TINT);
-            }
-            self.fills = Some((quads.build(), tint.build()));
-        }
-        self.fills.get_or_insert_with(Default::default)
-    }
-
-    /// The edges in `color`, as triangles in world coordinates.
-    fn edge_lines(&mut self, mesh: &QuadMesh, color: Color32) -> &mut WorldMesh {
-        if self.edge_lines.as_ref().is_none_or(|(c, _)| *c != color) {
-            let mut b = WorldMeshBuilder::new(self.world_box(), self.edges.len());
-            for e in &self.edges {
-                if let (Some(&p), Some(&q)) =
-                    (mesh.nodes.get(e[0] as usize), mesh.nodes.get(e[1] as usize))
-                {
-                    b.segment(p, q, 1.0, color);
-                }
-            }
-            self.edge_lines = Some((color, b.build()));
-        }
-        &mut self
-            .edge_lines
-            .get_or_insert_with(|| (color, WorldMesh::default()))
-            .1
-    }
-}
-
 /// What the canvas shows.
 pub struct Overlay<'a> {
     /// Changes whenever the mesh shown or its figures do (the canvas
@@ -789,245 +625,9 @@ fn quad_tooltip(ui: &mut Ui, k: usize, q: &QuadQuality) {
     });
 }
 
-/// Grid lines at a power of ten that keeps them 40+ pixels apart, with
-/// coordinates along the left and bottom edges.
-fn draw_grid(painter: &egui::Painter, rect: Rect, view: &View, color: Color32) {
-    let step = 10f64.powf((40.0 / view.zoom).log10().ceil());
-    let lo = view.to_world(rect, rect.left_bottom());
-    let hi = view.to_world(rect, rect.right_top());
-    let stroke = Stroke::new(0.5, color.gamma_multiply(0.4));
-    let font = egui::FontId::monospace(10.0);
-    let mut x = (lo.x / step).floor() * step;
-    while x <= hi.x {
-        let sx = view.to_screen(rect, Point::new(x, 0.0)).x;
-        painter.line_segment(
-            [Pos2::new(sx, rect.top()), Pos2::new(sx, rect.bottom())],
-            stroke,
-        );
-        painter.text(
-            Pos2::new(sx + 2.0, rect.bottom() - 2.0),
-            egui::Align2::LEFT_BOTTOM,
-            format!("{}", round_label(x, step)),
-            font.clone(),
-            color,
-        );
-        x += step;
-    }
-    let mut y = (lo.y / step).floor() * step;
-    while y <= hi.y {
-        let sy = view.to_screen(rect, Point::new(0.0, y)).y;
-        painter.line_segment(
-            [Pos2::new(rect.left(), sy), Pos2::new(rect.right(), sy)],
-            stroke,
-        );
-        painter.text(
-            Pos2::new(rect.left() + 2.0, sy - 2.0),
-            egui::Align2::LEFT_BOTTOM,
-            format!("{}", round_label(y, step)),
-            font.clone(),
-            color,
-        );
-        y += step;
-    }
-}
-
-/// `v` rounded to the grid step's decimals (no `0.30000000000000004`, and
-/// no `-0` for a line a rounding left of the axis).
-fn round_label(v: f64, step: f64) -> f64 {
-    let decimals = (-step.log10()).ceil().max(0.0) as i32;
-    let f = 10f64.powi(decimals);
-    // (Adding 0 turns -0 into 0.)
-    (v * f).round() / f + 0.0
-}
-
-/// Places labels beside points without overlaps: each label goes on the
-/// side of its point away from `away` if that is free, else on the first
-/// free side of eight; a label with no free side is left out.
-struct Labels<'p> {
-    painter: &'p egui::Painter,
-    taken: Vec<Rect>,
-}
-
-impl Labels<'_> {
-    /// Reserves the area of a drawn point.
-    fn block(&mut self, p: Pos2, r: f32) {
-        self.taken
-            .push(Rect::from_center_size(p, egui::vec2(2.0 * r, 2.0 * r)));
-    }
-
-    fn place(&mut self, p: Pos2, away: Vec2, text: &str, color: Color32) -> bool {
-        let font = egui::FontId::proportional(13.0);
-        let galley = self.painter.layout_no_wrap(text.to_string(), font, color);
-        let size = galley.size();
-        let first = if away.length() > 1e-3 {
-            away.normalized()
-        } else {
-            egui::vec2(1.0, -1.0).normalized()
-        };
-        let mut dirs = vec![first];
-        for k in 0..8 {
-            let a = k as f32 * std::f32::consts::FRAC_PI_4;
-            dirs.push(egui::vec2(a.cos(), a.sin()));
-        }
-        for d in dirs {
-            // The label's centre, far enough along `d` for its box to
-            // clear the point.
-            let reach = 7.0 + 0.5 * (size.x * d.x.abs() + size.y * d.y.abs());
-            let rect = Rect::from_center_size(p + d * reach, size);
-            if !self.taken.iter().any(|t| t.intersects(rect)) {
-                self.taken.push(rect);
-                // A dark backing: the label reads over any tint of quad.
-                self.painter
-                    .rect_filled(rect.expand(1.5), 3.0, Color32::from_black_alpha(170));
-                self.painter.galley(rect.min, galley, color);
-                return true;
-            }
-        }
-        false
-    }
-}
-
-/// The screen span (points) the last step's leading points need for
-/// their labels.
-pub const MIN_LABELLED_STEP: f32 = 40.0;
-
-/// The last step: its element outlined (when it is a few quads), the
-/// reference point (of any step that has one), the leading points labelled
-/// l1..lN and r1..rN, and the model's Pn; labels go outside the element and
-/// never overlap (those that find no room are left out, the outermost
-/// first).
-fn draw_step(painter: &egui::Painter, r: &StepReport, mesh: &QuadMesh, to: &dyn Fn(Point) -> Pos2) {
-    let highlight = Color32::from_rgb(255, 230, 60);
-    let small = r.quads.len() <= MAX_HIGHLIGHT && r.kind != StepKind::Fill;
-    let mut centre = Vec2::ZERO;
-    let mut corners = 0.0;
-    if small {
-        for q in &r.quads {
-            let s = mesh.corners(q).map(to);
-            for p in s {
-                centre += p.to_vec2();
-                corners += 1.0;
-            }
-            painter.add(Shape::closed_line(s.to_vec(), Stroke::new(2.5, highlight)));
-        }
-    }
-    let n = r.leading.len() / 2;
-    // Steps that are not the model's (a square cut, a seam, a closure)
-    // have a reference point but no leading points: P0 alone is marked.
-    let Some(p0) = r.leading.get(n).copied().or(r.reference) else {
-        return;
-    };
-    let at = |v: u32| mesh.nodes.get(v as usize).map(|&p| to(p));
-    let Some(s0) = at(p0) else { return };
-    let centre = if corners > 0.0 {
-        (centre / corners).to_pos2()
-    } else {
-        s0 + egui::vec2(-10.0, 10.0)
-    };
-    // At a zoom where the step's points lie within a few pixels (a large
-    // mesh at fit view) their labels would pile into a blob: P0 is ringed
-    // instead, and View ▸ Zoom to the last step (Z) shows them.
-    let span = r
-        .leading
-        .iter()
-        .filter_map(|&v| at(v))
-        .fold(egui::Rect::NOTHING, |b, p| {
-            b.union(egui::Rect::from_min_max(p, p))
-        });
-    if r.leading.len() > 1 && span.width().max(span.height()) < MIN_LABELLED_STEP {
-        painter.circle_stroke(s0, 9.0, Stroke::new(2.0, Color32::from_rgb(255, 120, 120)));
-        return;
-    }
-    let mut labels = Labels {
-        painter,
-        taken: Vec::new(),
-    };
-    // Points first, so that no label covers one.
-    let p0_color = Color32::from_rgb(230, 50, 50);
-    let lead_color = Color32::from_rgb(80, 170, 255);
-    painter.circle_filled(s0, 6.0, p0_color);
-    labels.block(s0, 6.0);
-    let mut leading = Vec::new();
-    for i in 1..=n {
-        for (v, name) in [
-            (r.leading.get(n - i), format!("l{i}")),
-            (r.leading.get(n + i), format!("r{i}")),
-        ] {
-            if let Some(s) = v.and_then(|&v| at(v)) {
-                painter.circle_filled(s, 4.0, lead_color);
-                labels.block(s, 4.0);
-                leading.push((s, name));
-            }
-        }
-    }
-    let pn = r.predicted_pn.map(|p| {
-        let s = to(p);
-        let c = match r.remedy {
-            Remedy::None => Color32::from_rgb(120, 255, 120),
-            // White: the model's element, its Pn drawn to the size field
-            // (cyan is the next element's, blue the leading points', and the
-            // element itself sits on quads coloured green by quality).
-            Remedy::Rescaled => Color32::from_rgb(240, 240, 240),
-            _ => Color32::from_rgb(255, 120, 255),
-        };
-        let d = 6.0;
-        painter.line_segment(
-            [s - egui::vec2(d, d), s + egui::vec2(d, d)],
-            Stroke::new(2.0, c),
-        );
-        painter.line_segment(
-            [s - egui::vec2(d, -d), s + egui::vec2(d, -d)],
-            Stroke::new(2.0, c),
-        );
-        labels.block(s, d);
-        (s, c)
-    });
-    labels.place(s0, s0 - centre, "P0", Color32::from_rgb(255, 120, 120));
-    if let Some((s, c)) = pn {
-        labels.place(s, s - s0, "Pn", c);
-    }
-    let label_color = Color32::from_rgb(150, 210, 255);
-    for (s, name) in leading {
-        labels.place(s, s - centre, &name, label_color);
-    }
-}
-
-/// The colour a drawing's curves are drawn in.
-pub const CURVE_COLOUR: egui::Color32 = egui::Color32::from_rgb(255, 170, 60);
-
-/// Screen points an arc or an elliptical arc is drawn with per radian, at
-/// least.
-const ARC_POINTS_PER_RADIAN: f64 = 24.0;
-
-/// Screen points a spline is drawn with.
-const SPLINE_POINTS: usize = 256;
-
-/// The curves of a drawing as they are (arcs as arcs, not as the chords
-/// between the nodes cut from them), over the canvas.
-pub fn draw_curves(
-    painter: &egui::Painter,
-    view: &View,
-    rect: egui::Rect,
-    g: &crate::cad::Geometry,
-) {
-    let stroke = egui::Stroke::new(2.0, CURVE_COLOUR);
-    for c in &g.curves {
-        let n = match &c.curve {
-            crate::cad::Curve::Line { .. } => 1,
-            crate::cad::Curve::Arc { sweep, .. } | crate::cad::Curve::Ellipse { sweep, .. } => {
-                (sweep.abs() * ARC_POINTS_PER_RADIAN).ceil().max(2.0) as usize
-            }
-            crate::cad::Curve::Spline(_) => SPLINE_POINTS,
-        };
-        let pts: Vec<egui::Pos2> = (0..=n)
-            .map(|k| view.to_screen(rect, c.curve.at(k as f64 / n as f64)))
-            .collect();
-        painter.add(egui::Shape::line(pts, stroke));
-    }
-}
-
 #[cfg(test)]
 mod tests {
+    use super::marks::round_label;
     use super::*;
 
     #[test]
