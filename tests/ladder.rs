@@ -164,3 +164,45 @@ fn tuning_is_written_only_where_it_differs_and_read_back_in_part() {
         MeshParams::DEFAULT
     );
 }
+
+#[test]
+fn the_command_line_reads_a_tuning_file_and_refuses_a_wrong_field() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let bin = env!("CARGO_BIN_EXE_quadex");
+    let case = common::bench().join("boundaries/wedge30.poly");
+    let run = |tuning: &str| {
+        let t = dir.path().join("tuning.json");
+        std::fs::write(&t, tuning).expect("tuning written");
+        let report = dir.path().join("report.json");
+        let out = std::process::Command::new(bin)
+            .arg("mesh")
+            .arg(&case)
+            .arg("-o")
+            .arg(dir.path().join("wedge.msh"))
+            .arg("--report")
+            .arg(&report)
+            .arg("--tuning")
+            .arg(&t)
+            .output()
+            .expect("quadex runs");
+        let by_rung = std::fs::read_to_string(&report)
+            .ok()
+            .map(|r| {
+                let v: serde_json::Value = serde_json::from_str(&r).expect("a JSON report");
+                v["steps"]["by_rung"].clone()
+            })
+            .unwrap_or_default();
+        (out, by_rung)
+    };
+    let (out, by_rung) = run(r#"{"mapped": {"max_loop": 400}}"#);
+    assert!(out.status.success());
+    assert!(by_rung["MappedGrid"].as_u64().is_some_and(|n| n > 0), "{by_rung}");
+    let (out, by_rung) = run(r#"{"mapped": {"max_loop": 7}}"#);
+    assert!(out.status.success());
+    assert!(by_rung.get("MappedGrid").is_none(), "{by_rung}");
+    let (out, _) = run(r#"{"mapped": {"max_loops": 7}}"#);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("unknown field `max_loops`"), "{err}");
+}

@@ -9,7 +9,7 @@ use super::common::{check_output, load_model, progress_bar, read_resampled};
 use super::InputError;
 use anyhow::{anyhow, Context, Result};
 use clap::{Args, ValueEnum};
-use quadex::extract::{MeshParams, StepKind, StepStats, Strategy};
+use quadex::extract::{MeshParams, StepKind, StepStats, Strategy, Tuning};
 use quadex::finish::cleanup::CleanupParams;
 use quadex::finish::coarsen::CoarsenParams;
 use quadex::finish::remesh::RemeshParams;
@@ -133,6 +133,11 @@ pub(super) struct MeshArgs {
     /// every core). The mesh is the same whatever the count.
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
     threads: Option<u16>,
+    /// The extraction engine's constants from a JSON file: any of the
+    /// groups and fields of `extract::Tuning` (docs/engine.md), the rest
+    /// left at their defaults, e.g. {"ladder": {"rip_ups": 16}}.
+    #[arg(long, value_name = "FILE")]
+    tuning: Option<PathBuf>,
 }
 
 pub(super) fn run(a: MeshArgs) -> Result<()> {
@@ -160,6 +165,7 @@ pub(super) fn run(a: MeshArgs) -> Result<()> {
         order,
         serendipity,
         threads,
+        tuning,
     } = a;
     let fmt = MeshFormat::from_path(&output)
         .map_err(|e| InputError(anyhow!("{}: {e}", output.display())))?;
@@ -260,6 +266,10 @@ pub(super) fn run(a: MeshArgs) -> Result<()> {
         transition_ratio: transitions.map_or(MeshParams::DEFAULT.transition_ratio, |t| t.0),
         mapped_rows: mapped_rows.map_or(MeshParams::DEFAULT.mapped_rows, |m| m.0),
         size_target: drawing.as_ref().map(|d| d.size_target()),
+        tuning: match &tuning {
+            Some(path) => read_tuning(path)?,
+            None => Tuning::DEFAULT,
+        },
         ..MeshParams::DEFAULT
     };
     let finish = FinishParams {
@@ -527,4 +537,14 @@ fn mesh_graph(a: MeshGraph) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The engine's tuning from a JSON file; an unreadable file or an unknown
+/// field is the user's error.
+fn read_tuning(path: &Path) -> Result<Tuning> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| InputError(anyhow!("{}: {e}", path.display())))?;
+    let t: Tuning = serde_json::from_str(&text)
+        .map_err(|e| InputError(anyhow!("{}: not a tuning file: {e}", path.display())))?;
+    Ok(t)
 }

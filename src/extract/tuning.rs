@@ -18,7 +18,7 @@ use std::f64::consts::PI;
 
 /// The extraction engine's tuning, one group per heuristic.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct Tuning {
     /// The step ladder ([`super::Rung`]): budgets of the repairs and what the rungs look at.
     pub ladder: LadderTuning,
@@ -71,7 +71,7 @@ impl Default for Tuning {
 
 /// The step ladder ([`super::Rung`]): budgets of the repairs and what the rungs look at.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct LadderTuning {
     /// Rip-ups a run may take, plus one per [`LadderTuning::rip_up_quads`] quads made: a
     /// large domain has fronts meet in many places, each of which may need one.
@@ -142,7 +142,7 @@ impl Default for LadderTuning {
 
 /// The reference-point queue (thesis §5.1).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct QueueTuning {
     /// Strategy B takes sizes within this ratio of each other as alike.
     pub band: f64,
@@ -161,7 +161,7 @@ impl Default for QueueTuning {
 
 /// The model's element and its remedies (method §2.4–2.6): when the model's element is taken, and how the remedies are built.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct ChoiceTuning {
     /// The model's element is taken at once when it scores this much.
     pub excellent: f64,
@@ -240,7 +240,7 @@ impl Default for ChoiceTuning {
 
 /// Transitions: the 3-to-1 template that coarsens a row.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct TransitionTuning {
     /// The nodes inside the stretch (`a1`, `a2`) must be this straight: their
     /// front angle within this of 180°.
@@ -306,7 +306,7 @@ impl Default for TransitionTuning {
 
 /// Repairs: chord splits, squares and the tidying of a relaxed loop.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct RepairTuning {
     /// A chord passes every front node other than its ends at least this far,
     /// as a share of the front's spacing at its ends.
@@ -378,7 +378,7 @@ impl Default for RepairTuning {
 
 /// Bridges: one quad across a gap between two facing front edges.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct BridgeTuning {
     /// Front edges searched for a partner around an edge, in lengths of that
     /// edge.
@@ -415,7 +415,7 @@ impl Default for BridgeTuning {
 
 /// Closing small loops: when a skewed small loop is settled first.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct ClosureTuning {
     /// A small loop whose closure and whose nodes' quads are all at least this
     /// good (scaled Jacobian) is not settled.
@@ -441,7 +441,7 @@ impl Default for ClosureTuning {
 
 /// Mapped grids on narrow logical rectangles and strips.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct MappedTuning {
     /// The worst quad a mapped grid may have (scaled Jacobian).
     pub min_sj: f64,
@@ -471,7 +471,7 @@ impl Default for MappedTuning {
 
 /// The progress watch: when a run is going round in circles.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct WatchTuning {
     /// The progress watch: every [`WatchTuning::every`] steps the area the front
     /// still encloses is noted. A run whose last [`WatchTuning::window`] steps took
@@ -528,7 +528,7 @@ impl Default for WatchTuning {
 
 /// The region fill as a step: its budget, and rewinding.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct FillTuning {
     /// Steps allowed before the region left is filled, per element a mesh
     /// following the size field would have (plus one per boundary node and
