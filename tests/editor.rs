@@ -27,8 +27,11 @@ fn step_undo_run_and_export_a_valid_mesh() {
     assert_eq!(h.state().doc().steps(), 5);
     let last = h.state().doc().last().cloned().expect("a step report");
     assert!(last.reference.is_some() && !last.leading.is_empty());
-    // The panel shows what the step did.
+    // The panel shows what the step did, and which rung of the ladder
+    // took it.
     h.get_by_label("remedy");
+    h.get_by_label("rung");
+    h.get_by_label(last.rung.name());
     h.get_by_label_contains("Undo  (").click();
     h.run();
     assert_eq!(h.state().doc().steps(), 4);

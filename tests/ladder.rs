@@ -196,7 +196,10 @@ fn the_command_line_reads_a_tuning_file_and_refuses_a_wrong_field() {
     };
     let (out, by_rung) = run(r#"{"mapped": {"max_loop": 400}}"#);
     assert!(out.status.success());
-    assert!(by_rung["MappedGrid"].as_u64().is_some_and(|n| n > 0), "{by_rung}");
+    assert!(
+        by_rung["MappedGrid"].as_u64().is_some_and(|n| n > 0),
+        "{by_rung}"
+    );
     let (out, by_rung) = run(r#"{"mapped": {"max_loop": 7}}"#);
     assert!(out.status.success());
     assert!(by_rung.get("MappedGrid").is_none(), "{by_rung}");

@@ -375,6 +375,9 @@ fn last_step(ui: &mut Ui, doc: &Document) {
                     "step",
                     plain(format!("{} ({})", r.index + 1, kind_name(r.kind))),
                 );
+                row(ui, "rung", plain(r.rung.name().to_string())).on_hover_text(
+                    "The rung of the step ladder that took the step (docs/engine.md, Each step)",
+                );
                 if let Some(v) = r.reference {
                     row(ui, "reference P0", plain(format!("node {v}")));
                 }
