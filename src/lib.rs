@@ -34,7 +34,9 @@
 //! - the advancing front and the models: [`front`], [`normalize`] (thesis
 //!   §3.2), [`model`] (rules, the thesis preset, fitted models, their
 //!   files and the training sample they carry);
-//! - [`extract`]: element extraction, the [`Mesher`] step API;
+//! - [`extract`]: element extraction, the [`Mesher`] step API, its step
+//!   ladder ([`extract::Rung`]) and its constants ([`extract::Tuning`]);
+//!   inside it only `size` (the size field) and `tuning` are public;
 //! - [`finish`]: cleanup, chord coarsening, remeshing of bad regions;
 //!   [`pipeline`]: extraction then finishing; [`regions`]: several faces
 //!   meshed and merged; [`compare`]: one boundary by several models;

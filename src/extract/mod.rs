@@ -16,12 +16,12 @@
 
 mod bridge;
 mod candidate;
-pub mod closure;
-pub mod fill;
+mod closure;
+mod fill;
 mod fill_step;
-pub mod guard;
+mod guard;
 mod ladder;
-pub mod mapped;
+mod mapped;
 mod memo;
 mod model_path;
 mod params;
@@ -35,6 +35,7 @@ pub mod tuning;
 mod watch;
 
 pub use candidate::CandidateReport;
+pub use guard::Limits;
 pub use ladder::{Rung, LADDER};
 pub use params::{MeshParams, Strategy};
 pub use report::{
