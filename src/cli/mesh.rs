@@ -10,8 +10,6 @@ use super::InputError;
 use anyhow::{anyhow, Context, Result};
 use clap::{Args, ValueEnum};
 use quadex::extract::{MeshParams, StepKind, StepStats, Strategy, Tuning};
-use quadex::finish::cleanup::CleanupParams;
-use quadex::finish::coarsen::CoarsenParams;
 use quadex::finish::remesh::RemeshParams;
 use quadex::io::{self, MeshFormat};
 use quadex::model::Model;
@@ -272,30 +270,7 @@ pub(super) fn run(a: MeshArgs) -> Result<()> {
         },
         ..MeshParams::DEFAULT
     };
-    let finish = FinishParams {
-        smooth: if smooth == 0 {
-            SmoothParams::OFF
-        } else {
-            SmoothParams {
-                iterations: smooth,
-                ..SmoothParams::DEFAULT
-            }
-        },
-        cleanup: if no_cleanup {
-            CleanupParams::OFF
-        } else {
-            CleanupParams::DEFAULT
-        },
-        coarsen: if no_coarsen {
-            CoarsenParams::OFF
-        } else {
-            CoarsenParams::DEFAULT
-        },
-        remesh: RemeshParams {
-            below: remesh_below,
-            ..RemeshParams::DEFAULT
-        },
-    };
+    let finish = FinishParams::switched(smooth, !no_cleanup, !no_coarsen, remesh_below);
     let t0 = Instant::now();
     let name = model.name().to_string();
     let params = pipeline::Params {

@@ -129,12 +129,14 @@ impl Chosen {
 }
 
 impl Mesher {
+    /// The guard's limits, from the parameters' degrees.
     pub(super) fn limits(&self) -> Limits {
         Limits {
-            min_corner: self.params.min_corner.to_radians(),
-            max_corner: self.params.max_corner.to_radians(),
-            min_front: self.params.min_front_angle.to_radians(),
+            min_corner: self.params.min_corner,
+            max_corner: self.params.max_corner,
+            min_front: self.params.min_front_angle,
         }
+        .radians()
     }
 
     pub(super) fn leading_n(&self) -> usize {

@@ -68,6 +68,38 @@ impl FinishParams {
         remesh: RemeshParams::DEFAULT,
         smooth: SmoothParams::DEFAULT,
     };
+
+    /// The defaults with the switches the command line and the Python
+    /// module offer: `smooth` Laplacian sweeps (0: no smoothing at all,
+    /// neither Laplacian nor optimisation), cleanup and chord coarsening
+    /// on or off, and remeshing below scaled Jacobian `remesh_below`
+    /// (0: off).
+    pub fn switched(smooth: usize, cleanup: bool, coarsen: bool, remesh_below: f64) -> Self {
+        FinishParams {
+            smooth: if smooth == 0 {
+                SmoothParams::OFF
+            } else {
+                SmoothParams {
+                    iterations: smooth,
+                    ..SmoothParams::DEFAULT
+                }
+            },
+            cleanup: if cleanup {
+                CleanupParams::DEFAULT
+            } else {
+                CleanupParams::OFF
+            },
+            coarsen: if coarsen {
+                CoarsenParams::DEFAULT
+            } else {
+                CoarsenParams::OFF
+            },
+            remesh: RemeshParams {
+                below: remesh_below,
+                ..RemeshParams::DEFAULT
+            },
+        }
+    }
 }
 
 impl Default for FinishParams {

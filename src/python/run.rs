@@ -6,8 +6,6 @@
 use crate::boundary::Boundary;
 use crate::boundary_edit::Draft;
 use crate::extract::{MeshParams, StepStats, Strategy};
-use crate::finish::cleanup::CleanupParams;
-use crate::finish::coarsen::CoarsenParams;
 use crate::finish::remesh::RemeshParams;
 use crate::geom::Point;
 use crate::model::{self, Model};
@@ -183,30 +181,8 @@ impl Options {
             mapped_rows: self.mapped_rows,
             ..MeshParams::DEFAULT
         };
-        let finish = FinishParams {
-            smooth: if self.smooth == 0 {
-                SmoothParams::OFF
-            } else {
-                SmoothParams {
-                    iterations: self.smooth,
-                    ..SmoothParams::DEFAULT
-                }
-            },
-            cleanup: if self.cleanup {
-                CleanupParams::DEFAULT
-            } else {
-                CleanupParams::OFF
-            },
-            coarsen: if self.coarsen {
-                CoarsenParams::DEFAULT
-            } else {
-                CoarsenParams::OFF
-            },
-            remesh: RemeshParams {
-                below: self.remesh_below,
-                ..RemeshParams::DEFAULT
-            },
-        };
+        let finish =
+            FinishParams::switched(self.smooth, self.cleanup, self.coarsen, self.remesh_below);
         Ok(Params { extract, finish })
     }
 }
