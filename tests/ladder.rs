@@ -26,7 +26,7 @@ fn kinds_of(rung: Rung) -> &'static [StepKind] {
         }
         Rung::RowStart => &[Square, Bridge],
         Rung::SmallLoop => &[Close4, Close6],
-        Rung::MappedGrid | Rung::Strip => &[Mapped],
+        Rung::MappedGrid | Rung::Strip | Rung::Band => &[Mapped],
         Rung::Queue => &[Element, Transition, Seam],
         Rung::SharpSeam => &[Seam],
         Rung::SmallSplit | Rung::Split => &[Split],

@@ -108,6 +108,9 @@ pub enum Rung {
     /// Narrow logical rectangles close by a mapped grid
     /// ([`super::MeshParams::mapped_rows`]).
     MappedGrid,
+    /// A thin band (a loop with two short ends, or the ring between the
+    /// front's two loops) closes by rows along it ([`super::tuning::BandTuning`]).
+    Band,
     /// The region inside the first layers is filled
     /// ([`super::MeshParams::fill_after_layers`]).
     FillLayers,
@@ -153,9 +156,10 @@ pub enum Rung {
 const CLOSED_LOOP: usize = 6;
 
 /// The step ladder: the order one automatic step tries its rungs in.
-pub const LADDER: [Rung; 18] = [
+pub const LADDER: [Rung; 19] = [
     Rung::FillDue,
     Rung::FillStalled,
+    Rung::Band,
     Rung::RowStart,
     Rung::SmallLoop,
     Rung::MappedGrid,
@@ -183,6 +187,7 @@ impl Rung {
             Rung::RowStart => "row-start",
             Rung::SmallLoop => "small-loop",
             Rung::MappedGrid => "mapped-grid",
+            Rung::Band => "band",
             Rung::FillLayers => "fill-layers",
             Rung::Queue => "queue",
             Rung::SharpSeam => "sharp-seam",
@@ -253,6 +258,7 @@ impl Mesher {
             Rung::RowStart => self.row_start(limits),
             Rung::SmallLoop => self.small_loop(),
             Rung::MappedGrid => self.mapped_grid(),
+            Rung::Band => self.close_band(),
             Rung::Queue => {
                 let (r, skipped) = self.queue_rung(limits)?;
                 climb.skipped = skipped;

@@ -14,6 +14,7 @@
 //!
 //! The same step API drives the command line, the tests and the editor.
 
+mod band;
 mod bridge;
 mod candidate;
 mod closure;

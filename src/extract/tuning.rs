@@ -36,6 +36,8 @@ pub struct Tuning {
     pub closure: ClosureTuning,
     /// Mapped grids on narrow logical rectangles and strips.
     pub mapped: MappedTuning,
+    /// Band closure: thin bands closed by rows along them.
+    pub band: BandTuning,
     /// The progress watch: when a run is going round in circles.
     pub watch: WatchTuning,
     /// The region fill as a step: its budget, and rewinding.
@@ -58,6 +60,7 @@ impl Tuning {
         bridge: BridgeTuning::DEFAULT,
         closure: ClosureTuning::DEFAULT,
         mapped: MappedTuning::DEFAULT,
+        band: BandTuning::DEFAULT,
         watch: WatchTuning::DEFAULT,
         fill: FillTuning::DEFAULT,
     };
@@ -466,6 +469,41 @@ impl MappedTuning {
 impl Default for MappedTuning {
     fn default() -> MappedTuning {
         MappedTuning::DEFAULT
+    }
+}
+
+/// Band closure ([`Mesher::close_band`]): a loop that is a thin band with
+/// two short ends, or the ring between the front's only two loops, closed by
+/// rows along it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BandTuning {
+    /// The most rows a band may get (its mean width over its mean segment
+    /// length, rounded); 0 turns band closure off.
+    pub max_rows: usize,
+    /// The most segments an end of a one-loop band may have.
+    pub max_end: usize,
+    /// Each node of a side lies within this many rows' spacing of the point
+    /// of the other side at its own arc-length fraction (the sides face
+    /// each other along the band).
+    pub reach: f64,
+    /// The worst quad the rows may have before smoothing (scaled Jacobian).
+    pub min_sj: f64,
+}
+
+impl BandTuning {
+    /// The defaults.
+    pub const DEFAULT: BandTuning = BandTuning {
+        max_rows: 3,
+        max_end: 3,
+        reach: 1.5,
+        min_sj: 0.1,
+    };
+}
+
+impl Default for BandTuning {
+    fn default() -> BandTuning {
+        BandTuning::DEFAULT
     }
 }
 
