@@ -479,8 +479,17 @@ pub fn loop_band(pts: &[Point], angles: &[f64], t: &BandTuning) -> Option<(BandS
     let perimeter: f64 = (0..n).map(|i| pts[i].distance(pts[(i + 1) % n])).sum();
     let area = polygon_area(pts.iter().copied());
     let (w, h) = (2.0 * area / perimeter, perimeter / n as f64);
-    let rows = rows_for(w, h, a.len() != b.len(), t.max_rows)?;
-    if spans[s] != 1 && spans[s] != rows || spans[(s + 2) % 4] != 1 && spans[(s + 2) % 4] != rows {
+    // The ends fix the rows: as many as an end's segments, two where an
+    // end of one segment meets sides of unequal counts. Sides of equal
+    // counts with equal ends make a logical rectangle, the mapped grid's.
+    let (n1, n2) = (spans[s], spans[(s + 2) % 4]);
+    let rows = match (n1.min(n2), n1.max(n2)) {
+        (1, 1) if a.len() != b.len() => 2,
+        (1, 2) => 2,
+        (x, y) if x == y && a.len() != b.len() => x,
+        _ => return None,
+    };
+    if rows > t.max_rows || w > (rows as f64 + 0.5) * h {
         return None;
     }
     if !faces(pts, &a, &b, false, t.reach * (rows as f64) * h) {
