@@ -467,14 +467,14 @@ impl Mesher {
         let mut best: Option<Chosen> = None;
         let mut chosen = None;
         let mut group = None;
-        while let Some(e) = self.queue.heap.pop() {
+        while let Some(e) = self.queue.pop() {
             let i = e.slot as usize;
             if !self.front.slot(e.slot).alive || self.queue.version[i] != e.version {
                 continue;
             }
             let key = (e.class > 0, e.band, e.layer);
             if best.is_some() && group.is_some_and(|g| g != key) {
-                self.queue.heap.push(e);
+                self.queue.push_entry(e);
                 break;
             }
             group = Some(key);

@@ -137,8 +137,7 @@ impl Mesher {
             &self.mesh.nodes,
             super::session::grid_cell(&self.size),
         );
-        self.queue.heap.clear();
-        self.queue.version.clear();
+        self.queue.clear();
         for s in 0..self.front.slots.len() as SlotId {
             self.push(s);
         }
