@@ -698,7 +698,8 @@ impl Mesher {
             }
             // Stretches of the given boundary no row has reached yet (the
             // far side of a hole): a row start on each one's shortest edge.
-            let untouched = |k: usize| open[k] && self.mesh.is_boundary(self.front.node(slots[k]));
+            let nb = self.boundary_nodes;
+            let untouched = |k: usize| open[k] && (self.front.node(slots[k]) as usize) < nb;
             let first = (0..n).find(|&k| !untouched(k)).unwrap_or(0);
             let mut run: Vec<SlotId> = Vec::new();
             for k in 1..=n {

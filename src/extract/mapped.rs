@@ -258,7 +258,7 @@ impl Mesher {
     pub(super) fn close_strip(&mut self, lid: u32) -> Option<StepReport> {
         let (rows, (slots, nodes, pts)) = self.grid_loop(lid, |m| &mut m.grids.strip)?;
         let (g, sj) = best_strip(&pts, rows)?;
-        let fixed = nodes.iter().all(|&v| self.mesh.is_boundary(v));
+        let fixed = nodes.iter().all(|&v| self.is_boundary(v));
         if (sj < self.params.tuning.mapped.strip_sj && !fixed)
             || !self.loop_is_clear(&slots, &nodes, &pts)
         {

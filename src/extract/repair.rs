@@ -241,7 +241,7 @@ impl Mesher {
         if nl == nr || f.node(l2) == nr || f.node(r2) == nl {
             return None;
         }
-        let nb = self.mesh.n_boundary() as u32;
+        let nb = self.boundary_nodes as u32;
         let (pl, pr) = (self.mesh.nodes[nl as usize], self.mesh.nodes[nr as usize]);
         let (keep, gone, pos) = match (nl < nb, nr < nb) {
             (true, true) => return None,
@@ -363,7 +363,7 @@ impl Mesher {
     /// `min(former, 0.3)`, and neither its front edges nor its path there
     /// cross the front.
     pub(super) fn relax_loop(&mut self, lid: u32) -> Option<StepReport> {
-        let nb = self.mesh.n_boundary() as u32;
+        let nb = self.boundary_nodes as u32;
         let slots = self.front.loop_slots(lid);
         let mut count: std::collections::BTreeMap<u32, usize> = Default::default();
         for l in self.front.live_loops() {

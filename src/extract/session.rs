@@ -55,6 +55,10 @@ pub struct Mesher {
     pub(super) rules: RulesModel,
     /// The area inside the boundary.
     pub(super) domain_area: f64,
+    /// The boundary's node count: nodes `0..boundary_nodes` are the
+    /// boundary's ([`QuadMesh::is_boundary`], without summing the loops
+    /// at every call).
+    pub(super) boundary_nodes: usize,
 
     // The mesh state.
     pub(super) mesh: QuadMesh,
@@ -163,6 +167,7 @@ impl Mesher {
             size,
             rules: RulesModel::DEFAULT,
             domain_area,
+            boundary_nodes: mesh.n_boundary(),
             mesh,
             front,
             incident: Vec::new(),
