@@ -479,7 +479,9 @@ impl Mesher {
             }
             group = Some(key);
             if e.class == 0
-                && self.front.angle(e.slot, &self.mesh.nodes) < self.params.seam_angle.to_radians()
+                && self
+                    .front
+                    .angle_below(e.slot, &self.mesh.nodes, &self.angles.seam)
             {
                 if let Some(mut r) = self.try_seam(e.slot) {
                     r.skipped = skipped;
@@ -546,7 +548,8 @@ impl Mesher {
             .live_loops()
             .flat_map(|l| self.front.loop_slots(l))
             .filter(|&s| {
-                self.front.angle(s, &self.mesh.nodes) < self.params.reference_angle[0].to_radians()
+                self.front
+                    .angle_below(s, &self.mesh.nodes, &self.angles.sharp)
             })
             .collect();
         sharp.into_iter().find_map(|s| self.try_seam(s))
