@@ -447,7 +447,7 @@ impl Mesher {
     fn mapped_grid(&mut self) -> Option<StepReport> {
         self.params.mapped_rows?;
         for lid in 0..self.front.loops.len() as u32 {
-            if self.front.loops[lid as usize].alive {
+            if self.grid_unseen(lid) {
                 if let Some(r) = self.close_mapped(lid) {
                     return Some(r);
                 }

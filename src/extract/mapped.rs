@@ -269,6 +269,17 @@ impl Mesher {
         Some(r)
     }
 
+    /// True when loop `lid` is alive, of a size a mapped grid may close,
+    /// and changed since [`Mesher::close_mapped`] last looked at it: what
+    /// [`Mesher::grid_loop`] asks first, without its call.
+    #[inline]
+    pub(super) fn grid_unseen(&self, lid: u32) -> bool {
+        let l = &self.front.loops[lid as usize];
+        l.alive
+            && (8..=self.params.tuning.mapped.max_loop).contains(&l.len)
+            && self.grids.mapped.get(lid as usize) != Some(&l.version)
+    }
+
     /// The rows a grid may have across and loop `lid`'s slots, nodes and
     /// points, if the loop is to be looked at for a grid: mapping is on,
     /// the loop has 8 to [`MappedTuning::max_loop`](super::tuning::MappedTuning::max_loop) nodes, is not pinched, and has

@@ -576,10 +576,10 @@ impl Mesher {
         let [spacing_lo, spacing_hi] = tuning.chord_spacing;
         let mut best: Option<(f64, SlotId, SlotId, usize)> = None;
         let stride = (n / tuning.chord_ends).max(1);
-        let any_odd = self
-            .front
-            .live_loops()
-            .any(|l| self.front.loops[l as usize].len % 2 == 1);
+        // Whether any live loop is odd, and each end's front angle: worked
+        // out when first needed (most chords fail on their ends' angles).
+        let mut any_odd: Option<bool> = None;
+        let mut wedges: Vec<Option<f64>> = vec![None; n];
         for i in (0..n).step_by(stride) {
             for j in (i + 2..n).step_by(stride) {
                 if i == 0 && j == n - 1 {
@@ -592,9 +592,10 @@ impl Mesher {
                 let (pa, pb) = (self.world(a), self.world(b));
                 let mut score = 0.0;
                 let mut ok = true;
-                for (s, other) in [(a, pb), (b, pa)] {
+                for (end, s, other) in [(i, a, pb), (j, b, pa)] {
                     let p = self.world(s);
-                    let wedge = self.front.angle(s, &self.mesh.nodes);
+                    let wedge =
+                        *wedges[end].get_or_insert_with(|| self.front.angle(s, &self.mesh.nodes));
                     let part1 = ccw_angle(p, self.world(self.front.next(s)), other);
                     let part2 = wedge - part1;
                     if part1 < min_part || part2 < min_part {
@@ -614,6 +615,11 @@ impl Mesher {
                         + pb.distance(self.world(self.front.prev(b))));
                 let d = j - i;
                 let mut k = ((len / h).round() as usize).saturating_sub(1);
+                let any_odd = *any_odd.get_or_insert_with(|| {
+                    self.front
+                        .live_loops()
+                        .any(|l| self.front.loops[l as usize].len % 2 == 1)
+                });
                 let want = if any_odd {
                     self.part_parity(lid, a, b)
                 } else {
