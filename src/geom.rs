@@ -71,7 +71,7 @@ impl AngleLimit {
     #[inline]
     fn side(&self, x: f64, y: f64) -> Option<std::cmp::Ordering> {
         let (c, s) = self.cos_sin?;
-        if !(y > 0.0) {
+        if y.is_nan() || y <= 0.0 {
             return None;
         }
         // `r·sin(angle − limit)` for the direction at `angle`, length `r`.

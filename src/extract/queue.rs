@@ -233,7 +233,7 @@ mod tests {
         let mut seq = 0;
         for round in 0..2000 {
             match next(5) {
-                0 | 1 | 2 => {
+                0..=2 => {
                     seq += 1;
                     let e = Entry {
                         class: next(3) as u8,
