@@ -7,7 +7,7 @@
 //! this box" in time independent of the front's length, so a step costs the
 //! same whether the front has ten nodes or ten thousand.
 
-use crate::geom::{ccw_angle, Aabb, Point};
+use crate::geom::{ccw_angle, Aabb, AngleLimit, Point, StraightLimit};
 
 /// Slot id.
 pub type SlotId = u32;
@@ -314,6 +314,30 @@ impl Front {
     pub fn angle(&self, s: SlotId, nodes: &[Point]) -> f64 {
         let sl = self.slot(s);
         ccw_angle(
+            nodes[sl.node as usize],
+            nodes[self.node(sl.next) as usize],
+            nodes[self.node(sl.prev) as usize],
+        )
+    }
+
+    /// True when the interior angle at slot `s` ([`Front::angle`]) is
+    /// under `limit`.
+    #[inline]
+    pub fn angle_below(&self, s: SlotId, nodes: &[Point], limit: &AngleLimit) -> bool {
+        let sl = self.slot(s);
+        limit.below(
+            nodes[sl.node as usize],
+            nodes[self.node(sl.next) as usize],
+            nodes[self.node(sl.prev) as usize],
+        )
+    }
+
+    /// True when the interior angle at slot `s` ([`Front::angle`]) is
+    /// further from π than `limit`'s tolerance.
+    #[inline]
+    pub fn off_straight(&self, s: SlotId, nodes: &[Point], limit: &StraightLimit) -> bool {
+        let sl = self.slot(s);
+        limit.off(
             nodes[sl.node as usize],
             nodes[self.node(sl.next) as usize],
             nodes[self.node(sl.prev) as usize],

@@ -37,6 +37,106 @@ pub fn ccw_angle(p: Point, from: Point, to: Point) -> f64 {
     }
 }
 
+/// A corner angle to compare [`ccw_angle`]s with, mostly without the
+/// arctangent: where a corner is clearly on one side of the limit, the
+/// sign of a cross product decides; only corners within about
+/// [`ANGLE_FILTER`] radians of the limit are measured. The answers are
+/// those of comparing [`ccw_angle`] itself (its rounding is some 1e-15
+/// radians, far inside the margin).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AngleLimit {
+    /// The limit (radians), as the comparison with [`ccw_angle`] uses it.
+    pub limit: f64,
+    /// Its cosine and sine, or `None` where the limit is too near 0 or π
+    /// for the cross product to decide (every corner is measured then).
+    cos_sin: Option<(f64, f64)>,
+}
+
+/// The margin, relative to the size of the corner's vectors, within which
+/// [`AngleLimit`] measures the angle rather than deciding by sign.
+pub const ANGLE_FILTER: f64 = 1e-9;
+
+impl AngleLimit {
+    /// The limit `limit` (radians).
+    pub fn new(limit: f64) -> AngleLimit {
+        const ROOM: f64 = 1e-6;
+        let cos_sin = (ROOM..=std::f64::consts::PI - ROOM)
+            .contains(&limit)
+            .then(|| (limit.cos(), limit.sin()));
+        AngleLimit { limit, cos_sin }
+    }
+
+    /// Where the angle of direction `(x, y)`, `y > 0`, lies against the
+    /// limit, when clearly below (`Less`) or above (`Greater`).
+    #[inline]
+    fn side(&self, x: f64, y: f64) -> Option<std::cmp::Ordering> {
+        let (c, s) = self.cos_sin?;
+        if y.is_nan() || y <= 0.0 {
+            return None;
+        }
+        // `r·sin(angle − limit)` for the direction at `angle`, length `r`.
+        let d = c * y - s * x;
+        let m = ANGLE_FILTER * (x.abs() + y.abs());
+        if d < -m {
+            Some(std::cmp::Ordering::Less)
+        } else if d > m {
+            Some(std::cmp::Ordering::Greater)
+        } else {
+            None
+        }
+    }
+
+    /// True when `ccw_angle(p, from, to) < self.limit`.
+    #[inline]
+    pub fn below(&self, p: Point, from: Point, to: Point) -> bool {
+        let (u, v) = (from - p, to - p);
+        let (y, x) = (u.perp_dot(v), u.dot(v));
+        if self.cos_sin.is_some() && y < -ANGLE_FILTER * (x.abs() + y.abs()) {
+            // An angle in (π, 2π), over any limit below π.
+            return false;
+        }
+        match self.side(x, y) {
+            Some(o) => o.is_lt(),
+            None => ccw_angle(p, from, to) < self.limit,
+        }
+    }
+}
+
+/// A tolerance on how far a corner may be from straight, tested as
+/// [`AngleLimit`] tests its limit: mostly by sign.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StraightLimit {
+    /// The tolerance (radians), as the comparison with [`ccw_angle`] uses
+    /// it.
+    pub tolerance: f64,
+    /// `π − tolerance`, which the corner's angle either way from a full
+    /// turn's edge must stay over.
+    inner: AngleLimit,
+}
+
+impl StraightLimit {
+    /// The tolerance `tolerance` (radians).
+    pub fn new(tolerance: f64) -> StraightLimit {
+        StraightLimit {
+            tolerance,
+            inner: AngleLimit::new(std::f64::consts::PI - tolerance),
+        }
+    }
+
+    /// True when `(ccw_angle(p, from, to) − π).abs() > self.tolerance`.
+    #[inline]
+    pub fn off(&self, p: Point, from: Point, to: Point) -> bool {
+        let (u, v) = (from - p, to - p);
+        let (y, x) = (u.perp_dot(v), u.dot(v));
+        // Either way from straight alike: the angle of `(x, |y|)`, in
+        // `[0, π]`, under `π − tolerance`.
+        match self.inner.side(x, y.abs()) {
+            Some(o) => o.is_lt(),
+            None => (ccw_angle(p, from, to) - std::f64::consts::PI).abs() > self.tolerance,
+        }
+    }
+}
+
 /// The smallest sine of a corner angle a quad may have. A corner flatter
 /// than this (within about 6e-8 degrees of 0° or 180°) is convex in exact
 /// arithmetic only by rounding, as when a node is the computed midpoint of
@@ -306,6 +406,71 @@ impl Aabb {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`AngleLimit`] answers as comparing [`ccw_angle`] does: on random
+    /// corners, on corners a hair either side of the limit, on flat and
+    /// degenerate ones, and for limits at and beyond the ends it decides
+    /// by sign on.
+    #[test]
+    fn angle_limit_agrees_with_the_angle() {
+        let mut state: u64 = 7;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let limits = [
+            0.0,
+            1e-7,
+            0.3,
+            std::f64::consts::FRAC_PI_4,
+            std::f64::consts::FRAC_PI_2,
+            2.5,
+            std::f64::consts::PI - 1e-7,
+            std::f64::consts::PI,
+            4.0,
+        ];
+        for &limit in &limits {
+            let lim = AngleLimit::new(limit);
+            let straight = StraightLimit::new(limit);
+            let check = |p: Point, from: Point, to: Point| {
+                let a = ccw_angle(p, from, to);
+                assert_eq!(lim.below(p, from, to), a < limit, "{p} {from} {to} {limit}");
+                assert_eq!(
+                    straight.off(p, from, to),
+                    (a - std::f64::consts::PI).abs() > limit,
+                    "{p} {from} {to} {limit}"
+                );
+            };
+            for _ in 0..20_000 {
+                let p = Point::new(next() * 10.0 - 5.0, next() * 10.0 - 5.0);
+                let r = 1e-3 + next() * 3.0;
+                let t = next() * std::f64::consts::TAU;
+                let from = p + Point::new(t.cos(), t.sin()) * r;
+                // Random, and a hair either side of the limit and of its
+                // mirror about straight.
+                for turn in [
+                    next() * std::f64::consts::TAU,
+                    limit * (1.0 + 1e-12),
+                    limit * (1.0 - 1e-12),
+                    limit + 1e-9,
+                    std::f64::consts::TAU - limit + 1e-10,
+                    std::f64::consts::PI + limit * (1.0 + 1e-12),
+                    std::f64::consts::PI - limit * (1.0 - 1e-12),
+                    std::f64::consts::PI,
+                    0.0,
+                ] {
+                    let to =
+                        p + Point::new((t + turn).cos(), (t + turn).sin()) * (r * (0.5 + next()));
+                    check(p, from, to);
+                }
+                check(p, from, from);
+                check(p, p, from);
+                check(p, from, p + (p - from) * 2.0);
+            }
+        }
+    }
 
     #[test]
     fn the_sure_convexity_test_never_says_more_than_the_exact_ones() {

@@ -146,6 +146,11 @@ impl Mesher {
             .max(2)
     }
 
+    /// True for a boundary node (never moved).
+    pub(super) fn is_boundary(&self, v: u32) -> bool {
+        (v as usize) < self.boundary_nodes
+    }
+
     pub(super) fn world(&self, s: SlotId) -> Point {
         self.mesh.nodes[self.front.node(s) as usize]
     }
@@ -530,7 +535,7 @@ impl Mesher {
     /// stay in the finished mesh; elsewhere smoothing moves it off the line.
     pub(super) fn pinned_corners_turn(&self, p: [Point; 4], ids: [Option<u32>; 4]) -> bool {
         (0..4).all(|k| match ids[k] {
-            Some(v) if self.mesh.is_boundary(v) => {
+            Some(v) if self.is_boundary(v) => {
                 crate::geom::turns_left(p[(k + 3) % 4], p[k], p[(k + 1) % 4])
             }
             _ => true,

@@ -277,7 +277,7 @@ impl Mesher {
         let mut moved = false;
         for (k, &s) in slots.iter().enumerate() {
             let v = nodes[k];
-            if self.mesh.is_boundary(v) || !self.front_once(v) {
+            if self.is_boundary(v) || !self.front_once(v) {
                 continue;
             }
             let quads: Vec<u32> = self.incident[v as usize].clone();

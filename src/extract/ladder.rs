@@ -453,7 +453,7 @@ impl Mesher {
     fn mapped_grid(&mut self) -> Option<StepReport> {
         self.params.mapped_rows?;
         for lid in 0..self.front.loops.len() as u32 {
-            if self.front.loops[lid as usize].alive {
+            if self.grid_unseen(lid) {
                 if let Some(r) = self.close_mapped(lid) {
                     return Some(r);
                 }
@@ -473,19 +473,21 @@ impl Mesher {
         let mut best: Option<Chosen> = None;
         let mut chosen = None;
         let mut group = None;
-        while let Some(e) = self.queue.heap.pop() {
+        while let Some(e) = self.queue.pop() {
             let i = e.slot as usize;
             if !self.front.slot(e.slot).alive || self.queue.version[i] != e.version {
                 continue;
             }
             let key = (e.class > 0, e.band, e.layer);
             if best.is_some() && group.is_some_and(|g| g != key) {
-                self.queue.heap.push(e);
+                self.queue.push_entry(e);
                 break;
             }
             group = Some(key);
             if e.class == 0
-                && self.front.angle(e.slot, &self.mesh.nodes) < self.params.seam_angle.to_radians()
+                && self
+                    .front
+                    .angle_below(e.slot, &self.mesh.nodes, &self.angles.seam)
             {
                 if let Some(mut r) = self.try_seam(e.slot) {
                     r.skipped = skipped;
@@ -552,7 +554,8 @@ impl Mesher {
             .live_loops()
             .flat_map(|l| self.front.loop_slots(l))
             .filter(|&s| {
-                self.front.angle(s, &self.mesh.nodes) < self.params.reference_angle[0].to_radians()
+                self.front
+                    .angle_below(s, &self.mesh.nodes, &self.angles.sharp)
             })
             .collect();
         sharp.into_iter().find_map(|s| self.try_seam(s))
@@ -704,7 +707,8 @@ impl Mesher {
             }
             // Stretches of the given boundary no row has reached yet (the
             // far side of a hole): a row start on each one's shortest edge.
-            let untouched = |k: usize| open[k] && self.mesh.is_boundary(self.front.node(slots[k]));
+            let nb = self.boundary_nodes;
+            let untouched = |k: usize| open[k] && (self.front.node(slots[k]) as usize) < nb;
             let first = (0..n).find(|&k| !untouched(k)).unwrap_or(0);
             let mut run: Vec<SlotId> = Vec::new();
             for k in 1..=n {

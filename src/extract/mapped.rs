@@ -258,7 +258,7 @@ impl Mesher {
     pub(super) fn close_strip(&mut self, lid: u32) -> Option<StepReport> {
         let (rows, (slots, nodes, pts)) = self.grid_loop(lid, |m| &mut m.grids.strip)?;
         let (g, sj) = best_strip(&pts, rows)?;
-        let fixed = nodes.iter().all(|&v| self.mesh.is_boundary(v));
+        let fixed = nodes.iter().all(|&v| self.is_boundary(v));
         if (sj < self.params.tuning.mapped.strip_sj && !fixed)
             || !self.loop_is_clear(&slots, &nodes, &pts)
         {
@@ -267,6 +267,17 @@ impl Mesher {
         let mut r = self.commit_grid(lid, &nodes, &g);
         r.remedy = super::report::Remedy::RuleBased;
         Some(r)
+    }
+
+    /// True when loop `lid` is alive, of a size a mapped grid may close,
+    /// and changed since [`Mesher::close_mapped`] last looked at it: what
+    /// [`Mesher::grid_loop`] asks first, without its call.
+    #[inline]
+    pub(super) fn grid_unseen(&self, lid: u32) -> bool {
+        let l = &self.front.loops[lid as usize];
+        l.alive
+            && (8..=self.params.tuning.mapped.max_loop).contains(&l.len)
+            && self.grids.mapped.get(lid as usize) != Some(&l.version)
     }
 
     /// The rows a grid may have across and loop `lid`'s slots, nodes and

@@ -13,15 +13,23 @@
 use super::candidate::Chosen;
 use crate::front::SlotId;
 use crate::geom::Point;
-use std::collections::BTreeMap;
 
-/// One remembered evaluation.
-#[derive(Clone, Debug)]
-struct Entry {
-    /// The front node at the slot when it was evaluated.
-    node: u32,
+/// One remembered evaluation's key and the box of front it read: what
+/// [`EvalMemo::changed`] walks, kept apart from the results so that the
+/// walk reads little.
+#[derive(Clone, Copy, Debug)]
+struct Keyed {
+    eval: Eval,
+    slot: SlotId,
     lo: Point,
     hi: Point,
+}
+
+/// One remembered evaluation's result.
+#[derive(Clone, Debug)]
+struct Stored {
+    /// The front node at the slot when it was evaluated.
+    node: u32,
     result: Option<Chosen>,
 }
 
@@ -34,10 +42,19 @@ pub(super) enum Eval {
     Relaxed,
 }
 
-/// Remembered evaluations of front slots, by kind and slot.
+/// No entry at a slot.
+const NONE: u32 = u32::MAX;
+
+/// Remembered evaluations of front slots, by kind and slot: entries in
+/// no particular order (the keys and boxes in one list, the results in
+/// another beside it), found by kind and slot through a table of
+/// positions.
 #[derive(Clone, Debug, Default)]
 pub(super) struct EvalMemo {
-    entries: BTreeMap<(Eval, SlotId), Entry>,
+    /// Per kind and slot, the position of its entry ([`NONE`]: none).
+    at: [Vec<u32>; 2],
+    keyed: Vec<Keyed>,
+    stored: Vec<Stored>,
     /// The box of the front the last [`super::session::Mesher::evaluate`]
     /// read: what [`EvalMemo::put`] is given for it.
     pub(super) read_box: (Point, Point),
@@ -48,13 +65,19 @@ pub(super) struct EvalMemo {
 }
 
 impl EvalMemo {
+    /// The position of the entry of kind `eval` at `slot`, if any.
+    fn position(&self, eval: Eval, slot: SlotId) -> Option<usize> {
+        match self.at[eval as usize].get(slot as usize) {
+            Some(&i) if i != NONE => Some(i as usize),
+            _ => None,
+        }
+    }
+
     /// The remembered result of kind `eval` at `slot` while it holds
     /// `node`, if any.
     pub(super) fn get(&self, eval: Eval, slot: SlotId, node: u32) -> Option<&Option<Chosen>> {
-        self.entries
-            .get(&(eval, slot))
-            .filter(|e| e.node == node)
-            .map(|e| &e.result)
+        let e = &self.stored[self.position(eval, slot)?];
+        (e.node == node).then_some(&e.result)
     }
 
     /// Remembers `result` of kind `eval` at `slot` (holding `node`), read
@@ -67,26 +90,47 @@ impl EvalMemo {
         (lo, hi): (Point, Point),
         result: Option<Chosen>,
     ) {
-        self.entries.insert(
-            (eval, slot),
-            Entry {
-                node,
-                lo,
-                hi,
-                result,
-            },
-        );
+        let keyed = Keyed { eval, slot, lo, hi };
+        let stored = Stored { node, result };
+        if let Some(i) = self.position(eval, slot) {
+            self.keyed[i] = keyed;
+            self.stored[i] = stored;
+            return;
+        }
+        let at = &mut self.at[eval as usize];
+        if at.len() <= slot as usize {
+            at.resize(slot as usize + 1, NONE);
+        }
+        at[slot as usize] = self.keyed.len() as u32;
+        self.keyed.push(keyed);
+        self.stored.push(stored);
     }
 
     /// Forgets the entries whose box meets the box `lo..hi`.
     pub(super) fn changed(&mut self, lo: Point, hi: Point) {
-        self.entries
-            .retain(|_, e| e.hi.x < lo.x || e.lo.x > hi.x || e.hi.y < lo.y || e.lo.y > hi.y);
+        let mut i = 0;
+        while i < self.keyed.len() {
+            let e = self.keyed[i];
+            if e.hi.x < lo.x || e.lo.x > hi.x || e.hi.y < lo.y || e.lo.y > hi.y {
+                i += 1;
+                continue;
+            }
+            self.at[e.eval as usize][e.slot as usize] = NONE;
+            self.keyed.swap_remove(i);
+            self.stored.swap_remove(i);
+            if let Some(moved) = self.keyed.get(i) {
+                self.at[moved.eval as usize][moved.slot as usize] = i as u32;
+            }
+        }
     }
 
     /// Forgets everything.
     pub(super) fn clear(&mut self) {
-        self.entries.clear();
+        for e in &self.keyed {
+            self.at[e.eval as usize][e.slot as usize] = NONE;
+        }
+        self.keyed.clear();
+        self.stored.clear();
     }
 }
 

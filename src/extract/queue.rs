@@ -16,17 +16,43 @@
 use super::params::Strategy;
 use super::session::Mesher;
 use crate::front::SlotId;
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+use std::collections::BTreeMap;
 
-/// The queue itself: a max-heap of [`Entry`], each slot's current version
+/// The queue itself: its entries by group, each slot's current version
 /// (an entry of an older version is stale) and the push counter.
+///
+/// Entries come out greatest first by [`Entry::order`]. A group (sharp
+/// or not, band, layer) holds one stack per class: `seq` grows with every
+/// push, so a stack is in `seq` order by pushing alone, and the greatest
+/// entry is the top of the lowest class's stack of the first group. A pop
+/// and a push cost `O(log groups)`, against `O(log entries)` for a heap,
+/// and most steps pop and put back a long run of one group.
 #[derive(Clone, Debug, Default)]
 pub(super) struct RefQueue {
-    pub(super) heap: BinaryHeap<Entry>,
+    groups: BTreeMap<GroupKey, Group>,
+    /// Emptied groups kept for their stacks' room.
+    spare: Vec<Group>,
     pub(super) version: Vec<u32>,
     pub(super) seq: u64,
 }
+
+/// A group's key: not sharp (sharp corners first), band, layer.
+type GroupKey = (bool, u32, u32);
+
+/// One group's entries: a stack per class, each in `seq` order.
+#[derive(Clone, Debug, Default)]
+struct Group {
+    by_class: [Vec<Entry>; 3],
+}
+
+impl Group {
+    fn is_empty(&self) -> bool {
+        self.by_class.iter().all(Vec::is_empty)
+    }
+}
+
+/// Emptied groups kept for reuse at most.
+const SPARE_GROUPS: usize = 8;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct Entry {
@@ -38,22 +64,67 @@ pub(super) struct Entry {
     pub(super) version: u32,
 }
 
-impl Ord for Entry {
-    fn cmp(&self, o: &Self) -> Ordering {
-        // Max-heap: sharp corners first, then finer band first, lower
-        // layer first, reference points before wider row ends, newest
-        // first.
-        (o.class > 0)
-            .cmp(&(self.class > 0))
-            .then(o.band.cmp(&self.band))
-            .then(o.layer.cmp(&self.layer))
-            .then(o.class.cmp(&self.class))
-            .then(self.seq.cmp(&o.seq))
+impl Entry {
+    /// The entry's group.
+    fn group(&self) -> GroupKey {
+        (self.class > 0, self.band, self.layer)
+    }
+
+    /// The queue's order, the first out the least: sharp corners first,
+    /// then finer band first, lower layer first, reference points before
+    /// wider row ends, newest first.
+    #[cfg(test)]
+    fn order(&self) -> (GroupKey, u8, std::cmp::Reverse<u64>) {
+        (self.group(), self.class, std::cmp::Reverse(self.seq))
     }
 }
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
+
+impl RefQueue {
+    /// Adds `e`, whose `seq` is above that of every entry of its group and
+    /// class (a new push, or the entry [`RefQueue::pop`] just gave).
+    pub(super) fn push_entry(&mut self, e: Entry) {
+        let spare = &mut self.spare;
+        let stack = &mut self
+            .groups
+            .entry(e.group())
+            .or_insert_with(|| spare.pop().unwrap_or_default())
+            .by_class[usize::from(e.class)];
+        debug_assert!(stack.last().is_none_or(|l| l.seq < e.seq));
+        stack.push(e);
+    }
+
+    /// Drops the empty groups at the front, so that the first group holds
+    /// the first entry.
+    fn drop_empty_front(&mut self) {
+        while let Some(first) = self.groups.first_entry() {
+            if !first.get().is_empty() {
+                return;
+            }
+            let g = first.remove();
+            if self.spare.len() < SPARE_GROUPS {
+                self.spare.push(g);
+            }
+        }
+    }
+
+    /// Takes the first entry out.
+    pub(super) fn pop(&mut self) -> Option<Entry> {
+        self.drop_empty_front();
+        let mut first = self.groups.first_entry()?;
+        first.get_mut().by_class.iter_mut().find_map(Vec::pop)
+    }
+
+    /// The first entry.
+    fn peek(&mut self) -> Option<Entry> {
+        self.drop_empty_front();
+        let (_, g) = self.groups.first_key_value()?;
+        g.by_class.iter().find_map(|v| v.last().copied())
+    }
+
+    /// Empties the queue.
+    pub(super) fn clear(&mut self) {
+        self.groups.clear();
+        self.version.clear();
     }
 }
 
@@ -82,7 +153,7 @@ impl Mesher {
         };
         self.queue.seq += 1;
         let (band, layer) = self.slot_key(s);
-        self.queue.heap.push(Entry {
+        self.queue.push_entry(Entry {
             class,
             band,
             layer,
@@ -102,7 +173,7 @@ impl Mesher {
         for e in deferred {
             if self.front.slot(e.slot).alive && self.queue.version[e.slot as usize] == e.version {
                 self.queue.seq += 1;
-                self.queue.heap.push(Entry {
+                self.queue.push_entry(Entry {
                     seq: self.queue.seq,
                     ..e
                 });
@@ -129,12 +200,68 @@ impl Mesher {
     /// Band and layer of the first live entry of the queue (stale entries
     /// dropped).
     pub(super) fn queue_top(&mut self) -> Option<(u32, u32)> {
-        while let Some(e) = self.queue.heap.peek() {
+        while let Some(e) = self.queue.peek() {
             if self.front.slot(e.slot).alive && self.queue.version[e.slot as usize] == e.version {
                 return Some((e.band, e.layer));
             }
-            self.queue.heap.pop();
+            self.queue.pop();
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+
+    /// Pops come out in [`Entry::order`], as from a heap of all entries,
+    /// through pushes of new entries, the put-back of a popped one and
+    /// pops that empty groups.
+    #[test]
+    fn pops_in_heap_order() {
+        let mut q = RefQueue::default();
+        let mut heap = BinaryHeap::new();
+        let mut state: u64 = 12345;
+        let mut next = |n: u64| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) % n
+        };
+        let mut seq = 0;
+        for round in 0..2000 {
+            match next(5) {
+                0..=2 => {
+                    seq += 1;
+                    let e = Entry {
+                        class: next(3) as u8,
+                        band: next(3) as u32,
+                        layer: next(4) as u32,
+                        seq,
+                        slot: round,
+                        version: 0,
+                    };
+                    q.push_entry(e);
+                    heap.push(Reverse((e.order(), e.slot)));
+                }
+                3 => {
+                    let want = heap.pop().map(|Reverse((_, s))| s);
+                    assert_eq!(q.pop().map(|e| e.slot), want);
+                }
+                _ => {
+                    let peeked = q.peek();
+                    if let Some(e) = q.pop() {
+                        assert_eq!(Some(e), peeked);
+                        q.push_entry(e);
+                    }
+                }
+            }
+        }
+        while let Some(Reverse((_, s))) = heap.pop() {
+            assert_eq!(q.pop().map(|e| e.slot), Some(s));
+        }
+        assert_eq!(q.pop(), None);
     }
 }

@@ -137,8 +137,7 @@ impl Mesher {
             &self.mesh.nodes,
             super::session::grid_cell(&self.size),
         );
-        self.queue.heap.clear();
-        self.queue.version.clear();
+        self.queue.clear();
         for s in 0..self.front.slots.len() as SlotId {
             self.push(s);
         }
@@ -242,7 +241,7 @@ impl Mesher {
         if nl == nr || f.node(l2) == nr || f.node(r2) == nl {
             return None;
         }
-        let nb = self.mesh.n_boundary() as u32;
+        let nb = self.boundary_nodes as u32;
         let (pl, pr) = (self.mesh.nodes[nl as usize], self.mesh.nodes[nr as usize]);
         let (keep, gone, pos) = match (nl < nb, nr < nb) {
             (true, true) => return None,
@@ -364,7 +363,7 @@ impl Mesher {
     /// `min(former, 0.3)`, and neither its front edges nor its path there
     /// cross the front.
     pub(super) fn relax_loop(&mut self, lid: u32) -> Option<StepReport> {
-        let nb = self.mesh.n_boundary() as u32;
+        let nb = self.boundary_nodes as u32;
         let slots = self.front.loop_slots(lid);
         let mut count: std::collections::BTreeMap<u32, usize> = Default::default();
         for l in self.front.live_loops() {
@@ -577,10 +576,10 @@ impl Mesher {
         let [spacing_lo, spacing_hi] = tuning.chord_spacing;
         let mut best: Option<(f64, SlotId, SlotId, usize)> = None;
         let stride = (n / tuning.chord_ends).max(1);
-        let any_odd = self
-            .front
-            .live_loops()
-            .any(|l| self.front.loops[l as usize].len % 2 == 1);
+        // Whether any live loop is odd, and each end's front angle: worked
+        // out when first needed (most chords fail on their ends' angles).
+        let mut any_odd: Option<bool> = None;
+        let mut wedges: Vec<Option<f64>> = vec![None; n];
         for i in (0..n).step_by(stride) {
             for j in (i + 2..n).step_by(stride) {
                 if i == 0 && j == n - 1 {
@@ -593,9 +592,10 @@ impl Mesher {
                 let (pa, pb) = (self.world(a), self.world(b));
                 let mut score = 0.0;
                 let mut ok = true;
-                for (s, other) in [(a, pb), (b, pa)] {
+                for (end, s, other) in [(i, a, pb), (j, b, pa)] {
                     let p = self.world(s);
-                    let wedge = self.front.angle(s, &self.mesh.nodes);
+                    let wedge =
+                        *wedges[end].get_or_insert_with(|| self.front.angle(s, &self.mesh.nodes));
                     let part1 = ccw_angle(p, self.world(self.front.next(s)), other);
                     let part2 = wedge - part1;
                     if part1 < min_part || part2 < min_part {
@@ -615,6 +615,11 @@ impl Mesher {
                         + pb.distance(self.world(self.front.prev(b))));
                 let d = j - i;
                 let mut k = ((len / h).round() as usize).saturating_sub(1);
+                let any_odd = *any_odd.get_or_insert_with(|| {
+                    self.front
+                        .live_loops()
+                        .any(|l| self.front.loops[l as usize].len % 2 == 1)
+                });
                 let want = if any_odd {
                     self.part_parity(lid, a, b)
                 } else {

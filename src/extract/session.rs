@@ -22,7 +22,7 @@ use super::transition::RowRuns;
 use super::watch::ProgressWatch;
 use crate::boundary::Boundary;
 use crate::front::{Front, SlotId};
-use crate::geom::Point;
+use crate::geom::{AngleLimit, Point, StraightLimit};
 use crate::mesh::QuadMesh;
 use crate::model::{ElementType, Model, RulesModel};
 use std::f64::consts::PI;
@@ -55,6 +55,13 @@ pub struct Mesher {
     pub(super) rules: RulesModel,
     /// The area inside the boundary.
     pub(super) domain_area: f64,
+    /// The boundary's node count: nodes `0..boundary_nodes` are the
+    /// boundary's ([`QuadMesh::is_boundary`], without summing the loops
+    /// at every call).
+    pub(super) boundary_nodes: usize,
+    /// The angle limits the ladder tests front angles against at every
+    /// step, from the parameters.
+    pub(super) angles: FrontAngles,
 
     // The mesh state.
     pub(super) mesh: QuadMesh,
@@ -80,6 +87,30 @@ pub struct Mesher {
 
     // The session.
     pub(super) record: Record,
+}
+
+/// The angle limits the ladder tests front angles against at every step
+/// (the parameters' degrees in radians, ready for a test mostly by sign).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct FrontAngles {
+    /// [`MeshParams::seam_angle`]: a sharp corner this sharp is tried for
+    /// a seam.
+    pub(super) seam: AngleLimit,
+    /// The lower [`MeshParams::reference_angle`]: a sharp corner.
+    pub(super) sharp: AngleLimit,
+    /// [`TransitionTuning::straight`](super::tuning::TransitionTuning::straight):
+    /// the nodes inside a transition's stretch.
+    pub(super) straight: StraightLimit,
+}
+
+impl FrontAngles {
+    fn of(params: &MeshParams) -> FrontAngles {
+        FrontAngles {
+            seam: AngleLimit::new(params.seam_angle.to_radians()),
+            sharp: AngleLimit::new(params.reference_angle[0].to_radians()),
+            straight: StraightLimit::new(params.tuning.transition.straight),
+        }
+    }
 }
 
 /// A run's record: what undo, redo, replay and project files use.
@@ -157,6 +188,7 @@ impl Mesher {
         let fill_after = (params.tuning.fill.budget * quads) as usize
             + boundary.node_count()
             + params.tuning.fill.budget_extra;
+        let angles = FrontAngles::of(&params);
         let mut m = Mesher {
             boundary,
             params,
@@ -164,6 +196,8 @@ impl Mesher {
             size,
             rules: RulesModel::DEFAULT,
             domain_area,
+            boundary_nodes: mesh.n_boundary(),
+            angles,
             mesh,
             front,
             incident: Vec::new(),

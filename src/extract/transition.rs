@@ -27,7 +27,6 @@ use super::session::Mesher;
 use crate::front::SlotId;
 use crate::geom::Point;
 use crate::quality::Shape;
-use std::f64::consts::PI;
 
 /// The transitions' state: per node made by a row, the row's elements
 /// since its last transition, counted at the element's top
@@ -96,7 +95,7 @@ impl Mesher {
             }
         }
         for x in [b1, b2] {
-            if (f.angle(x, &self.mesh.nodes) - PI).abs() > self.params.tuning.transition.straight {
+            if f.off_straight(x, &self.mesh.nodes, &self.angles.straight) {
                 return None;
             }
         }
