@@ -38,8 +38,7 @@ fn air_gap() -> Boundary {
         })
         .collect();
     pts.extend(inner.into_iter().rev());
-    Boundary::new(pts, vec![(0..180).collect(), (180..384).collect()], None)
-        .expect("a valid ring")
+    Boundary::new(pts, vec![(0..180).collect(), (180..384).collect()], None).expect("a valid ring")
 }
 
 /// A thin curved strip: an arc of 70 segments over one of 52, 0.03 apart,
@@ -56,7 +55,8 @@ fn rungs(b: Boundary) -> Vec<Rung> {
     let mut m = Mesher::new(b, model(), MeshParams::DEFAULT);
     let mut out = Vec::new();
     while let StepOutcome::Stepped(r) = m.step().expect("the band meshes") {
-        m.check_invariants().expect("the invariants after each step");
+        m.check_invariants()
+            .expect("the invariants after each step");
         out.push(r.rung);
     }
     out
