@@ -5,27 +5,31 @@
 //!
 //! A band is either one loop with two long sides facing each other and two
 //! short ends (four corners, the ends at most [`BandTuning::max_end`]
-//! segments), or the ring between the two loops that are all the front
+//! segments, sides of unequal counts or unequal ends: equal ones are the
+//! mapped grid's), or the ring between the two loops that are all the front
 //! holds (an electric machine's air gap). It is thin when its mean width,
 //! twice its area over its perimeter, is at most
-//! [`BandTuning::max_rows`] of its mean segment length.
+//! [`BandTuning::max_rows`] (and a half) of its mean segment length.
 //!
 //! Element by element, two fronts this close meet in collisions that knot:
 //! the counts of the two sides differ, and every place where a row gives
-//! out leaves an irregular node, often a sliver. Here the band gets
-//! `rows` rows (its width over its spacing, at least two when the counts
-//! differ). The inner lines follow the finer side's nodes, at even fractions
-//! of the way across; the row beside the coarser side takes the difference
-//! by wedges (a quad with one corner on the coarser side and two edges on
-//! the inner line), spread along the band where the two sides' arc-length
-//! fractions drift apart. A wedge's middle node is moved away from its
-//! corner, so the wedge is convex there. An end of one segment with two rows
-//! hands the inner line to the finer side's corner. Each wedge leaves one
-//! irregular interior node (valence 3); everything else is regular.
+//! out leaves an irregular node, often a sliver. Here the band gets rows:
+//! a ring its width over its spacing (at least two when the counts
+//! differ), a loop as many as its ends' segments (two for ends of one
+//! segment). The inner lines follow the finer side's nodes, at even
+//! fractions of the way across over their feet on the other side, and
+//! take the other side's count where it is locally finer; the row beside
+//! each side takes the difference by wedges (a quad with one corner on the
+//! side and two edges on the inner line), spread along the band where the
+//! lines' arc-length fractions drift apart. A wedge's middle node is moved
+//! away from its corner, so the wedge is convex there. An end of one
+//! segment with two rows hands the inner line to the finer side's corner.
+//! Each wedge leaves one irregular interior node (valence 3); everything
+//! else is regular. The inner nodes are smoothed among themselves, the
+//! band's own nodes held.
 //!
 //! The rows are taken only if every quad is measurably convex with a
-//! scaled Jacobian of at least [`BandTuning::min_sj`]; the finished mesh's
-//! smoothing evens them out.
+//! scaled Jacobian of at least [`BandTuning::min_sj`].
 
 use super::closure::is_pinched;
 use super::report::{StepKind, StepReport};
