@@ -312,36 +312,36 @@ impl Front {
     /// Interior angle of the front at slot `s` (radians, in `[0, 2π)`).
     #[inline]
     pub fn angle(&self, s: SlotId, nodes: &[Point]) -> f64 {
+        let [p, next, prev] = self.corner(s, nodes);
+        ccw_angle(p, next, prev)
+    }
+
+    /// The front's corner at slot `s`: its node and the nodes after and
+    /// before it.
+    #[inline]
+    fn corner(&self, s: SlotId, nodes: &[Point]) -> [Point; 3] {
         let sl = self.slot(s);
-        ccw_angle(
+        [
             nodes[sl.node as usize],
             nodes[self.node(sl.next) as usize],
             nodes[self.node(sl.prev) as usize],
-        )
+        ]
     }
 
     /// True when the interior angle at slot `s` ([`Front::angle`]) is
     /// under `limit`.
     #[inline]
     pub fn angle_below(&self, s: SlotId, nodes: &[Point], limit: &AngleLimit) -> bool {
-        let sl = self.slot(s);
-        limit.below(
-            nodes[sl.node as usize],
-            nodes[self.node(sl.next) as usize],
-            nodes[self.node(sl.prev) as usize],
-        )
+        let [p, next, prev] = self.corner(s, nodes);
+        limit.below(p, next, prev)
     }
 
     /// True when the interior angle at slot `s` ([`Front::angle`]) is
     /// further from π than `limit`'s tolerance.
     #[inline]
     pub fn off_straight(&self, s: SlotId, nodes: &[Point], limit: &StraightLimit) -> bool {
-        let sl = self.slot(s);
-        limit.off(
-            nodes[sl.node as usize],
-            nodes[self.node(sl.next) as usize],
-            nodes[self.node(sl.prev) as usize],
-        )
+        let [p, next, prev] = self.corner(s, nodes);
+        limit.off(p, next, prev)
     }
 
     /// The live loops' ids.
