@@ -206,7 +206,9 @@ fn zip_row(
     } else {
         (np, nq)
     };
-    if end_q < k || end_p < i || end_q - k < end_p - i {
+    // Each wedge takes two edges of the difference: an odd one cannot be
+    // taken.
+    if end_q < k || end_p < i || end_q - k < end_p - i || (end_q - k - (end_p - i)) % 2 == 1 {
         return None;
     }
     while i < end_p || k < end_q {
@@ -752,6 +754,25 @@ mod tests {
         // the two at the shared corners.
         assert_eq!(g.quads.len(), 24 + 4 + 28 + 2);
         assert_eq!(g.points.len(), 31);
+    }
+
+    /// Sides whose difference is odd (31 and 24 segments, ends of one) cannot
+    /// be taken by wedges of two edges: no rows, and no panic.
+    #[test]
+    fn an_odd_difference_gets_no_rows() {
+        let mut pts = Vec::new();
+        for i in 0..=31 {
+            pts.push(Point::new(i as f64 * 3.0 / 31.0, 0.0));
+        }
+        for i in (0..=24).rev() {
+            pts.push(Point::new(i as f64 * 3.0 / 24.0, 0.09));
+        }
+        let sides = BandSides {
+            a: (0..=31).collect(),
+            b: (32..57).rev().collect(),
+            ends: Some((Vec::new(), Vec::new())),
+        };
+        assert!(band_rows(&pts, &sides, 2, 0.0).is_none());
     }
 
     /// A wide loop is no band; an end longer than allowed is none either.
