@@ -271,7 +271,7 @@ pub fn band_rows(pts: &[Point], sides: &BandSides, rows: usize, min_sj: f64) -> 
     // The inner lines follow `b`'s nodes, each at its foot's fraction on
     // `a`; a node half way along `b`'s first or last edge is at `k ± ½`.
     let ub: Vec<f64> = feet(pts, a, &fa, ring, b).iter().map(|f| f.0).collect();
-    let (ub, ring_end) = (ub, if ring { 1.0 } else { 0.0 });
+    let ring_end = if ring { 1.0 } else { 0.0 };
     let b_at = |k: f64| -> (f64, Point) {
         let i = (k.floor() as usize).min(b.len() - 1);
         let t = k - i as f64;
