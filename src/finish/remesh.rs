@@ -24,9 +24,16 @@
 //!
 //! Regions are taken worst quad first, in quad order among equals, and the
 //! candidates are tried in a fixed order, so the result is deterministic.
+//! The regions of the next bad quads in line whose cavities are apart are
+//! worked out together, on every core; a region worked out ahead is used
+//! only when no patch applied since has touched a node it read and the
+//! work budget still covers it, else it is worked out again. The mesh is
+//! therefore the same, byte for byte, whatever the number of threads.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
+
+use rayon::prelude::*;
 
 use super::cleanup::{improve, CleanupParams};
 use super::params::FinishParams;
@@ -157,6 +164,49 @@ struct Patch {
 }
 
 const NEW: u32 = u32::MAX;
+
+/// What a region's work reads apart from the mesh: the largest cavity in
+/// rings, the model, the extraction settings, the patches' finishing and
+/// the remeshing bound.
+struct RegionContext<'a> {
+    rings: usize,
+    model: &'a Arc<dyn Model>,
+    candidates: &'a [MeshParams],
+    finish: &'a FinishParams,
+    bound: f64,
+}
+
+/// A bad quad's region as worked out: the patch chosen, the nodes of the
+/// quads it read (its largest cavity), the work it took, whether the
+/// work ran out on it, and the number of patches applied before it.
+struct Region {
+    chosen: Option<Patch>,
+    nodes: Vec<u32>,
+    cost: usize,
+    ran_dry: bool,
+    after: usize,
+}
+
+impl Region {
+    /// True if working the region out now gives the same: no patch since
+    /// touched a node it read (`touched`: per node, the number of patches
+    /// applied when one last covered it; `replaced` so far), and `work`
+    /// covers its cost without running out.
+    fn still_holds(&self, touched: &[usize], replaced: usize, work: usize) -> bool {
+        (self.after == replaced
+            || self
+                .nodes
+                .iter()
+                .all(|&v| touched[v as usize] <= self.after))
+            && !self.ran_dry
+            && work > self.cost
+    }
+}
+
+/// Regions worked out ahead per thread.
+const AHEAD: usize = 6;
+/// Bad quads looked at for a batch of regions worked out ahead.
+const AHEAD_SCAN: usize = 64;
 
 /// Extraction steps all patch runs of one mesh may take together, per quad
 /// of the mesh, plus [`WORK_BASE`]; a run that fails is charged its whole
@@ -289,6 +339,90 @@ impl Work<'_> {
         best
     }
 
+    /// The region of bad quad `k` (cavities of 2 to `ctx.rings` rings,
+    /// the smallest that leaves no bad quad, else the best) on the mesh as
+    /// it stands after `replaced` patches, with `work` left to spend.
+    fn region(&self, k: u32, ctx: &RegionContext, work: usize, replaced: usize) -> Region {
+        let mut left = work;
+        let mut chosen: Option<Patch> = None;
+        let mut read: Vec<u32> = Vec::new();
+        for rings in 2..=ctx.rings {
+            let cavity = self.cavity(k, rings);
+            read.clone_from(&cavity);
+            let old = badness(
+                self.mesh,
+                cavity.iter().map(|&j| &self.mesh.quads[j as usize]),
+                ctx.bound,
+            );
+            let Some(p) = self.patch(
+                cavity,
+                ctx.model,
+                ctx.candidates,
+                ctx.finish,
+                (ctx.bound, old),
+                &mut left,
+            ) else {
+                continue;
+            };
+            let clean = p.badness.bad == 0;
+            if chosen.as_ref().is_none_or(|c| better(p.badness, c.badness)) {
+                chosen = Some(p);
+            }
+            if clean {
+                break;
+            }
+        }
+        let mut nodes: Vec<u32> = read
+            .iter()
+            .flat_map(|&j| self.mesh.quads[j as usize])
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        Region {
+            chosen,
+            nodes,
+            cost: work - left,
+            ran_dry: left == 0,
+            after: replaced,
+        }
+    }
+
+    /// Bad quad `k` and the live bad quads after it in `bad` (at most
+    /// [`AHEAD`] per thread, from the next [`AHEAD_SCAN`]) whose largest
+    /// cavities share no node with each other's: the regions worked out
+    /// together.
+    fn batch(&self, k: u32, bad: &[(Priority, u32)], rings: usize) -> Vec<u32> {
+        let threads = rayon::current_num_threads();
+        let mut batch = vec![k];
+        if threads <= 1 {
+            return batch;
+        }
+        let want = AHEAD * threads;
+        let mut taken: std::collections::BTreeSet<u32> = std::collections::BTreeSet::new();
+        let mut disjoint = |j: u32| {
+            let nodes: Vec<u32> = self
+                .cavity(j, rings)
+                .iter()
+                .flat_map(|&q| self.mesh.quads[q as usize])
+                .collect();
+            if nodes.iter().any(|v| taken.contains(v)) {
+                return false;
+            }
+            taken.extend(nodes);
+            true
+        };
+        disjoint(k);
+        for &(_, j) in bad.iter().take(AHEAD_SCAN) {
+            if batch.len() >= want {
+                break;
+            }
+            if self.alive[j as usize] && !batch.contains(&j) && disjoint(j) {
+                batch.push(j);
+            }
+        }
+        batch
+    }
+
     /// Replaces the patch's cavity by its quads.
     fn apply(&mut self, p: Patch) {
         for &k in &p.cavity {
@@ -404,43 +538,54 @@ pub fn remesh_bad(
         .filter(|&(p, _)| p.fitness < bound)
         .collect();
     bad.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
+    // Regions worked out ahead, on both cores, for the bad quads next in
+    // line: each is used only if nothing it read has changed since.
+    let mut ahead: BTreeMap<u32, Region> = BTreeMap::new();
+    let mut touched: Vec<usize> = vec![0; w.mesh.nodes.len()];
+    let ctx = RegionContext {
+        rings: rp.rings.max(2),
+        model,
+        candidates: &cands,
+        finish: &patch_finish,
+        bound,
+    };
     while let Some((_, k)) = (!bad.is_empty()).then(|| bad.remove(0)) {
         if !w.alive[k as usize] || tried >= rp.max_regions || work == 0 {
             continue;
         }
         tried += 1;
-        let mut chosen: Option<Patch> = None;
-        for rings in 2..=rp.rings.max(2) {
-            let cavity = w.cavity(k, rings);
-            let old = badness(
-                w.mesh,
-                cavity.iter().map(|&j| &w.mesh.quads[j as usize]),
-                bound,
-            );
-            let Some(p) = w.patch(
-                cavity,
-                model,
-                &cands,
-                &patch_finish,
-                (bound, old),
-                &mut work,
-            ) else {
-                continue;
-            };
-            let clean = p.badness.bad == 0;
-            if chosen.as_ref().is_none_or(|c| better(p.badness, c.badness)) {
-                chosen = Some(p);
+        let region = match ahead.remove(&k) {
+            Some(r) if r.still_holds(&touched, replaced, work) => r,
+            _ => {
+                let batch = w.batch(k, &bad, ctx.rings);
+                let mut regions: Vec<Region> = if batch.len() > 1 {
+                    let wr = &w;
+                    batch
+                        .par_iter()
+                        .map(|&j| wr.region(j, &ctx, work, replaced))
+                        .collect()
+                } else {
+                    vec![w.region(k, &ctx, work, replaced)]
+                };
+                let first = regions.remove(0);
+                ahead.extend(batch[1..].iter().copied().zip(regions));
+                first
             }
-            if clean {
-                break;
-            }
-        }
+        };
+        work -= region.cost;
+        let chosen = region.chosen;
         let Some(p) = chosen else {
             continue;
         };
         let first_new = w.mesh.quads.len() as u32;
-        w.apply(p);
         replaced += 1;
+        for &j in &p.cavity {
+            for v in w.mesh.quads[j as usize] {
+                touched[v as usize] = replaced;
+            }
+        }
+        w.apply(p);
+        touched.resize(w.mesh.nodes.len(), replaced);
         // Bad quads the patch made are taken in their turn.
         for j in first_new..w.mesh.quads.len() as u32 {
             let p = priority(w.mesh, &w.mesh.quads[j as usize], bound);
@@ -598,6 +743,62 @@ mod tests {
             "{}",
             m.worst_scaled_jacobian()
         );
+    }
+
+    /// Regions worked out ahead on several threads give the mesh one
+    /// thread gives, byte for byte: a 24 × 24 grid with needles far apart
+    /// (worked out together) and two side by side (the second worked out
+    /// again after the first is patched).
+    #[test]
+    fn the_same_mesh_on_one_thread_and_on_several() {
+        let mut m = grid(24);
+        let inner = |m: &QuadMesh, x: f64, y: f64| {
+            (0..m.nodes.len())
+                .find(|&v| m.nodes[v] == Point::new(x, y))
+                .unwrap()
+        };
+        for (x, y) in [
+            (4.0, 4.0),
+            (12.0, 4.0),
+            (20.0, 4.0),
+            (4.0, 14.0),
+            (12.0, 14.0),
+            (13.0, 14.0),
+            (20.0, 20.0),
+        ] {
+            let v = inner(&m, x, y);
+            m.nodes[v] = Point::new(x + 0.45, y + 0.45);
+        }
+        m.check_invariants(true).unwrap();
+        let on = |threads: usize| {
+            let mut mesh = m.clone();
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let n = pool.install(|| {
+                remesh_bad(
+                    &mut mesh,
+                    &model(),
+                    &MeshParams::DEFAULT,
+                    &FinishParams::DEFAULT,
+                )
+            });
+            (n, mesh)
+        };
+        let (n1, one) = on(1);
+        assert!(n1 >= 6, "{n1} regions");
+        one.check_finished().unwrap();
+        assert!(
+            one.worst_scaled_jacobian() >= 0.7,
+            "{}",
+            one.worst_scaled_jacobian()
+        );
+        for threads in [2, 3] {
+            let (n, many) = on(threads);
+            assert_eq!(n, n1);
+            assert_eq!(many, one, "{threads} threads");
+        }
     }
 
     #[test]
