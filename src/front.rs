@@ -213,6 +213,8 @@ pub struct Front {
     pub loops: Vec<FrontLoop>,
     grid: EdgeGrid,
     alive: usize,
+    /// Live loops.
+    live: usize,
 }
 
 impl Front {
@@ -234,6 +236,7 @@ impl Front {
             loops: Vec::new(),
             grid: EdgeGrid::new(bb, cell, max_cells),
             alive: 0,
+            live: loops.len(),
         };
         for l in loops {
             let first = f.slots.len() as SlotId;
@@ -342,6 +345,11 @@ impl Front {
     pub fn off_straight(&self, s: SlotId, nodes: &[Point], limit: &StraightLimit) -> bool {
         let [p, next, prev] = self.corner(s, nodes);
         limit.off(p, next, prev)
+    }
+
+    /// The number of live loops.
+    pub fn live_loop_count(&self) -> usize {
+        self.live
     }
 
     /// The live loops' ids.
@@ -487,6 +495,9 @@ impl Front {
         }
         let l = &mut self.loops[lid as usize];
         self.alive -= l.len;
+        if l.alive {
+            self.live -= 1;
+        }
         l.len = 0;
         l.alive = false;
     }
@@ -536,6 +547,7 @@ impl Front {
             let total = self.loops[la as usize].len;
             let (short, short_len) = if x == a { (a, na) } else { (b, nb) };
             let new_id = self.loops.len() as u32;
+            self.live += 1;
             self.loops.push(FrontLoop {
                 head: short,
                 len: short_len,
@@ -571,6 +583,7 @@ impl Front {
                 s = self.next(s);
             }
             self.loops[keep as usize].len = total;
+            self.live -= 1;
             self.loops[gone as usize] = FrontLoop {
                 head: NONE,
                 len: 0,
@@ -667,6 +680,10 @@ impl Front {
     /// Checks the front's structure: links are mutual, loop lengths and ids
     /// match, no edge is degenerate, and the grid files every live edge.
     pub fn check_invariants(&self, nodes: &[Point]) -> Result<(), String> {
+        let live = self.live_loops().count();
+        if live != self.live {
+            return Err(format!("{live} live loops, the count says {}", self.live));
+        }
         let mut count = 0;
         for lid in self.live_loops() {
             let l = self.loops[lid as usize];

@@ -550,12 +550,27 @@ pub fn ring_band(
     Some((BandSides { a, b, ends: None }, rows))
 }
 
-/// The band rung's state: per loop, whether it was looked at as a band,
-/// and the pair of loops last looked at as a ring.
+/// The band rung's state: per loop, whether it was looked at as a band;
+/// the first loop id not yet walked past (every loop below it was looked
+/// at, or had died: loops are only ever added, and a dead one stays dead
+/// until the front is built anew); the pair of loops last looked at as a
+/// ring, and the front's loop count and live loop count when the live
+/// loops were last listed for it.
 #[derive(Clone, Debug, Default)]
 pub(super) struct BandsSeen {
     loops: Vec<bool>,
+    next: u32,
     ring: Option<(u32, u32)>,
+    ring_listed: Option<(usize, usize)>,
+}
+
+impl BandsSeen {
+    /// The front was built anew: its loop ids are walked again (those
+    /// looked at before are still skipped).
+    pub(super) fn front_rebuilt(&mut self) {
+        self.next = 0;
+        self.ring_listed = None;
+    }
 }
 
 impl Mesher {
@@ -563,22 +578,35 @@ impl Mesher {
     /// appears, or the ring between the front's two loops, is closed by its
     /// rows.
     pub(super) fn close_band(&mut self) -> Option<StepReport> {
-        let tuning = self.params.tuning.band.clone();
+        let tuning = self.params.tuning.band;
         if tuning.max_rows == 0 {
             return None;
         }
-        let live: Vec<u32> = self.front.live_loops().collect();
-        if live.len() == 2 {
-            let key = (live[0], live[1]);
-            if self.bands.ring != Some(key) {
-                self.bands.ring = Some(key);
-                if let Some(r) = self.close_ring(live[0], live[1], &tuning) {
-                    return Some(r);
+        // The live loops can only be another pair once a loop was added
+        // or one died: the loop count or the live count changed.
+        let counts = (self.front.loops.len(), self.front.live_loop_count());
+        if counts.1 == 2 && self.bands.ring_listed != Some(counts) {
+            self.bands.ring_listed = Some(counts);
+            let pair = {
+                let mut live = self.front.live_loops();
+                (live.next(), live.next())
+            };
+            if let (Some(a), Some(b)) = pair {
+                if self.bands.ring != Some((a, b)) {
+                    self.bands.ring = Some((a, b));
+                    if let Some(r) = self.close_ring(a, b, &tuning) {
+                        return Some(r);
+                    }
                 }
             }
         }
-        for lid in live {
+        while (self.bands.next as usize) < self.front.loops.len() {
+            let lid = self.bands.next;
+            self.bands.next += 1;
             let k = lid as usize;
+            if !self.front.loops[k].alive {
+                continue;
+            }
             if self.bands.loops.len() <= k {
                 self.bands.loops.resize(k + 1, false);
             }

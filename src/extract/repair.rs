@@ -145,6 +145,7 @@ impl Mesher {
         // nothing now.
         let live: Vec<u32> = self.front.live_loops().collect();
         self.rows.front_rebuilt(live);
+        self.bands.front_rebuilt();
         (count, mark)
     }
 

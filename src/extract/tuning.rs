@@ -475,7 +475,7 @@ impl Default for MappedTuning {
 /// Band closure ([`Mesher::close_band`]): a loop that is a thin band with
 /// two short ends, or the ring between the front's only two loops, closed by
 /// rows along it.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct BandTuning {
     /// The most rows a band may get (its mean width over its mean segment
