@@ -170,6 +170,43 @@ fn the_mesh_is_the_same_bytes_on_one_thread_and_two() {
     }
 }
 
+/// A single region's remeshing works out several regions at once on the
+/// threads `--threads` gives it: the file written is the same on one
+/// thread and on three (meshes remeshed in several regions).
+#[test]
+fn a_remeshed_region_is_the_same_bytes_on_one_thread_and_three() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in [
+        "freemesh_boundary_fly_r2",
+        "freemesh_boundary9",
+        "freemesh_fat1",
+    ] {
+        let input = common::bench().join("peer").join(format!("{name}.poly"));
+        let files: Vec<Vec<u8>> = ["1", "3"]
+            .iter()
+            .map(|t| {
+                let out = dir.path().join(format!("{name}_{t}.msh"));
+                let o = std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
+                    .arg("mesh")
+                    .arg(&input)
+                    .arg("-o")
+                    .arg(&out)
+                    .args(["--threads", t])
+                    .output()
+                    .unwrap();
+                assert!(
+                    o.status.success(),
+                    "{name}: {}",
+                    String::from_utf8_lossy(&o.stderr)
+                );
+                std::fs::read(&out).unwrap()
+            })
+            .collect();
+        assert!(!files[0].is_empty(), "{name}");
+        assert!(files[0] == files[1], "{name}: the meshes differ");
+    }
+}
+
 /// Stepping face by face with the step API gives the mesh of the
 /// parallel run.
 #[test]

@@ -127,8 +127,10 @@ pub(super) struct MeshArgs {
     /// centre nodes left out.
     #[arg(long)]
     serendipity: bool,
-    /// Threads meshing the regions of a file with several (default:
-    /// every core). The mesh is the same whatever the count.
+    /// Threads (default: every core): the regions of a file with several
+    /// are meshed side by side, and the remeshing works out the regions of
+    /// the next bad quads together. The mesh is the same whatever the
+    /// count.
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
     threads: Option<u16>,
     /// The extraction engine's constants from a JSON file: any of the
@@ -295,17 +297,20 @@ pub(super) fn run(a: MeshArgs) -> Result<()> {
         });
     };
     let bar = progress_bar(boundary.node_count());
-    let (mesh, stats) = pipeline::mesh_boundary(&boundary, model, &params, |at| {
-        if let Some(b) = &bar {
-            b.set_message(format!(
-                "{:.0}% of the area, {} front nodes",
-                100.0 * at.meshed,
-                at.front
-            ));
-            b.tick();
-        }
-    })
-    .with_context(|| format!("{}", input.display()))?;
+    let (mesh, stats) = thread_pool(threads)?
+        .install(|| {
+            pipeline::mesh_boundary(&boundary, model, &params, |at| {
+                if let Some(b) = &bar {
+                    b.set_message(format!(
+                        "{:.0}% of the area, {} front nodes",
+                        100.0 * at.meshed,
+                        at.front
+                    ));
+                    b.tick();
+                }
+            })
+        })
+        .with_context(|| format!("{}", input.display()))?;
     if let Some(b) = bar {
         b.finish_and_clear();
     }
@@ -403,16 +408,21 @@ struct GroupSummary<'a> {
     edges: usize,
 }
 
+/// A pool of `threads` threads (`None`: one per core).
+fn thread_pool(threads: Option<u16>) -> Result<rayon::ThreadPool> {
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        pool = pool.num_threads(usize::from(n));
+    }
+    Ok(pool.build()?)
+}
+
 /// Meshes every region of a graph, writes the mesh with its groups (and
 /// the report), and prints the quality overall and per region.
 fn mesh_graph(a: MeshGraph) -> Result<()> {
     let at = |e: &dyn std::fmt::Display| InputError(anyhow!("{}: {e}", a.input.display()));
     let faces = a.graph.faces().map_err(|e| at(&e))?;
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(n) = a.threads {
-        pool = pool.num_threads(n as usize);
-    }
-    let pool = pool.build()?;
+    let pool = thread_pool(a.threads)?;
     let bar = progress_bar(a.graph.points.len());
     let name = a.model.name().to_string();
     let m = pool
