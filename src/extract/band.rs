@@ -25,8 +25,11 @@
 //! away from its corner, so the wedge is convex there. An end of one
 //! segment with two rows hands the inner line to the finer side's corner.
 //! Each wedge leaves one irregular interior node (valence 3); everything
-//! else is regular. The inner nodes are smoothed among themselves, the
-//! band's own nodes held.
+//! else is regular. Each inner node then moves to the mean of the nodes
+//! facing it across the row below and across the row above, so that where
+//! the sides' nodes are offset the rows share the skew rather than the row
+//! beside the side the lines do not follow taking all of it. The inner
+//! nodes are smoothed among themselves, the band's own nodes held.
 //!
 //! The rows are taken only if every quad is measurably convex with a
 //! scaled Jacobian of at least [`BandTuning::min_sj`].
@@ -42,6 +45,9 @@ use crate::smooth::{smooth_and_optimize, SmoothParams};
 
 /// A node's front angle under this (degrees) makes it a corner of a band.
 const CORNER_MAX: f64 = 150.0;
+
+/// Sweeps per row of the placement across the band ([`across`]).
+const ACROSS_SWEEPS: usize = 4;
 
 /// How far a wedge's middle node moves away from its corner (a fraction
 /// of the distance between them), so the wedge is convex there.
@@ -171,15 +177,8 @@ struct Line {
 /// edges: regular cells and wedges on `q`; the lines may share their first
 /// or last node (an end of one segment handed to the inner line), and then
 /// the cell there takes two edges of `q` and one of `p`. Wedges go where
-/// the lines' fractions drift apart. Returns the cells and the wedges as
-/// (corner on `p`, middle node on `q`).
-#[allow(clippy::type_complexity)]
-fn zip_row(
-    p: &Line,
-    q: &Line,
-    ring: bool,
-    taken: &[usize],
-) -> Option<(Vec<[usize; 4]>, Vec<(usize, usize)>)> {
+/// the lines' fractions drift apart.
+fn zip_row(p: &Line, q: &Line, ring: bool, taken: &[usize]) -> Option<Zipped> {
     let (np, nq) = if ring {
         (p.idx.len(), q.idx.len())
     } else {
@@ -193,6 +192,7 @@ fn zip_row(
     let shared_end = !ring && pi(np) == qi(nq);
     let mut cells = Vec::new();
     let mut wedges = Vec::new();
+    let mut pairs = Vec::new();
     let (mut i, mut k) = (0, 0);
     if shared_start {
         if np < 1 || nq < 2 {
@@ -231,6 +231,7 @@ fn zip_row(
             k += 2;
         } else {
             cells.push([pi(i), pi(i + 1), qi(k + 1), qi(k)]);
+            pairs.extend([(pi(i), qi(k)), (pi(i + 1), qi(k + 1))]);
             i += 1;
             k += 1;
         }
@@ -238,7 +239,61 @@ fn zip_row(
     if shared_end {
         cells.push([pi(np - 1), pi(np), qi(nq - 1), qi(nq - 2)]);
     }
-    Some((cells, wedges))
+    Some(Zipped {
+        cells,
+        wedges,
+        pairs,
+    })
+}
+
+/// A row zipped between two lines: its cells, its wedges as (corner on
+/// `p`, middle node on `q`), and the nodes facing each other across it
+/// as (node of `p`, node of `q`): a regular cell's two pairs of corners
+/// (a wedge's middle faces no node; its other two nodes are a regular
+/// cell's).
+struct Zipped {
+    cells: Vec<[usize; 4]>,
+    wedges: Vec<(usize, usize)>,
+    pairs: Vec<(usize, usize)>,
+}
+
+/// Places each inner node of the lines at the mean of the means of the
+/// nodes facing it across the row below and across the row above
+/// (`pairs`: per row, (node below, node above)), sweeps over all of them
+/// at once, the sides held: across the band the nodes then share the
+/// offset between the sides' nodes evenly among the rows, instead of the
+/// row beside the side the lines do not follow taking all of it. A node
+/// without a facing node on both sides stays.
+fn across(points: &mut [Point], pts: &[Point], base: usize, pairs: &[Vec<(usize, usize)>]) {
+    let n = points.len();
+    let mut below: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let mut above: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for row in pairs {
+        for &(lo, hi) in row {
+            if hi >= base && !below[hi - base].contains(&lo) {
+                below[hi - base].push(lo);
+            }
+            if lo >= base && !above[lo - base].contains(&hi) {
+                above[lo - base].push(hi);
+            }
+        }
+    }
+    let at = |points: &[Point], k: usize| if k < base { pts[k] } else { points[k - base] };
+    let mean = |points: &[Point], ks: &[usize]| {
+        ks.iter().fold(Point::ZERO, |s, &k| s + at(points, k)) / ks.len() as f64
+    };
+    for _ in 0..ACROSS_SWEEPS * pairs.len() {
+        let next: Vec<Point> = (0..n)
+            .map(|v| {
+                if below[v].is_empty() || above[v].is_empty() {
+                    points[v]
+                } else {
+                    0.5 * (mean(points, &below[v]) + mean(points, &above[v]))
+                }
+            })
+            .collect();
+        points.copy_from_slice(&next);
+    }
 }
 
 /// Lays `rows` rows over the band `sides` of the points `pts`: the inner
@@ -376,17 +431,28 @@ pub fn band_rows(pts: &[Point], sides: &BandSides, rows: usize, min_sj: f64) -> 
     });
     let mut quads = Vec::new();
     let mut lifts = Vec::new();
+    let mut facing: Vec<Vec<(usize, usize)>> = Vec::new();
     // A node that is a wedge's middle in one row is none in the next (it
     // would be left with two edges).
     let mut middles: Vec<usize> = Vec::new();
     for j in 0..rows {
         let (p, q) = (&lines[j], &lines[j + 1]);
         // The wedges go on the line with more edges, never on a side.
-        let (cells, w) = if edges(&q.idx) >= edges(&p.idx) {
+        let up = edges(&q.idx) >= edges(&p.idx);
+        let Zipped {
+            cells,
+            wedges: w,
+            pairs,
+        } = if up {
             zip_row(p, q, ring, &middles)?
         } else {
             zip_row(q, p, ring, &middles)?
         };
+        facing.push(if up {
+            pairs
+        } else {
+            pairs.into_iter().map(|(x, y)| (y, x)).collect()
+        });
         // A wedge's two edges on a side would meet there flat.
         let wedge_line = if edges(&q.idx) >= edges(&p.idx) {
             j + 1
@@ -401,6 +467,7 @@ pub fn band_rows(pts: &[Point], sides: &BandSides, rows: usize, min_sj: f64) -> 
         middles.sort_unstable();
         lifts.extend(w);
     }
+    across(&mut points, pts, base, &facing);
     let all = |points: &[Point], k: usize| {
         if k < base {
             pts[k]
@@ -804,6 +871,28 @@ mod tests {
     }
 
     /// A wide loop is no band; an end longer than allowed is none either.
+    /// The inner line of two rows between sides offset by half a segment
+    /// goes half way between the nodes facing it: each row takes a
+    /// quarter segment of skew, not one row all of it.
+    #[test]
+    fn the_rows_share_the_offset_between_the_sides() {
+        let a: Vec<Point> = (0..5).map(|i| Point::new(f64::from(i), 0.0)).collect();
+        let b: Vec<Point> = (0..5)
+            .map(|i| Point::new(f64::from(i) + 0.5, 1.0))
+            .collect();
+        let pts: Vec<Point> = a.iter().chain(&b).copied().collect();
+        let base = pts.len();
+        // The inner line starts over `b`'s nodes, half way across.
+        let mut points: Vec<Point> = b.iter().map(|p| Point::new(p.x, 0.5)).collect();
+        let below: Vec<(usize, usize)> = (0..5).map(|i| (i, base + i)).collect();
+        let above: Vec<(usize, usize)> = (0..5).map(|i| (base + i, 5 + i)).collect();
+        across(&mut points, &pts, base, &[below, above]);
+        for (i, p) in points.iter().enumerate() {
+            let want = Point::new(i as f64 + 0.25, 0.5);
+            assert!(p.distance(want) < 1e-12, "node {i} at {p:?}");
+        }
+    }
+
     #[test]
     fn wide_loops_are_not_bands() {
         let sq: Vec<Point> = (0..16)
