@@ -389,9 +389,16 @@ impl Work<'_> {
 
     /// Bad quad `k` and the live bad quads after it in `bad` (at most
     /// [`AHEAD`] per thread, from the next [`AHEAD_SCAN`]) whose largest
-    /// cavities share no node with each other's: the regions worked out
-    /// together.
-    fn batch(&self, k: u32, bad: &[(Priority, u32)], rings: usize) -> Vec<u32> {
+    /// cavities share no node with each other's, leaving out those whose
+    /// region worked out ahead still holds (`holds`): the regions worked
+    /// out together.
+    fn batch(
+        &self,
+        k: u32,
+        bad: &[(Priority, u32)],
+        rings: usize,
+        holds: impl Fn(u32) -> bool,
+    ) -> Vec<u32> {
         let threads = rayon::current_num_threads();
         let mut batch = vec![k];
         if threads <= 1 {
@@ -416,7 +423,7 @@ impl Work<'_> {
             if batch.len() >= want {
                 break;
             }
-            if self.alive[j as usize] && !batch.contains(&j) && disjoint(j) {
+            if self.alive[j as usize] && !batch.contains(&j) && !holds(j) && disjoint(j) {
                 batch.push(j);
             }
         }
@@ -557,7 +564,11 @@ pub fn remesh_bad(
         let region = match ahead.remove(&k) {
             Some(r) if r.still_holds(&touched, replaced, work) => r,
             _ => {
-                let batch = w.batch(k, &bad, ctx.rings);
+                let batch = w.batch(k, &bad, ctx.rings, |j| {
+                    ahead
+                        .get(&j)
+                        .is_some_and(|r| r.still_holds(&touched, replaced, work))
+                });
                 let mut regions: Vec<Region> = if batch.len() > 1 {
                     let wr = &w;
                     batch
