@@ -733,17 +733,19 @@ mod tests {
         assert_eq!(fitness_of(&square, bound), 1.0);
     }
 
+    /// The node of `m` at (`x`, `y`).
+    fn node_at(m: &QuadMesh, x: f64, y: f64) -> usize {
+        (0..m.nodes.len())
+            .find(|&v| m.nodes[v] == Point::new(x, y))
+            .unwrap()
+    }
+
     #[test]
     fn remeshes_a_flattened_region() {
         // Two interior nodes of a 6 × 6 grid pushed towards each other:
         // the quad between them is a needle and its neighbours are skewed.
         let mut m = grid(6);
-        let inner = |m: &QuadMesh, x: f64, y: f64| {
-            (0..m.nodes.len())
-                .find(|&v| m.nodes[v] == Point::new(x, y))
-                .unwrap()
-        };
-        let (a, b) = (inner(&m, 3.0, 3.0), inner(&m, 4.0, 4.0));
+        let (a, b) = (node_at(&m, 3.0, 3.0), node_at(&m, 4.0, 4.0));
         m.nodes[a] = Point::new(3.45, 3.45);
         m.nodes[b] = Point::new(3.55, 3.55);
         m.check_invariants(true).unwrap();
@@ -763,11 +765,6 @@ mod tests {
     #[test]
     fn the_same_mesh_on_one_thread_and_on_several() {
         let mut m = grid(24);
-        let inner = |m: &QuadMesh, x: f64, y: f64| {
-            (0..m.nodes.len())
-                .find(|&v| m.nodes[v] == Point::new(x, y))
-                .unwrap()
-        };
         for (x, y) in [
             (4.0, 4.0),
             (12.0, 4.0),
@@ -777,7 +774,7 @@ mod tests {
             (13.0, 14.0),
             (20.0, 20.0),
         ] {
-            let v = inner(&m, x, y);
+            let v = node_at(&m, x, y);
             m.nodes[v] = Point::new(x + 0.45, y + 0.45);
         }
         m.check_invariants(true).unwrap();
