@@ -7,7 +7,7 @@
 
 use crate::geom::{is_measurably_convex, Point};
 use crate::mesh::{NodeQuads, QuadMesh};
-use crate::quality::{QuadQuality, Shape};
+use crate::quality::{QuadQuality, Shape, GOOD_RATIO};
 use serde::{Deserialize, Serialize};
 
 /// Smoothing parameters.
@@ -252,8 +252,10 @@ pub fn smooth_only(mesh: &mut QuadMesh, params: &SmoothParams, only: Option<&[bo
     smooth_with(mesh, params, &adj, &nodes)
 }
 
-/// [`smooth_only`] then [`optimize_only`] over the same nodes, sharing the
-/// mesh's adjacency. Returns the moves of each.
+/// [`smooth_only`], then [`optimize_only`] and the optimisation of
+/// stretched quads ([`destretch_with`]) over the same nodes, sharing the
+/// mesh's adjacency. Returns the moves of the smoothing and of the two
+/// optimisations.
 pub fn smooth_and_optimize(
     mesh: &mut QuadMesh,
     params: &SmoothParams,
@@ -264,10 +266,10 @@ pub fn smooth_and_optimize(
     }
     let adj = Adjacency::new(mesh);
     let nodes = interior_nodes(mesh, only);
-    (
-        smooth_with(mesh, params, &adj, &nodes),
-        optimize_with(mesh, params, &adj, &nodes),
-    )
+    let smoothed = smooth_with(mesh, params, &adj, &nodes);
+    let optimized =
+        optimize_with(mesh, params, &adj, &nodes) + destretch_with(mesh, params, &adj, &nodes);
+    (smoothed, optimized)
 }
 
 /// The quads of `nodes`, each once, in id order.
@@ -436,7 +438,7 @@ impl Floor {
 /// into a thin rectangle to favour its neighbours.
 const MIN_AREA_RATIO: f64 = 0.3;
 
-/// The quality of a node's `quads`: their smallest scaled Jacobian (counted
+/// The quality of a node's `quads`: their smallest [`Measure`] (counted
 /// up to `clip`) and their sum, or `None` when one goes past its [`Floor`]:
 /// not measurably convex (when it was), smaller than its area bound,
 /// thinner than its Rs bound or stretched past its stretch bound.
@@ -448,7 +450,7 @@ fn node_quality(
     mesh: &QuadMesh,
     quads: &[u32],
     floor: &[Floor],
-    clip: f64,
+    (clip, measure): (f64, Measure),
     beat: f64,
 ) -> Option<(f64, f64)> {
     let mut min = f64::INFINITY;
@@ -464,7 +466,7 @@ fn node_quality(
         {
             return None;
         }
-        let sj = q.scaled_jacobian;
+        let sj = measure.of(&q);
         if sj < beat {
             return None;
         }
@@ -720,6 +722,7 @@ pub fn polish(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
         },
         sweeps: params.polish_sweeps,
         area_ratio: POLISH_AREA_RATIO,
+        measure: Measure::Jacobian,
     };
     search_with(mesh, &pass, &adj, &nodes)
 }
@@ -738,8 +741,56 @@ fn optimize_with(
         seek: Seek::Worst,
         sweeps: params.optimize_sweeps,
         area_ratio: MIN_AREA_RATIO,
+        measure: Measure::Jacobian,
     };
     search_with(mesh, &pass, adj, nodes)
+}
+
+/// The scaled Jacobian [`destretch`] weighs a quad stretched to
+/// [`GOOD_RATIO`] (longest over shortest side) as: about the thesis's
+/// element criterion (every angle in [45°, 135°]).
+pub const STRETCH_SJ: f64 = 0.7;
+
+/// Optimisation of stretched quads: every interior node of a quad among
+/// `nodes` whose longest side is over [`GOOD_RATIO`] times its shortest
+/// moves to where the worst of its quads is best, as [`optimize`] moves
+/// nodes, each quad measured by its scaled Jacobian but no more than
+/// [`STRETCH_SJ`] · [`GOOD_RATIO`] / its side ratio. The scaled Jacobian
+/// alone does not see a node that has come to sit on another (two quads
+/// each with a side near zero, two triangles with fair angles), so
+/// [`optimize`] leaves it there; weighed this way, such a node moves off.
+/// Moves are bounded as [`optimize`]'s are. Returns the number of nodes
+/// moved.
+fn destretch_with(
+    mesh: &mut QuadMesh,
+    params: &SmoothParams,
+    adj: &Adjacency,
+    nodes: &[usize],
+) -> usize {
+    if params.optimize_sweeps == 0 {
+        return 0;
+    }
+    let mut mark = vec![false; mesh.nodes.len()];
+    for k in quads_of(adj, nodes, mesh.quads.len()) {
+        let q = &mesh.quads[k as usize];
+        if Shape::of(mesh.corners(q)).side_ratio() > GOOD_RATIO {
+            for &v in q {
+                mark[v as usize] = true;
+            }
+        }
+    }
+    let nodes: Vec<usize> = nodes.iter().copied().filter(|&v| mark[v]).collect();
+    if nodes.is_empty() {
+        return 0;
+    }
+    let pass = Search {
+        below: STRETCH_SJ,
+        seek: Seek::Worst,
+        sweeps: params.optimize_sweeps,
+        area_ratio: MIN_AREA_RATIO,
+        measure: Measure::Stretch,
+    };
+    search_with(mesh, &pass, adj, &nodes)
 }
 
 /// What a [`Search`] seeks at a node.
@@ -759,6 +810,29 @@ struct Search {
     sweeps: usize,
     /// A quad may shrink to this fraction of its area.
     area_ratio: f64,
+    /// What a quad's quality is.
+    measure: Measure,
+}
+
+/// What a [`Search`] measures a quad by.
+#[derive(Clone, Copy, Debug)]
+enum Measure {
+    /// Its scaled Jacobian.
+    Jacobian,
+    /// Its scaled Jacobian, but no more than [`STRETCH_SJ`] ·
+    /// [`GOOD_RATIO`] / its [`Shape::side_ratio`] ([`destretch`]).
+    Stretch,
+}
+
+impl Measure {
+    fn of(self, shape: &Shape) -> f64 {
+        match self {
+            Measure::Jacobian => shape.scaled_jacobian,
+            Measure::Stretch => shape
+                .scaled_jacobian
+                .min(STRETCH_SJ * GOOD_RATIO / shape.side_ratio()),
+        }
+    }
 }
 
 fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usize]) -> usize {
@@ -792,7 +866,8 @@ fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usi
     for sweep in 0..pass.sweeps {
         for &k in &quads {
             if std::mem::take(&mut stale[k as usize]) {
-                poor[k as usize] = quad_sj(mesh, &mesh.quads[k as usize]) < pass.below;
+                let shape = Shape::of(mesh.corners(&mesh.quads[k as usize]));
+                poor[k as usize] = pass.measure.of(&shape) < pass.below;
             }
         }
         let mut moved_now = 0;
@@ -804,7 +879,9 @@ fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usi
             if !quads.iter().any(|&k| poor[k as usize]) {
                 continue;
             }
-            let quality = |m: &QuadMesh, beat: f64| node_quality(m, quads, &floor, clip, beat);
+            let quality = |m: &QuadMesh, beat: f64| {
+                node_quality(m, quads, &floor, (clip, pass.measure), beat)
+            };
             let Some(best) = quality(mesh, f64::NEG_INFINITY) else {
                 continue;
             };
@@ -896,6 +973,39 @@ mod tests {
             }
         }
         QuadMesh::from_quads(pts, quads).unwrap()
+    }
+
+    #[test]
+    fn a_node_sitting_by_another_moves_off() {
+        // A 3 × 3 grid whose node (1, 1) has come down to 0.02 above the
+        // bottom node (1, 0): two quads with a side of 0.02, both with
+        // corners near 45° and 135° (scaled Jacobian 0.7), that
+        // optimisation by the scaled Jacobian alone leaves alone.
+        let mut m = jittered_grid(3);
+        for p in &mut m.nodes {
+            *p = Point::new(p.x.round(), p.y.round());
+        }
+        let v = m
+            .nodes
+            .iter()
+            .position(|&p| p == Point::new(1.0, 1.0))
+            .unwrap();
+        m.nodes[v] = Point::new(1.0, 0.02);
+        let ratio = |m: &QuadMesh| {
+            m.quads
+                .iter()
+                .map(|q| Shape::of(m.corners(q)).side_ratio())
+                .fold(0.0, f64::max)
+        };
+        let worst_sj = |m: &QuadMesh| m.quads.iter().map(|q| quad_sj(m, q)).fold(1.0, f64::min);
+        assert!(ratio(&m) > 40.0);
+        let before = worst_sj(&m);
+        let adj = Adjacency::new(&m);
+        let nodes = interior_nodes(&m, None);
+        assert!(destretch_with(&mut m, &SmoothParams::DEFAULT, &adj, &nodes) >= 1);
+        assert!(ratio(&m) < GOOD_RATIO, "{}", ratio(&m));
+        assert!(worst_sj(&m) >= before.min(STRETCH_SJ), "{}", worst_sj(&m));
+        m.check_invariants(true).unwrap();
     }
 
     /// The quad whose corners' mean is nearest `(x, y)`.
