@@ -137,3 +137,82 @@ fn a_stuck_strip_closes_by_its_best_grid() {
         assert!(!strip || strips > 0, "{}: no strip grid", d.description);
     }
 }
+
+/// A quadrilateral like Gmsh's tutorial 6: bottom and top of `m` segments
+/// graded geometrically 1:`ratio` towards the right-hand corners, a
+/// straight right side and a left side bent twice, `n` segments each.
+fn graded_quadrilateral(m: usize, n: usize, ratio: f64) -> Vec<Point> {
+    // Fractions along a side from its fine end: segment k is g^k times the
+    // first, the last `ratio` times the first.
+    let g = ratio.powf(1.0 / (m - 1) as f64);
+    let lengths: Vec<f64> = (0..m).map(|k| g.powi(k as i32)).collect();
+    let total: f64 = lengths.iter().sum();
+    let mut from_fine = vec![0.0];
+    for l in &lengths {
+        from_fine.push(from_fine[from_fine.len() - 1] + l / total);
+    }
+    let mut p = Vec::new();
+    // Bottom, (0, 0) to (1, 0): fine at its end.
+    for k in 0..m {
+        p.push(Point::new(1.0 - from_fine[m - k], 0.0));
+    }
+    // Right side, (1, 0) to (1, 1).
+    for j in 0..n {
+        p.push(Point::new(1.0, j as f64 / n as f64));
+    }
+    // Top, (1, 1) to (0, 1): fine at its start.
+    for f in &from_fine[..m] {
+        p.push(Point::new(1.0 - f, 1.0));
+    }
+    // Left side: (0, 1) to (-0.3, 0.6) to (-0.3, 0.3) to (0, 0).
+    let bends = [
+        Point::new(0.0, 1.0),
+        Point::new(-0.3, 0.6),
+        Point::new(-0.3, 0.3),
+        Point::new(0.0, 0.0),
+    ];
+    let per = n / 3;
+    for s in 0..3 {
+        for t in 0..per {
+            p.push(bends[s].lerp(bends[s + 1], t as f64 / per as f64));
+        }
+    }
+    p
+}
+
+/// A loop of the given boundary graded past 1:10 whose opposite sides
+/// have equal counts is its transfinite grid, bent side and all, in one
+/// step; graded 1:4 it is left to extraction.
+#[test]
+fn a_strongly_graded_quadrilateral_is_its_transfinite_grid() {
+    let p = graded_quadrilateral(20, 12, 150.0);
+    let k = p.len();
+    let b = Boundary::new(p, vec![(0..k).collect()], None).expect("a valid boundary");
+    let (m, kinds) = stepped("graded 1:150", &b, MeshParams::DEFAULT);
+    assert_eq!(kinds, vec![StepKind::Mapped]);
+    let mesh = m.mesh();
+    assert_eq!(mesh.quads.len(), 20 * 12);
+    let worst = mesh
+        .quads
+        .iter()
+        .map(|q| Shape::of(mesh.corners(q)).scaled_jacobian)
+        .fold(1.0, f64::min);
+    assert!(worst >= 0.4, "{worst}");
+    // The columns follow the grading: above the node that ends the
+    // bottom's finest segment (0.0016 long), a column of 11 nodes runs up
+    // to the top's, within a third of that segment (the bent left side
+    // pulls the grid's nodes by (1 - u) times its offset).
+    let fine = b.points[19].x;
+    assert!(1.0 - fine < 0.002, "{fine}");
+    let column = mesh
+        .nodes
+        .iter()
+        .filter(|q| (q.x - fine).abs() < 6e-4 && q.y > 0.0 && q.y < 1.0)
+        .count();
+    assert_eq!(column, 11);
+    let mild = graded_quadrilateral(20, 12, 4.0);
+    let k = mild.len();
+    let b = Boundary::new(mild, vec![(0..k).collect()], None).expect("a valid boundary");
+    let (_, kinds) = stepped("graded 1:4", &b, MeshParams::DEFAULT);
+    assert!(kinds.len() > 1 && kinds[0] != StepKind::Mapped, "{kinds:?}");
+}

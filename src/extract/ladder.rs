@@ -105,7 +105,8 @@ pub enum Rung {
     /// Loops of 4 and 6 nodes close by the final patterns, settled first
     /// where they are too skewed.
     SmallLoop,
-    /// Narrow logical rectangles close by a mapped grid
+    /// Narrow logical rectangles, and loops of the given boundary graded
+    /// past [`super::mapped::GRADED_SPREAD`], close by a mapped grid
     /// ([`super::MeshParams::mapped_rows`]).
     MappedGrid,
     /// A thin band (a loop with two short ends, or the ring between the
@@ -160,9 +161,9 @@ pub const LADDER: [Rung; 19] = [
     Rung::FillDue,
     Rung::FillStalled,
     Rung::Band,
+    Rung::MappedGrid,
     Rung::RowStart,
     Rung::SmallLoop,
-    Rung::MappedGrid,
     Rung::FillLayers,
     Rung::Queue,
     Rung::SharpSeam,
@@ -448,8 +449,9 @@ impl Mesher {
         None
     }
 
-    /// [`Rung::MappedGrid`]: narrow logical rectangles close by a mapped
-    /// grid.
+    /// [`Rung::MappedGrid`]: narrow logical rectangles and strongly graded
+    /// loops of the given boundary close by a mapped grid
+    /// ([`Mesher::close_mapped`]).
     fn mapped_grid(&mut self) -> Option<StepReport> {
         self.params.mapped_rows?;
         for lid in 0..self.front.loops.len() as u32 {

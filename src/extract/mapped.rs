@@ -14,6 +14,12 @@
 //! plate) gets its grid instead of rows from the long sides that cannot
 //! match. The grid is taken only if every quad is convex with a scaled
 //! Jacobian of at least [`MappedTuning::min_sj`](super::tuning::MappedTuning::min_sj) and no other loop lies inside.
+//!
+//! A loop of the given boundary graded past [`GRADED_SPREAD`] (a side
+//! graded 1:100 towards a corner, which quads about as long as they are
+//! wide cannot follow) gets its [`transfinite`] grid whatever its width,
+//! as a Gmsh transfinite surface would: the columns carry the grading
+//! across.
 
 use super::closure::{is_pinched, LoopGeometry};
 use super::report::{StepKind, StepReport};
@@ -227,21 +233,105 @@ pub fn best_strip(pts: &[Point], across: usize) -> Option<(Grid, f64)> {
     best
 }
 
+/// Nodes at most this many may be a [`transfinite`] loop's corner
+/// candidates (every choice of four is tried).
+pub const TRANSFINITE_CANDIDATES: usize = 8;
+
+/// A loop of the given boundary whose longest segment is over this many
+/// times its shortest is graded past what extraction's quads, about as long
+/// as they are wide, can follow: it gets its [`transfinite`] grid when it
+/// has one.
+pub const GRADED_SPREAD: f64 = crate::quality::GOOD_RATIO;
+
+/// Longest over shortest segment of a closed loop.
+pub fn segment_spread(pts: &[Point]) -> f64 {
+    let n = pts.len();
+    let (lo, hi) = (0..n).fold((f64::INFINITY, 0.0_f64), |(lo, hi), k| {
+        let d = pts[k].distance(pts[(k + 1) % n]);
+        (lo.min(d), hi.max(d))
+    });
+    hi / lo.max(f64::MIN_POSITIVE)
+}
+
+/// The transfinite grid of a counter-clockwise loop whose sides may bend
+/// (Gmsh's transfinite surface): four corners chosen among the convex
+/// nodes that turn the loop by at least `180° − CORNER_MAX` (at most
+/// [`TRANSFINITE_CANDIDATES`] of them), opposite sides of equal edge
+/// counts, the grid's quads all measurably convex, and the highest worst
+/// scaled Jacobian among such choices (ties: the first corners in loop
+/// order). Its columns follow the sides' grading from one side to the
+/// other. `None` when no choice gives one.
+pub fn transfinite(pts: &[Point]) -> Option<(Grid, f64)> {
+    let n = pts.len();
+    if n < 4 || n % 2 == 1 {
+        return None;
+    }
+    let corner_cos = (180.0 - CORNER_MAX).to_radians().cos();
+    let mut candidates = Vec::new();
+    for k in 0..n {
+        let a = pts[k] - pts[(k + n - 1) % n];
+        let b = pts[(k + 1) % n] - pts[k];
+        let (la, lb) = (a.length(), b.length());
+        if la <= 0.0 || lb <= 0.0 {
+            return None;
+        }
+        if a.perp_dot(b) > 0.0 && a.dot(b) / (la * lb) < corner_cos {
+            candidates.push(k);
+        }
+    }
+    if !(4..=TRANSFINITE_CANDIDATES).contains(&candidates.len()) {
+        return None;
+    }
+    let c = &candidates;
+    let mut best: Option<(Grid, f64)> = None;
+    for a in 0..c.len() {
+        for b in a + 1..c.len() {
+            for d in b + 1..c.len() {
+                for e in d + 1..c.len() {
+                    let corners = [c[a], c[b], c[d], c[e]];
+                    let side = |t: usize| (corners[(t + 1) % 4] + n - corners[t]) % n;
+                    if side(0) != side(2) || side(1) != side(3) {
+                        continue;
+                    }
+                    let g = grid(pts, corners);
+                    let Some(sj) = g.min_sj() else {
+                        continue;
+                    };
+                    if best.as_ref().is_none_or(|(_, worst)| sj > *worst) {
+                        best = Some((g, sj));
+                    }
+                }
+            }
+        }
+    }
+    best
+}
+
 impl Mesher {
     /// Closes loop `lid` by a mapped grid, if it is a logical rectangle at
     /// most [`MeshParams::mapped_rows`](super::MeshParams::mapped_rows)
-    /// across whose grid is good enough.
+    /// across whose grid is good enough, or a loop of the given boundary
+    /// graded past [`GRADED_SPREAD`] whose [`transfinite`] grid is.
     pub(super) fn close_mapped(&mut self, lid: u32) -> Option<StepReport> {
         let (rows, (slots, nodes, pts)) = self.grid_loop(lid, |m| &mut m.grids.mapped)?;
-        let corners = rectangle(&pts)?;
-        let g = grid(&pts, corners);
-        if g.n > rows
-            || !g
-                .min_sj()
-                .is_some_and(|sj| sj >= self.params.tuning.mapped.min_sj)
-        {
-            return None;
-        }
+        let min_sj = self.params.tuning.mapped.min_sj;
+        let narrow = rectangle(&pts)
+            .map(|corners| grid(&pts, corners))
+            .filter(|g| g.n <= rows && g.min_sj().is_some_and(|sj| sj >= min_sj));
+        let g = match narrow {
+            Some(g) => g,
+            None => {
+                let given = nodes.iter().all(|&v| self.is_boundary(v));
+                if !given || segment_spread(&pts) <= GRADED_SPREAD {
+                    return None;
+                }
+                let (g, sj) = transfinite(&pts)?;
+                if sj < min_sj {
+                    return None;
+                }
+                g
+            }
+        };
         if !self.loop_is_clear(&slots, &nodes, &pts) {
             return None;
         }
