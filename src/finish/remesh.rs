@@ -8,8 +8,10 @@
 //! model, and cleaned up and smoothed with the cavity's nodes fixed as its
 //! boundary. The new patch replaces the old one when its worst quad is no
 //! worse and it has fewer quads below the bound, or as many and a better
-//! worst one, and it stretches no quad (longest over shortest edge) past
-//! [`MAX_STRETCH`] or past the cavity's worst. The default bound,
+//! worst one, it stretches no quad (longest over shortest edge) past
+//! [`MAX_STRETCH`] or past the cavity's worst, and, unless the cavity's
+//! worst quad is under [`POOR_SJ`], it leaves no more irregular interior
+//! nodes (valence other than 4) among the cavity's nodes than there were. The default bound,
 //! 0.7, is about the thesis's element criterion (every angle in [45°,
 //! 135°], scaled Jacobian at least sin 45° ≈ 0.707, thesis §1.2).
 //!
@@ -203,6 +205,10 @@ impl Region {
     }
 }
 
+/// A cavity whose worst quad is at or above this scaled Jacobian is not
+/// poor enough to take a patch with more irregular nodes.
+const POOR_SJ: f64 = 0.4;
+
 /// Regions worked out ahead per thread.
 const AHEAD: usize = 6;
 /// Bad quads looked at for a batch of regions worked out ahead.
@@ -271,6 +277,7 @@ impl Work<'_> {
             })
             .collect();
         let points: Vec<Point> = ids.iter().map(|&v| self.mesh.nodes[v as usize]).collect();
+        let irregular_before = self.irregular_before(&quads);
         // A patch may not stretch a quad more than smoothing would
         // (MAX_STRETCH) or than the cavity already does.
         let max_stretch = old.worst_stretch.max(MAX_STRETCH);
@@ -311,7 +318,9 @@ impl Work<'_> {
                 continue;
             }
             let b = badness(&sub, sub.quads.iter(), bound);
-            if b.worst_stretch > max_stretch
+            if (old.worst_sj >= POOR_SJ
+                && self.irregular_after(&quads, &sub, &ids) > irregular_before)
+                || b.worst_stretch > max_stretch
                 || !improves(b, old, bound)
                 || best.as_ref().is_some_and(|p| !better(b, p.badness))
             {
@@ -337,6 +346,36 @@ impl Work<'_> {
             }
         }
         best
+    }
+
+    /// The interior nodes of the mesh among the corners of `cavity`'s
+    /// quads whose valence is not 4.
+    fn irregular_before(&self, cavity: &[[u32; 4]]) -> usize {
+        let mut nodes: Vec<u32> = cavity.iter().flatten().copied().collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+            .iter()
+            .filter(|&&v| !self.mesh.is_boundary(v) && self.inc[v as usize].len() != 4)
+            .count()
+    }
+
+    /// [`Work::irregular_before`] once `cavity` is replaced by `sub`
+    /// (whose first `ids.len()` nodes are the mesh's nodes `ids`, the rest
+    /// new).
+    fn irregular_after(&self, cavity: &[[u32; 4]], sub: &QuadMesh, ids: &[u32]) -> usize {
+        let nb = ids.len();
+        let mut valence = vec![0usize; sub.nodes.len()];
+        for q in &sub.quads {
+            for &v in q {
+                valence[v as usize] += 1;
+            }
+        }
+        let kept = ids.iter().enumerate().filter(|&(i, &v)| {
+            let inside = cavity.iter().filter(|q| q.contains(&v)).count();
+            !self.mesh.is_boundary(v) && self.inc[v as usize].len() - inside + valence[i] != 4
+        });
+        kept.count() + valence[nb..].iter().filter(|&&d| d != 4).count()
     }
 
     /// The region of bad quad `k` (cavities of 2 to `ctx.rings` rings,
@@ -807,6 +846,57 @@ mod tests {
             assert_eq!(n, n1);
             assert_eq!(many, one, "{threads} threads");
         }
+    }
+
+    #[test]
+    fn irregular_nodes_are_counted_as_a_patch_would_leave_them() {
+        let mut m = grid(4);
+        let at = |m: &QuadMesh, x: f64, y: f64| {
+            m.nodes.iter().position(|&p| p == Point::new(x, y)).unwrap() as u32
+        };
+        let centre = at(&m, 2.0, 2.0);
+        let ring: Vec<u32> = [
+            (1., 1.),
+            (2., 1.),
+            (3., 1.),
+            (3., 2.),
+            (3., 3.),
+            (2., 3.),
+            (1., 3.),
+            (1., 2.),
+        ]
+        .iter()
+        .map(|&(x, y)| at(&m, x, y))
+        .collect();
+        let inc = m.node_quads();
+        let alive = vec![true; m.quads.len()];
+        let w = Work {
+            mesh: &mut m,
+            alive,
+            inc,
+        };
+        let cavity: Vec<[u32; 4]> = w.inc[centre as usize]
+            .iter()
+            .map(|&k| w.mesh.quads[k as usize])
+            .collect();
+        assert_eq!(w.irregular_before(&cavity), 0);
+        // The patch's nodes: the ring's, then the centre as a new one.
+        let mut nodes: Vec<Point> = ring.iter().map(|&v| w.mesh.nodes[v as usize]).collect();
+        nodes.push(Point::new(2.0, 2.0));
+        let same = QuadMesh {
+            nodes: nodes.clone(),
+            quads: vec![[0, 1, 8, 7], [1, 2, 3, 8], [8, 3, 4, 5], [7, 8, 5, 6]],
+            loops: Vec::new(),
+        };
+        assert_eq!(w.irregular_after(&cavity, &same, &ring), 0);
+        // Three quads over the ring: (1, 1) and (3, 3) go to valence 5,
+        // (2, 1) and (2, 3) to 3.
+        let three = QuadMesh {
+            nodes: nodes[..8].to_vec(),
+            quads: vec![[0, 1, 2, 3], [4, 5, 6, 7], [0, 3, 4, 7]],
+            loops: Vec::new(),
+        };
+        assert_eq!(w.irregular_after(&cavity, &three, &ring), 4);
     }
 
     #[test]
