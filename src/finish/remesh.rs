@@ -11,7 +11,9 @@
 //! worst one, it stretches no quad (longest over shortest edge) past
 //! [`MAX_STRETCH`] or past the cavity's worst, and, unless the cavity's
 //! worst quad is under [`POOR_SJ`], it leaves no more irregular interior
-//! nodes (valence other than 4) among the cavity's nodes than there were. The default bound,
+//! nodes (valence other than 4) among the cavity's nodes than there were
+//! (such a cavity takes its smallest patch or none, and once a setting's
+//! patch adds irregular nodes the other settings are not tried). The default bound,
 //! 0.7, is about the thesis's element criterion (every angle in [45°,
 //! 135°], scaled Jacobian at least sin 45° ≈ 0.707, thesis §1.2).
 //!
@@ -318,9 +320,13 @@ impl Work<'_> {
                 continue;
             }
             let b = badness(&sub, sub.quads.iter(), bound);
-            if (old.worst_sj >= POOR_SJ
-                && self.irregular_after(&quads, &sub, &ids) > irregular_before)
-                || b.worst_stretch > max_stretch
+            if old.worst_sj >= POOR_SJ
+                && self.irregular_after(&quads, &sub, &ids) > irregular_before
+            {
+                // The other settings mesh the cavity much the same way.
+                break;
+            }
+            if b.worst_stretch > max_stretch
                 || !improves(b, old, bound)
                 || best.as_ref().is_some_and(|p| !better(b, p.badness))
             {
@@ -407,7 +413,9 @@ impl Work<'_> {
             if chosen.as_ref().is_none_or(|c| better(p.badness, c.badness)) {
                 chosen = Some(p);
             }
-            if clean {
+            // A cavity not poor takes the smallest patch that improves it:
+            // larger ones rarely keep its irregular nodes down.
+            if clean || old.worst_sj >= POOR_SJ {
                 break;
             }
         }
