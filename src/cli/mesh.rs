@@ -311,7 +311,10 @@ pub(super) fn run(a: MeshArgs) -> Result<()> {
                 }
             })
         })
-        .with_context(|| format!("{}", input.display()))?;
+        .map_err(|e| match resample_hint(&boundary) {
+            Some(hint) if resample.is_none() => anyhow!("{}: {e}; {hint}", input.display()),
+            _ => anyhow!("{}: {e}", input.display()),
+        })?;
     if let Some(b) = bar {
         b.finish_and_clear();
     }
@@ -533,4 +536,92 @@ fn read_tuning(path: &Path) -> Result<Tuning> {
     let t: Tuning = serde_json::from_str(&text)
         .map_err(|e| InputError(anyhow!("{}: not a tuning file: {e}", path.display())))?;
     Ok(t)
+}
+
+/// Boundaries of more nodes than this get no [`resample_hint`] (its
+/// search compares every node with every segment).
+const HINT_MAX_NODES: usize = 5000;
+
+/// When a run failed on a boundary whose longest segment is over four
+/// times the domain's narrowest width (a node's distance to a segment two
+/// or more segments away along its loop, or on another loop), the advice
+/// to resample it to about that width: with the file's nodes kept, quads
+/// there cannot be near square.
+fn resample_hint(b: &quadex::Boundary) -> Option<String> {
+    let n = b.node_count();
+    if n > HINT_MAX_NODES {
+        return None;
+    }
+    let segments: Vec<(usize, usize)> = b.segments().collect();
+    let longest = segments
+        .iter()
+        .map(|&(i, j)| b.points[i].distance(b.points[j]))
+        .fold(0.0, f64::max);
+    // A segment is near node v when it ends at v or at one of v's
+    // neighbours along the loop.
+    let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); b.points.len()];
+    for &(i, j) in &segments {
+        neighbours[i].push(j);
+        neighbours[j].push(i);
+    }
+    let mut narrowest = f64::INFINITY;
+    for (v, &p) in b.points.iter().enumerate() {
+        let near = |k: usize| k == v || neighbours[v].contains(&k);
+        for &(i, j) in &segments {
+            if near(i) || near(j) {
+                continue;
+            }
+            let d = quadex::geom::point_segment_distance(p, b.points[i], b.points[j]);
+            narrowest = narrowest.min(d);
+        }
+    }
+    (narrowest.is_finite() && narrowest > 0.0 && longest > 4.0 * narrowest).then(|| {
+        format!(
+            "the boundary's segments are up to {longest:.3} long where the domain is {narrowest:.3} wide, \
+             and its nodes are kept as given: `--resample {narrowest:.3}` adds nodes along them"
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use quadex::geom::Point;
+
+    fn loop_of(points: &[(f64, f64)]) -> quadex::Boundary {
+        let p: Vec<Point> = points.iter().map(|&(x, y)| Point::new(x, y)).collect();
+        let k = p.len();
+        quadex::Boundary::new(p, vec![(0..k).collect()], None).unwrap()
+    }
+
+    #[test]
+    fn a_channel_of_long_segments_gets_the_advice_to_resample() {
+        // 40 long, 1 wide, two segments a side.
+        let channel = loop_of(&[
+            (0., 0.),
+            (20., 0.),
+            (40., 0.),
+            (40., 1.),
+            (20., 1.),
+            (0., 1.),
+        ]);
+        let hint = resample_hint(&channel).unwrap();
+        assert!(hint.contains("`--resample 1.000`"), "{hint}");
+        assert!(hint.contains("up to 20.000 long"), "{hint}");
+        // A square of unit segments is as wide as its segments are long.
+        let mut square = Vec::new();
+        for k in 0..4 {
+            square.push((k as f64, 0.0));
+        }
+        for k in 0..4 {
+            square.push((4.0, k as f64));
+        }
+        for k in 0..4 {
+            square.push((4.0 - k as f64, 4.0));
+        }
+        for k in 0..4 {
+            square.push((0.0, 4.0 - k as f64));
+        }
+        assert_eq!(resample_hint(&loop_of(&square)), None);
+    }
 }
