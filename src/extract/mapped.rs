@@ -216,18 +216,26 @@ pub fn best_strip(pts: &[Point], across: usize) -> Option<(Grid, f64)> {
         return None;
     }
     let half = len / 2;
-    let mut best: Option<(Grid, f64)> = None;
-    for b in 1..=across.min(half / 2) {
+    let choices = (1..=across.min(half / 2)).flat_map(|b| {
         let a = half - b;
-        for start in 0..len {
-            let corners = [start, start + a, start + a + b, start + 2 * a + b].map(|k| k % len);
-            let g = grid(pts, corners);
-            let Some(sj) = g.min_sj() else {
-                continue;
-            };
-            if best.as_ref().is_none_or(|(_, worst)| sj > *worst) {
-                best = Some((g, sj));
-            }
+        (0..len)
+            .map(move |start| [start, start + a, start + a + b, start + 2 * a + b].map(|k| k % len))
+    });
+    best_grid(pts, choices)
+}
+
+/// The grid over `pts` with the highest worst scaled Jacobian among the
+/// `choices` of corners whose grids are measurably convex (ties: the
+/// first), with that worst.
+fn best_grid(pts: &[Point], choices: impl Iterator<Item = [usize; 4]>) -> Option<(Grid, f64)> {
+    let mut best: Option<(Grid, f64)> = None;
+    for corners in choices {
+        let g = grid(pts, corners);
+        let Some(sj) = g.min_sj() else {
+            continue;
+        };
+        if best.as_ref().is_none_or(|(_, worst)| sj > *worst) {
+            best = Some((g, sj));
         }
     }
     best
@@ -283,28 +291,17 @@ pub fn transfinite(pts: &[Point]) -> Option<(Grid, f64)> {
         return None;
     }
     let c = &candidates;
-    let mut best: Option<(Grid, f64)> = None;
-    for a in 0..c.len() {
-        for b in a + 1..c.len() {
-            for d in b + 1..c.len() {
-                for e in d + 1..c.len() {
-                    let corners = [c[a], c[b], c[d], c[e]];
-                    let side = |t: usize| (corners[(t + 1) % 4] + n - corners[t]) % n;
-                    if side(0) != side(2) || side(1) != side(3) {
-                        continue;
-                    }
-                    let g = grid(pts, corners);
-                    let Some(sj) = g.min_sj() else {
-                        continue;
-                    };
-                    if best.as_ref().is_none_or(|(_, worst)| sj > *worst) {
-                        best = Some((g, sj));
-                    }
-                }
-            }
-        }
-    }
-    best
+    let k = c.len();
+    let choices = (0..k).flat_map(|a| {
+        (a + 1..k).flat_map(move |b| {
+            (b + 1..k).flat_map(move |d| (d + 1..k).map(move |e| [c[a], c[b], c[d], c[e]]))
+        })
+    });
+    let matched = choices.filter(|corners| {
+        let side = |t: usize| (corners[(t + 1) % 4] + n - corners[t]) % n;
+        side(0) == side(2) && side(1) == side(3)
+    });
+    best_grid(pts, matched)
 }
 
 impl Mesher {
