@@ -88,6 +88,20 @@ impl Grid {
     }
 }
 
+/// The turn of a closed loop at node `k`: the cosine of the angle between
+/// the edges into and out of it, and whether it turns left (a convex node
+/// of a counter-clockwise loop); `None` at an edge of length zero.
+fn turn(pts: &[Point], k: usize) -> Option<(f64, bool)> {
+    let n = pts.len();
+    let a = pts[k] - pts[(k + n - 1) % n];
+    let b = pts[(k + 1) % n] - pts[k];
+    let (la, lb) = (a.length(), b.length());
+    if la <= 0.0 || lb <= 0.0 {
+        return None;
+    }
+    Some((a.dot(b) / (la * lb), a.perp_dot(b) > 0.0))
+}
+
 /// The four corners of a counter-clockwise loop (indices, in loop order),
 /// if it is a logical rectangle whose opposite sides have equal edge
 /// counts, rotated so that the first side is the longer way (ties: the
@@ -102,15 +116,7 @@ pub fn rectangle(pts: &[Point]) -> Option<[usize; 4]> {
     let mut corners = [0usize; 4];
     let mut found = 0;
     for k in 0..n {
-        let a = pts[k] - pts[(k + n - 1) % n];
-        let b = pts[(k + 1) % n] - pts[k];
-        let (la, lb) = (a.length(), b.length());
-        if la <= 0.0 || lb <= 0.0 {
-            return None;
-        }
-        // The turn from a to b: left (positive cross) at a convex node.
-        let cos = a.dot(b) / (la * lb);
-        let left = a.perp_dot(b) > 0.0;
+        let (cos, left) = turn(pts, k)?;
         if left && cos < corner_cos {
             if found == 4 {
                 return None;
@@ -277,13 +283,8 @@ pub fn transfinite(pts: &[Point]) -> Option<(Grid, f64)> {
     let corner_cos = (180.0 - CORNER_MAX).to_radians().cos();
     let mut candidates = Vec::new();
     for k in 0..n {
-        let a = pts[k] - pts[(k + n - 1) % n];
-        let b = pts[(k + 1) % n] - pts[k];
-        let (la, lb) = (a.length(), b.length());
-        if la <= 0.0 || lb <= 0.0 {
-            return None;
-        }
-        if a.perp_dot(b) > 0.0 && a.dot(b) / (la * lb) < corner_cos {
+        let (cos, left) = turn(pts, k)?;
+        if left && cos < corner_cos {
             candidates.push(k);
         }
     }
