@@ -67,6 +67,17 @@ impl Shape {
         (is_strictly_convex(p), is_measurably_convex(p))
     }
 
+    /// Its scaled Jacobian, but no more than `at_limit` · [`GOOD_RATIO`] /
+    /// its [`Shape::side_ratio`]: a quality that sees stretch as well. The
+    /// scaled Jacobian alone does not see an edge shrinking to nothing (a
+    /// quad whose two corners nearly meet is a triangle with fair angles);
+    /// weighed this way, a quad stretched past [`GOOD_RATIO`] counts as
+    /// under `at_limit`, the more so the more it is stretched.
+    pub fn stretch_weighted(&self, at_limit: f64) -> f64 {
+        self.scaled_jacobian
+            .min(at_limit * GOOD_RATIO / self.side_ratio())
+    }
+
     /// Longest over shortest side (covers the thesis's aspect and taper).
     pub fn side_ratio(&self) -> f64 {
         let (lo, hi) = self

@@ -746,7 +746,7 @@ fn optimize_with(
     search_with(mesh, &pass, adj, nodes)
 }
 
-/// The scaled Jacobian [`destretch`] weighs a quad stretched to
+/// The scaled Jacobian [`destretch_with`] weighs a quad stretched to
 /// [`GOOD_RATIO`] (longest over shortest side) as: about the thesis's
 /// element criterion (every angle in [45°, 135°]).
 pub const STRETCH_SJ: f64 = 0.7;
@@ -819,8 +819,8 @@ struct Search {
 enum Measure {
     /// Its scaled Jacobian.
     Jacobian,
-    /// Its scaled Jacobian, but no more than [`STRETCH_SJ`] ·
-    /// [`GOOD_RATIO`] / its [`Shape::side_ratio`] ([`destretch`]).
+    /// [`Shape::stretch_weighted`] with [`STRETCH_SJ`] at the limit
+    /// ([`destretch_with`]).
     Stretch,
 }
 
@@ -828,9 +828,7 @@ impl Measure {
     fn of(self, shape: &Shape) -> f64 {
         match self {
             Measure::Jacobian => shape.scaled_jacobian,
-            Measure::Stretch => shape
-                .scaled_jacobian
-                .min(STRETCH_SJ * GOOD_RATIO / shape.side_ratio()),
+            Measure::Stretch => shape.stretch_weighted(STRETCH_SJ),
         }
     }
 }

@@ -48,12 +48,8 @@ use crate::extract::{MeshParams, Mesher, StepKind, Strategy};
 use crate::geom::Point;
 use crate::mesh::{boundary_loops, QuadMesh};
 use crate::model::Model;
-use crate::quality::{Shape, GOOD_RATIO};
+use crate::quality::Shape;
 use crate::smooth::{after_change, smooth_and_optimize, unflatten, MAX_STRETCH};
-
-/// Longest over shortest side a quad may have before it counts as bad:
-/// the thesis's bound on aspect and taper (§1.2).
-const STRETCH_LIMIT: f64 = GOOD_RATIO;
 
 /// The order bad quads are taken in: flattened ones (scaled Jacobian
 /// below the bound) first, then the ones only stretched, each worst first.
@@ -91,15 +87,10 @@ fn priority(mesh: &QuadMesh, q: &[u32; 4], bound: f64) -> Priority {
 }
 
 /// How good a quad of `shape` is, measured against the remeshing `bound`:
-/// its scaled Jacobian, but no more than `bound · STRETCH_LIMIT / stretch`.
-/// The scaled Jacobian does not see an edge shrinking to nothing (a quad
-/// whose two corners nearly meet is a triangle with fair angles), so a quad
-/// stretched past [`STRETCH_LIMIT`] counts as bad too, the more so the more
-/// it is stretched.
+/// [`Shape::stretch_weighted`], so a quad stretched past
+/// [`GOOD_RATIO`](crate::quality::GOOD_RATIO) (the thesis's bound on aspect and taper, §1.2) counts as bad too, the more so the more it is stretched.
 fn fitness_of(shape: &Shape, bound: f64) -> f64 {
-    shape
-        .scaled_jacobian
-        .min(bound * STRETCH_LIMIT / shape.side_ratio())
+    shape.stretch_weighted(bound)
 }
 
 /// How bad a set of quads is: smaller is better (fewer bad quads first,
@@ -667,6 +658,7 @@ pub fn remesh_bad(
 mod tests {
     use super::*;
     use crate::model::RulesModel;
+    use crate::quality::GOOD_RATIO;
 
     /// An n × n grid of unit squares; node (i, j) is `j * (n + 1) + i`.
     fn grid(n: usize) -> QuadMesh {
@@ -733,14 +725,14 @@ mod tests {
                 .iter()
                 .filter(|q| {
                     let s = Shape::of(m.corners(q));
-                    s.scaled_jacobian > 0.99 && s.side_ratio() > STRETCH_LIMIT
+                    s.scaled_jacobian > 0.99 && s.side_ratio() > GOOD_RATIO
                 })
                 .count()
         };
         assert_eq!(thin(&m), 4);
         remesh_6x6(&mut m);
         assert_eq!(thin(&m), 0);
-        assert!(worst_stretch(&m) <= STRETCH_LIMIT, "{}", worst_stretch(&m));
+        assert!(worst_stretch(&m) <= GOOD_RATIO, "{}", worst_stretch(&m));
     }
 
     /// Remeshes a distorted 6 × 6 grid with the defaults and checks that
