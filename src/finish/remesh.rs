@@ -88,7 +88,9 @@ fn priority(mesh: &QuadMesh, q: &[u32; 4], bound: f64) -> Priority {
 
 /// How good a quad of `shape` is, measured against the remeshing `bound`:
 /// [`Shape::stretch_weighted`], so a quad stretched past
-/// [`GOOD_RATIO`](crate::quality::GOOD_RATIO) (the thesis's bound on aspect and taper, §1.2) counts as bad too, the more so the more it is stretched.
+/// [`GOOD_RATIO`](crate::quality::GOOD_RATIO) (the thesis's bound on
+/// aspect and taper, §1.2) counts as bad too, the more so the more it is
+/// stretched.
 fn fitness_of(shape: &Shape, bound: f64) -> f64 {
     shape.stretch_weighted(bound)
 }
@@ -851,9 +853,7 @@ mod tests {
     #[test]
     fn irregular_nodes_are_counted_as_a_patch_would_leave_them() {
         let mut m = grid(4);
-        let at = |m: &QuadMesh, x: f64, y: f64| {
-            m.nodes.iter().position(|&p| p == Point::new(x, y)).unwrap() as u32
-        };
+        let at = |m: &QuadMesh, x: f64, y: f64| node_at(m, x, y) as u32;
         let centre = at(&m, 2.0, 2.0);
         let ring: Vec<u32> = [
             (1., 1.),
