@@ -27,6 +27,7 @@ fn kinds_of(rung: Rung) -> &'static [StepKind] {
         Rung::RowStart => &[Square, Bridge],
         Rung::SmallLoop => &[Close4, Close6],
         Rung::MappedGrid | Rung::Strip | Rung::Band => &[Mapped],
+        Rung::Fan => &[Fan],
         Rung::Queue => &[Element, Transition, Seam],
         Rung::SharpSeam => &[Seam],
         Rung::SmallSplit | Rung::Split => &[Split],

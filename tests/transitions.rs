@@ -108,3 +108,60 @@ fn a_boundary_graded_one_to_a_hundred_is_meshed_by_extraction_alone() {
     assert!(transitions > 0, "{}: no transition", d.description);
     assert!(quads > 1000, "{}: {quads} quads", d.description);
 }
+
+/// A 2 × 1 parallelogram (corners of 70° and 110°) whose bottom is graded
+/// from 1/100 of the sides' spacing at both ends, growing by 1.3 a
+/// segment: each bottom corner takes a fan before anything else is cut
+/// there, and the run finishes by extraction, no quad under 0.25.
+#[test]
+fn corners_of_a_strongly_graded_side_take_fans() {
+    let (w, h, n_side) = (2.0, 1.0, 10);
+    let fine = h / n_side as f64 / 100.0;
+    let mut half = Vec::new();
+    let (mut len, mut sum) = (fine, 0.0);
+    while sum + len < 0.5 * w {
+        half.push(len);
+        sum += len;
+        len = (len * 1.3).min(0.3 * h);
+    }
+    let scale = 0.5 * w / sum;
+    let mut segs: Vec<f64> = half.iter().map(|l| l * scale).collect();
+    segs.extend(half.iter().rev().map(|l| l * scale));
+    let skew = h / 70f64.to_radians().tan();
+    let mut pts = vec![Point::ZERO];
+    let mut x = 0.0;
+    for l in &segs[..segs.len() - 1] {
+        x += l;
+        pts.push(Point::new(x, 0.0));
+    }
+    let corners = [
+        Point::new(w, 0.0),
+        Point::new(w + skew, h),
+        Point::new(skew, h),
+        Point::ZERO,
+    ];
+    let n_top = 20;
+    let counts = [
+        n_side,
+        n_top,
+        n_side + (pts.len() + n_side + n_top + n_side) % 2,
+    ];
+    for (k, &n) in counts.iter().enumerate() {
+        let (a, b) = (corners[k], corners[k + 1]);
+        pts.extend((0..n).map(|i| a + (b - a) * (i as f64 / n as f64)));
+    }
+    let n = pts.len();
+    assert_eq!(n % 2, 0);
+    let boundary = Boundary::new(pts, vec![(0..n).collect()], None).expect("a valid boundary");
+    let (m, _) = stepped("graded side", &boundary, MeshParams::DEFAULT);
+    assert_eq!(
+        m.stats().count(StepKind::Fan),
+        2,
+        "one fan at each end of the graded side"
+    );
+    // At 100:1, four quads a corner keep the spokes' growth within 3.2
+    // (70° leaves each of them 17.5°, at least the 15° asked).
+    assert_eq!(m.stats().quads_made(StepKind::Fan), 8);
+    let q = finished(&m);
+    assert!(q.sj_min >= 0.25, "scaled Jacobian {}", q.sj_min);
+}

@@ -1,6 +1,7 @@
 //! The step ladder: what one automatic step tries, in order (method §2,
-//! thesis §5.1): a first row on a loop without reference points, closing
-//! small loops, mapped grids on narrow logical rectangles, the fill inside
+//! thesis §5.1): thin bands closed by rows, mapped grids on narrow logical
+//! rectangles, fans at strongly graded corners of the boundary, a first row
+//! on a loop without reference points, closing small loops, the fill inside
 //! the first layers, the reference points in queue order, seams, chord
 //! splits, a square cut, a relaxed rule-based element, relaxation, a
 //! bridge across a gap, rip-up, and the fill as the last resort.
@@ -109,6 +110,9 @@ pub enum Rung {
     /// past [`super::mapped::GRADED_SPREAD`], close by a mapped grid
     /// ([`super::MeshParams::mapped_rows`]).
     MappedGrid,
+    /// A corner of the given boundary between a short and a long segment
+    /// takes a fan of quads around it ([`super::tuning::FanTuning`]).
+    Fan,
     /// A thin band (a loop with two short ends, or the ring between the
     /// front's two loops) closes by rows along it ([`super::tuning::BandTuning`]).
     Band,
@@ -157,11 +161,12 @@ pub enum Rung {
 const CLOSED_LOOP: usize = 6;
 
 /// The step ladder: the order one automatic step tries its rungs in.
-pub const LADDER: [Rung; 19] = [
+pub const LADDER: [Rung; 20] = [
     Rung::FillDue,
     Rung::FillStalled,
     Rung::Band,
     Rung::MappedGrid,
+    Rung::Fan,
     Rung::RowStart,
     Rung::SmallLoop,
     Rung::FillLayers,
@@ -189,6 +194,7 @@ impl Rung {
             Rung::SmallLoop => "small-loop",
             Rung::MappedGrid => "mapped-grid",
             Rung::Band => "band",
+            Rung::Fan => "fan",
             Rung::FillLayers => "fill-layers",
             Rung::Queue => "queue",
             Rung::SharpSeam => "sharp-seam",
@@ -260,6 +266,7 @@ impl Mesher {
             Rung::SmallLoop => self.small_loop(),
             Rung::MappedGrid => self.mapped_grid(),
             Rung::Band => self.close_band(),
+            Rung::Fan => self.corner_fan(),
             Rung::Queue => {
                 let (r, skipped) = self.queue_rung(limits)?;
                 climb.skipped = skipped;

@@ -18,6 +18,7 @@ mod band;
 mod bridge;
 mod candidate;
 mod closure;
+mod fan;
 mod fill;
 mod fill_step;
 mod guard;

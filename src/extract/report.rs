@@ -77,6 +77,9 @@ pub enum StepKind {
     Transition,
     /// A loop that is a logical rectangle closed by a mapped grid.
     Mapped,
+    /// A fan of quads around a boundary corner between a short and a long
+    /// segment.
+    Fan,
     /// A loop split along a chord.
     Split,
     /// Two facing front edges joined by one quad across a gap no other

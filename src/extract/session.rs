@@ -77,6 +77,7 @@ pub struct Mesher {
     pub(super) small: SmallLoops,
     pub(super) grids: GridsSeen,
     pub(super) bands: super::band::BandsSeen,
+    pub(super) fans: super::fan::Fans,
     pub(super) runs: RowRuns,
     pub(super) repairs: Repairs,
     pub(super) fill: FillBudget,
@@ -207,6 +208,7 @@ impl Mesher {
             small: SmallLoops::default(),
             grids: GridsSeen::default(),
             bands: Default::default(),
+            fans: Default::default(),
             runs: RowRuns::default(),
             repairs: Repairs::default(),
             fill: FillBudget::new(fill_after),
@@ -231,6 +233,7 @@ impl Mesher {
         for s in 0..m.front.slots.len() as SlotId {
             m.push(s);
         }
+        m.fans = super::fan::Fans::of(&m);
         m
     }
 

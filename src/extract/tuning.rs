@@ -38,6 +38,8 @@ pub struct Tuning {
     pub mapped: MappedTuning,
     /// Band closure: thin bands closed by rows along them.
     pub band: BandTuning,
+    /// Corner fans: quads around a corner between a short and a long segment.
+    pub fan: FanTuning,
     /// The progress watch: when a run is going round in circles.
     pub watch: WatchTuning,
     /// The region fill as a step: its budget, and rewinding.
@@ -61,6 +63,7 @@ impl Tuning {
         closure: ClosureTuning::DEFAULT,
         mapped: MappedTuning::DEFAULT,
         band: BandTuning::DEFAULT,
+        fan: FanTuning::DEFAULT,
         watch: WatchTuning::DEFAULT,
         fill: FillTuning::DEFAULT,
     };
@@ -504,6 +507,45 @@ impl BandTuning {
 impl Default for BandTuning {
     fn default() -> BandTuning {
         BandTuning::DEFAULT
+    }
+}
+
+/// Corner fans ([`super::Rung::Fan`]): a corner of the given boundary
+/// between a short and a long segment takes a fan of quads around it, the
+/// spokes growing evenly from one segment's length to the other's.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FanTuning {
+    /// A corner whose segments' lengths differ by less than this ratio
+    /// takes no fan (0: no fans at all).
+    pub min_ratio: f64,
+    /// The most a spoke may grow over the one before: a fan has the fewest
+    /// quads that keep to it.
+    pub growth: f64,
+    /// The least share of the corner's angle a fan quad takes (degrees):
+    /// it caps the number of quads.
+    pub min_angle: f64,
+    /// Corners wider than this (degrees) take no fan: a side graded along
+    /// a flat stretch is for the rows.
+    pub max_angle: f64,
+    /// The worst quad a fan may have (scaled Jacobian).
+    pub min_sj: f64,
+}
+
+impl FanTuning {
+    /// The defaults.
+    pub const DEFAULT: FanTuning = FanTuning {
+        min_ratio: 8.0,
+        growth: 3.2,
+        min_angle: 15.0,
+        max_angle: 150.0,
+        min_sj: 0.25,
+    };
+}
+
+impl Default for FanTuning {
+    fn default() -> FanTuning {
+        FanTuning::DEFAULT
     }
 }
 

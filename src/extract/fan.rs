@@ -1,0 +1,390 @@
+//! Corner fans: a corner of the given boundary between a short and a long
+//! segment takes a fan of quads around it before anything else is cut
+//! there (a transition in the sense of thesis §2.1.4, started from the
+//! boundary itself).
+//!
+//! Element by element, the first row along a side graded down to a corner
+//! ends there in a quad with one edge of the fine side and one of the
+//! coarse side: a sliver as long as the coarse segment and as wide as the
+//! fine one, which no later step can mend (the corner's two boundary edges
+//! are fixed). A fan of `k` quads around the corner node spreads that
+//! ratio over `k` spokes instead: spoke `i` leaves the corner at `i / k`
+//! of its angle, `a·gⁱ` long, where `a` is the short segment, `b` the long
+//! one and `g = (b / a)^(1/k)`; the quad between two spokes has its far
+//! corner where its three corners other than the fan's are squarest. `k` is the fewest quads that keep `g` within
+//! [`FanTuning::growth`], but no more than leave each quad
+//! [`FanTuning::min_angle`] of the corner; fewer than two is no fan. The
+//! front then runs along the fan's outer edges, graded from the short
+//! segment's length to the long one's, and extraction goes on from there.
+//!
+//! The fan is taken only if its quads are measurably convex with a scaled
+//! Jacobian of at least [`FanTuning::min_sj`], and no front edge or node
+//! lies inside it or crosses it.
+
+use super::report::{StepKind, StepReport};
+use super::session::Mesher;
+use super::tuning::FanTuning;
+use crate::front::SlotId;
+use crate::geom::{
+    is_measurably_convex, point_in_polygon, polygon_area, segments_intersect, Point,
+};
+use crate::quality::Shape;
+
+/// The range of the weights of the spokes in a fan quad's far corner
+/// ([`far_corner`]).
+const FAR_RANGE: (f64, f64) = (0.5, 2.0);
+
+/// The weights tried for each spoke in [`far_corner`], evenly over
+/// [`FAR_RANGE`] (1 among them).
+const FAR_STEPS: usize = 31;
+
+/// The boundary corners still to be tried for a fan, in front order (the
+/// next one last).
+#[derive(Clone, Debug, Default)]
+pub(super) struct Fans {
+    pending: Vec<SlotId>,
+}
+
+impl Fans {
+    /// The corners of the initial front (`slot`s `0..n`) whose segments'
+    /// lengths differ by at least [`FanTuning::min_ratio`] and whose angle
+    /// is under [`FanTuning::max_angle`].
+    pub(super) fn of(m: &Mesher) -> Fans {
+        let t = &m.params.tuning.fan;
+        if t.min_ratio <= 0.0 {
+            return Fans::default();
+        }
+        let mut pending: Vec<SlotId> = m
+            .front
+            .live_loops()
+            .flat_map(|l| m.front.loop_slots(l))
+            .filter(|&s| plan(m, s, t).is_some())
+            .collect();
+        pending.sort_unstable();
+        pending.reverse();
+        Fans { pending }
+    }
+}
+
+/// The spokes of a fan at a corner: the corner `c`, the unit directions and
+/// the lengths of its `k + 1` spokes, the first along the edge to the
+/// corner's next node, the last along the edge to its previous one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spokes {
+    pub c: Point,
+    pub dirs: Vec<Point>,
+    pub lengths: Vec<f64>,
+}
+
+/// The fan a corner at `c` between its previous node `prev` and its next
+/// node `next` (the domain to the left of `prev → c → next`) would take:
+/// `None` when it takes none.
+pub fn fan_spokes(c: Point, prev: Point, next: Point, t: &FanTuning) -> Option<Spokes> {
+    let (to_next, to_prev) = (next - c, prev - c);
+    let (ln, lp) = (to_next.length(), to_prev.length());
+    if !(ln > 0.0 && lp > 0.0) {
+        return None;
+    }
+    let ratio = ln.max(lp) / ln.min(lp);
+    if ratio < t.min_ratio {
+        return None;
+    }
+    // The corner's angle inside the domain, from the edge to `next`
+    // counter-clockwise to the edge to `prev`.
+    let angle = crate::geom::ccw_angle(c, next, prev);
+    if !(angle > 0.0 && angle <= t.max_angle.to_radians()) {
+        return None;
+    }
+    let by_growth = (ratio.ln() / t.growth.max(1.0 + 1e-9).ln()).ceil() as usize;
+    let by_angle = (angle / t.min_angle.to_radians()).floor() as usize;
+    let k = by_growth.min(by_angle);
+    if k < 2 {
+        return None;
+    }
+    let g = (lp / ln).powf(1.0 / k as f64);
+    let base = to_next.y.atan2(to_next.x);
+    let dirs = (0..=k)
+        .map(|i| {
+            let a = base + angle * i as f64 / k as f64;
+            Point::new(a.cos(), a.sin())
+        })
+        .collect();
+    let lengths = (0..=k).map(|i| ln * g.powi(i as i32)).collect();
+    Some(Spokes { c, dirs, lengths })
+}
+
+/// The far corner of the fan quad `c, p, m, q` between the spoke ends `p`
+/// and `q`: `m = c + α (p − c) + γ (q − c)`, with `α` and `γ` each one of
+/// [`FAR_STEPS`] values from [`FAR_RANGE`] (1 and 1: the parallelogram),
+/// where the quad's three corners other than `c` are squarest. `None` if
+/// no such quad is measurably convex.
+fn far_corner(c: Point, p: Point, q: Point) -> Option<Point> {
+    let (dp, dq) = (p - c, q - c);
+    let at =
+        |i: usize| FAR_RANGE.0 + (FAR_RANGE.1 - FAR_RANGE.0) * i as f64 / (FAR_STEPS - 1) as f64;
+    let mut best: Option<(f64, Point)> = None;
+    for i in 0..FAR_STEPS {
+        for j in 0..FAR_STEPS {
+            let m = c + dp * at(i) + dq * at(j);
+            let quad = [c, p, m, q];
+            if !is_measurably_convex(quad) {
+                continue;
+            }
+            let worst = (1..4)
+                .map(|k| corner_sine(quad, k))
+                .fold(f64::INFINITY, f64::min);
+            if best.is_none_or(|(b, _)| worst > b) {
+                best = Some((worst, m));
+            }
+        }
+    }
+    best.map(|(_, m)| m)
+}
+
+/// The sine of corner `k` of the quad `p` (CCW): its scaled Jacobian
+/// there.
+fn corner_sine(p: [Point; 4], k: usize) -> f64 {
+    let (e_next, e_prev) = (p[(k + 1) % 4] - p[k], p[(k + 3) % 4] - p[k]);
+    e_next.perp_dot(e_prev) / (e_next.length() * e_prev.length()).max(1e-300)
+}
+
+/// The fan's quads and its outline: new points (the inner spoke ends and
+/// the far corners, in front order from the previous node's side) and the
+/// quads as indices into `[c, prev, next, new...]`, counter-clockwise;
+/// `None` if a quad is not measurably convex with a scaled Jacobian of at
+/// least `min_sj`.
+pub fn fan_quads(sp: &Spokes, prev: Point, next: Point, min_sj: f64) -> Option<FanQuads> {
+    let k = sp.dirs.len() - 1;
+    // Spoke ends, from `next` (spoke 0) to `prev` (spoke k).
+    let ends: Vec<Point> = (0..=k)
+        .map(|i| match i {
+            0 => next,
+            _ if i == k => prev,
+            _ => sp.c + sp.dirs[i] * sp.lengths[i],
+        })
+        .collect();
+    let mut fars = Vec::with_capacity(k);
+    for i in 0..k {
+        fars.push(far_corner(sp.c, ends[i], ends[i + 1])?);
+    }
+    // Indices: 0 the corner, 1 prev, 2 next, then the new points in front
+    // order from prev: far k-1, end k-1, far k-2, ..., end 1, far 0.
+    let mut points = Vec::with_capacity(2 * k - 1);
+    let mut end_at = vec![0usize; k + 1];
+    let mut far_at = vec![0usize; k];
+    end_at[k] = 1;
+    end_at[0] = 2;
+    for i in (0..k).rev() {
+        far_at[i] = 3 + points.len();
+        points.push(fars[i]);
+        if i > 0 {
+            end_at[i] = 3 + points.len();
+            points.push(ends[i]);
+        }
+    }
+    let all = |j: usize| match j {
+        0 => sp.c,
+        1 => prev,
+        2 => next,
+        _ => points[j - 3],
+    };
+    let mut quads = Vec::with_capacity(k);
+    for i in 0..k {
+        let q = [0, end_at[i], far_at[i], end_at[i + 1]];
+        let p = q.map(all);
+        if polygon_area(p) <= 0.0
+            || !is_measurably_convex(p)
+            || Shape::of(p).scaled_jacobian < min_sj
+        {
+            return None;
+        }
+        quads.push(q);
+    }
+    Some(FanQuads { points, quads })
+}
+
+/// A fan's new points, in front order from the corner's previous node,
+/// and its quads over `[corner, prev, next, points...]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FanQuads {
+    pub points: Vec<Point>,
+    pub quads: Vec<[usize; 4]>,
+}
+
+/// The fan at slot `s` of `m`'s front, if it takes one: the corner must be
+/// a node of the given boundary between two segments of it.
+fn plan(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<FanQuads> {
+    let f = &m.front;
+    let (p, n) = (f.prev(s), f.next(s));
+    let ids = [f.node(p), f.node(s), f.node(n)];
+    if !ids.iter().all(|&v| m.is_boundary(v)) || f.loop_len(s) < 6 {
+        return None;
+    }
+    if [p, s, n].iter().any(|&x| f.slot(x).layer != 0) {
+        return None;
+    }
+    let (c, prev, next) = (m.world(s), m.world(p), m.world(n));
+    let sp = fan_spokes(c, prev, next, t)?;
+    fan_quads(&sp, prev, next, t.min_sj)
+}
+
+impl Mesher {
+    /// [`super::Rung::Fan`]: the next boundary corner between a short and
+    /// a long segment takes its fan, if it still fits.
+    pub(super) fn corner_fan(&mut self) -> Option<StepReport> {
+        let t = self.params.tuning.fan;
+        while let Some(s) = self.fans.pending.pop() {
+            if !self.front.slot(s).alive {
+                continue;
+            }
+            let Some(fan) = plan(self, s, &t) else {
+                continue;
+            };
+            if !self.fan_is_clear(s, &fan) {
+                continue;
+            }
+            return Some(self.commit_fan(s, &fan));
+        }
+        None
+    }
+
+    /// No front node other than the corner's three lies inside the fan,
+    /// and no front edge crosses its outline.
+    fn fan_is_clear(&mut self, s: SlotId, fan: &FanQuads) -> bool {
+        let f = &self.front;
+        let (p, n) = (f.prev(s), f.next(s));
+        let (c, prev, next) = (self.world(s), self.world(p), self.world(n));
+        let mut outline = vec![c, next];
+        outline.extend(fan.points.iter().rev());
+        outline.push(prev);
+        let Some(bb) = crate::geom::Aabb::of(outline.iter().copied()) else {
+            return false;
+        };
+        self.front
+            .edges_near(bb.min, bb.max, &mut self.scratch.near);
+        let own = [p, s, n].map(|x| self.front.node(x));
+        // The outline's new edges: from next through the new points to prev.
+        let new_edges: Vec<(Point, Point)> =
+            outline[1..].windows(2).map(|w| (w[0], w[1])).collect();
+        self.scratch.near.iter().all(|&e| {
+            let (u, v) = (self.front.node(e), self.front.node(self.front.next(e)));
+            let (a, b) = (self.mesh.nodes[u as usize], self.mesh.nodes[v as usize]);
+            if !own.contains(&u) && point_in_polygon(a, &outline) {
+                return false;
+            }
+            new_edges.iter().enumerate().all(|(i, &(x, y))| {
+                // Edges meeting at `next` (the first new edge) or `prev`
+                // (the last) share that node.
+                let shared =
+                    |w: u32| (i == 0 && w == own[2]) || (i + 1 == new_edges.len() && w == own[0]);
+                if shared(u) || shared(v) {
+                    return true;
+                }
+                !segments_intersect(x, y, a, b)
+            })
+        })
+    }
+
+    /// Commits the fan at slot `s`: its quads, and the front running along
+    /// its outer edges instead of through the corner.
+    fn commit_fan(&mut self, s: SlotId, fan: &FanQuads) -> StepReport {
+        let mut r = self.report(StepKind::Fan);
+        let (p, n) = (self.front.prev(s), self.front.next(s));
+        let layer = self.front.slot(s).layer + 1;
+        let mut ids = vec![self.front.node(s), self.front.node(p), self.front.node(n)];
+        for &pt in &fan.points {
+            let v = self.add_node(pt);
+            r.new_nodes.push(v);
+            ids.push(v);
+        }
+        for q in &fan.quads {
+            let quad = q.map(|k| ids[k]);
+            self.push_quad(quad);
+            r.quads.push(quad);
+        }
+        r.reference = Some(ids[0]);
+        let new = &r.new_nodes;
+        self.front.replace_node(s, new[0], layer, &self.mesh.nodes);
+        let rest = self
+            .front
+            .insert_after(s, &new[1..], layer, &self.mesh.nodes);
+        for x in [p, s, n].into_iter().chain(rest) {
+            self.push(x);
+        }
+        r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A right-angled corner at the origin, its next node `a` along x and
+    /// its previous node `b` up y (the domain in the first quadrant).
+    fn corner(a: f64, b: f64) -> (Point, Point, Point) {
+        (Point::ZERO, Point::new(0.0, b), Point::new(a, 0.0))
+    }
+
+    #[test]
+    fn a_corner_of_segments_1_and_100_gets_four_quads_growing_evenly() {
+        let (c, prev, next) = corner(0.01, 1.0);
+        let t = FanTuning::DEFAULT;
+        let sp = fan_spokes(c, prev, next, &t).expect("fan");
+        // ln 100 / ln 3.2 wants 4 quads (3.96); 90° at 15° a quad would
+        // allow 6.
+        assert_eq!(sp.dirs.len(), 5);
+        for w in sp.lengths.windows(2) {
+            assert!((w[1] / w[0] - 100f64.powf(0.25)).abs() < 1e-9);
+        }
+        assert!((sp.lengths[4] - 1.0).abs() < 1e-12);
+        let fan = fan_quads(&sp, prev, next, t.min_sj).expect("quads");
+        assert_eq!(fan.quads.len(), 4);
+        assert_eq!(fan.points.len(), 7);
+        let all = |j: usize| match j {
+            0 => c,
+            1 => prev,
+            2 => next,
+            _ => fan.points[j - 3],
+        };
+        let mut area = 0.0;
+        for q in &fan.quads {
+            let p = q.map(all);
+            assert!(is_measurably_convex(p));
+            // Each quad takes a quarter of the corner: its scaled Jacobian
+            // there is sin 22.5°.
+            assert!(Shape::of(p).scaled_jacobian > 0.38 - 1e-3, "{p:?}");
+            area += polygon_area(p);
+        }
+        // The quads tile the fan: the outline's area is theirs.
+        let mut outline = vec![c, next];
+        outline.extend(fan.points.iter().rev());
+        outline.push(prev);
+        assert!((polygon_area(outline.iter().copied()) - area).abs() < 1e-12 * area.max(1.0));
+        // The outline goes from next round to prev, away from the corner.
+        let r: Vec<f64> = outline[1..].iter().map(|p| p.length()).collect();
+        assert!(r.iter().all(|&x| x >= 0.01 - 1e-12));
+    }
+
+    #[test]
+    fn even_segments_and_wide_corners_get_no_fan() {
+        let t = FanTuning::DEFAULT;
+        let (c, prev, next) = corner(1.0, 2.0);
+        assert!(fan_spokes(c, prev, next, &t).is_none());
+        // A flat side graded 1:100 at a node is a row's business.
+        let flat = fan_spokes(
+            Point::ZERO,
+            Point::new(-1.0, 0.0),
+            Point::new(0.01, 0.0),
+            &t,
+        );
+        assert!(flat.is_none());
+        // A reflex corner takes none either.
+        let reflex = fan_spokes(
+            Point::ZERO,
+            Point::new(0.0, -1.0),
+            Point::new(0.01, 0.0),
+            &t,
+        );
+        assert!(reflex.is_none());
+    }
+}
