@@ -743,16 +743,7 @@ impl Mesher {
     fn commit_band(&mut self, lids: &[u32], nodes: &[u32], rows: &BandRows) -> StepReport {
         let mut r = self.report(StepKind::Mapped);
         let mut ids: Vec<u32> = nodes.to_vec();
-        for &p in &rows.points {
-            let v = self.add_node(p);
-            r.new_nodes.push(v);
-            ids.push(v);
-        }
-        for q in &rows.quads {
-            let quad = q.map(|k| ids[k]);
-            self.push_quad(quad);
-            r.quads.push(quad);
-        }
+        self.add_patch(&mut r, &mut ids, &rows.points, &rows.quads);
         r.reference = nodes.first().copied();
         for &l in lids {
             self.front.remove_loop(l);

@@ -292,16 +292,7 @@ impl Mesher {
         let (p, n) = (self.front.prev(s), self.front.next(s));
         let layer = self.front.slot(s).layer + 1;
         let mut ids = vec![self.front.node(s), self.front.node(p), self.front.node(n)];
-        for &pt in &fan.points {
-            let v = self.add_node(pt);
-            r.new_nodes.push(v);
-            ids.push(v);
-        }
-        for q in &fan.quads {
-            let quad = q.map(|k| ids[k]);
-            self.push_quad(quad);
-            r.quads.push(quad);
-        }
+        self.add_patch(&mut r, &mut ids, &fan.points, &fan.quads);
         r.reference = Some(ids[0]);
         let new = &r.new_nodes;
         self.front.replace_node(s, new[0], layer, &self.mesh.nodes);

@@ -715,6 +715,27 @@ impl Mesher {
         (self.mesh.nodes.len() - 1) as u32
     }
 
+    /// Adds `points` as new nodes (their ids appended to `ids`) and the
+    /// `quads`, indices into `ids`, to the mesh and to the report `r`.
+    pub(super) fn add_patch(
+        &mut self,
+        r: &mut StepReport,
+        ids: &mut Vec<u32>,
+        points: &[Point],
+        quads: &[[usize; 4]],
+    ) {
+        for &p in points {
+            let v = self.add_node(p);
+            r.new_nodes.push(v);
+            ids.push(v);
+        }
+        for q in quads {
+            let quad = q.map(|k| ids[k]);
+            self.push_quad(quad);
+            r.quads.push(quad);
+        }
+    }
+
     pub(super) fn push_quad(&mut self, q: [u32; 4]) {
         let k = self.mesh.quads.len() as u32;
         let mut centre = Point::ZERO;
