@@ -11,9 +11,10 @@
 //! ratio over `k` spokes instead: spoke `i` leaves the corner at `i / k`
 //! of its angle, `a·gⁱ` long, where `a` is the short segment, `b` the long
 //! one and `g = (b / a)^(1/k)`; the quad between two spokes has its far
-//! corner where its three corners other than the fan's are squarest. `k` is the fewest quads that keep `g` within
-//! [`FanTuning::growth`], but no more than leave each quad
-//! [`FanTuning::min_angle`] of the corner; fewer than two is no fan. The
+//! corner where its three corners other than the fan's are squarest. `k`
+//! is the fewest quads that keep `g` within [`FanTuning::growth`], but no
+//! more than leave each quad [`FanTuning::min_angle`] of the corner; fewer
+//! than two is no fan. The
 //! front then runs along the fan's outer edges, graded from the short
 //! segment's length to the long one's, and extraction goes on from there.
 //!
