@@ -500,20 +500,11 @@ const DIRECTIONS: [(f64, f64); 8] = [
     ),
 ];
 
-/// A node's pattern search stops once its step is under this share of the
-/// node's shortest edge: a hundredth moves a node within 1 % of where a
-/// finer search would put it, and the search's last rounds, each halving
-/// the step, were the bulk of the finishing time of a mesh of many poor
-/// quads (a thousandth: a third more time on the tube sheet of
-/// bench/real).
-pub(crate) const SEARCH_STOP: f64 = 1e-2;
-
 /// Moves node `v` to where `quality` (lexicographic; `None`: the position
 /// is refused) is best, starting from `best` = its quality where it is, by
 /// a pattern search in eight directions whose step starts at a quarter of
 /// the shortest edge to `nbs`, doubles after a success (up to a quarter of
-/// the longest) and halves after a failure, down to [`SEARCH_STOP`] of the
-/// shortest ([`search`]). `quality` is
+/// the longest) and halves after a failure ([`search`]). `quality` is
 /// given the worst member of the best so far: a position whose worst is
 /// under it cannot improve, and `quality` may refuse it without looking
 /// further. Returns the final position (the node is left there).
@@ -527,7 +518,7 @@ pub(crate) fn pattern_search(
     let (shortest, longest) = edge_range(mesh, v, nbs);
     let steps = SearchSteps {
         first: 0.25 * shortest,
-        stop: SEARCH_STOP * shortest,
+        stop: 1e-3 * shortest,
         cap: 0.25 * longest,
         grow: 2.0,
     };
