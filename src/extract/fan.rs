@@ -47,9 +47,10 @@ pub(super) struct Fans {
 }
 
 impl Fans {
-    /// The corners of the initial front (`slot`s `0..n`) whose segments'
-    /// lengths differ by at least [`FanTuning::min_ratio`] and whose angle
-    /// is under [`FanTuning::max_angle`].
+    /// The corners of the initial front that ask for a fan
+    /// ([`spokes_at`]: segments whose lengths differ by at least
+    /// [`FanTuning::min_ratio`], an angle under [`FanTuning::max_angle`]);
+    /// whether its quads fit is worked out when each is tried.
     pub(super) fn of(m: &Mesher) -> Fans {
         let t = &m.params.tuning.fan;
         if t.min_ratio <= 0.0 {
@@ -59,7 +60,7 @@ impl Fans {
             .front
             .live_loops()
             .flat_map(|l| m.front.loop_slots(l))
-            .filter(|&s| plan(m, s, t).is_some())
+            .filter(|&s| spokes_at(m, s, t).is_some())
             .collect();
         pending.sort_unstable();
         pending.reverse();
@@ -212,9 +213,10 @@ pub struct FanQuads {
     pub quads: Vec<[usize; 4]>,
 }
 
-/// The fan at slot `s` of `m`'s front, if it takes one: the corner must be
-/// a node of the given boundary between two segments of it.
-fn plan(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<FanQuads> {
+/// The spokes of the fan at slot `s` of `m`'s front and the corner's
+/// previous and next points, if it asks for one: the corner must be a node
+/// of the given boundary between two segments of it.
+fn spokes_at(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<(Spokes, Point, Point)> {
     let f = &m.front;
     let (p, n) = (f.prev(s), f.next(s));
     let ids = [f.node(p), f.node(s), f.node(n)];
@@ -225,7 +227,13 @@ fn plan(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<FanQuads> {
         return None;
     }
     let (c, prev, next) = (m.world(s), m.world(p), m.world(n));
-    let sp = fan_spokes(c, prev, next, t)?;
+    Some((fan_spokes(c, prev, next, t)?, prev, next))
+}
+
+/// The fan at slot `s` of `m`'s front, if it takes one ([`spokes_at`],
+/// [`fan_quads`]).
+fn plan(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<FanQuads> {
+    let (sp, prev, next) = spokes_at(m, s, t)?;
     fan_quads(&sp, prev, next, t.min_sj)
 }
 
