@@ -751,6 +751,24 @@ fn optimize_with(
 /// element criterion (every angle in [45°, 135°]).
 pub const STRETCH_SJ: f64 = 0.7;
 
+/// A move of [`destretch_with`] that takes the smallest scaled Jacobian
+/// of the node's quads lower, and under [`STRETCH_SJ`], is kept only if
+/// it divides the largest side ratio among them by at least this. A node come to sit on another gains far
+/// more (a side ratio of 55 falls under 6); a node whose quads' ratio is
+/// the boundary's, such as the node in a slit's mouth beside walls thirty
+/// times the slit's width, gains a few per cent, and its quads would have
+/// their angles traded for it.
+pub const STRETCH_GAIN: f64 = 1.5;
+
+/// The largest [`Shape::side_ratio`] and the smallest scaled Jacobian of
+/// `quads`.
+fn stretch_and_sj(mesh: &QuadMesh, quads: &[u32]) -> (f64, f64) {
+    quads.iter().fold((0.0f64, f64::INFINITY), |(r, sj), &k| {
+        let s = Shape::of(mesh.corners(&mesh.quads[k as usize]));
+        (r.max(s.side_ratio()), sj.min(s.scaled_jacobian))
+    })
+}
+
 /// Optimisation of stretched quads: every interior node of a quad among
 /// `nodes` whose longest side is over [`GOOD_RATIO`] times its shortest
 /// moves to where the worst of its quads is best, as [`optimize`] moves
@@ -759,8 +777,9 @@ pub const STRETCH_SJ: f64 = 0.7;
 /// alone does not see a node that has come to sit on another (two quads
 /// each with a side near zero, two triangles with fair angles), so
 /// [`optimize`] leaves it there; weighed this way, such a node moves off.
-/// Moves are bounded as [`optimize`]'s are. Returns the number of nodes
-/// moved.
+/// Moves are bounded as [`optimize`]'s are, and one that costs a quad
+/// angles must pay for it in side ratio ([`STRETCH_GAIN`]). Returns the
+/// number of nodes moved.
 fn destretch_with(
     mesh: &mut QuadMesh,
     params: &SmoothParams,
@@ -885,13 +904,26 @@ fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usi
             };
             let start = mesh.nodes[v];
             let nbs = &adj.nbs[adj.nb_start[v] as usize..adj.nb_start[v + 1] as usize];
-            let at = match pass.seek {
+            let stretch = matches!(pass.measure, Measure::Stretch);
+            let before = if stretch {
+                stretch_and_sj(mesh, quads)
+            } else {
+                (0.0, 0.0)
+            };
+            let mut at = match pass.seek {
                 Seek::Worst => pattern_search(mesh, v, nbs, best, quality),
                 Seek::Sum { keep } if best.0 >= keep => {
                     ascend(mesh, v, nbs, best, |m| quality(m, f64::NEG_INFINITY))
                 }
                 Seek::Sum { .. } => continue,
             };
+            if stretch && at != start {
+                let after = stretch_and_sj(mesh, quads);
+                if after.1 < before.1.min(STRETCH_SJ) && after.0 * STRETCH_GAIN > before.0 {
+                    mesh.nodes[v] = start;
+                    at = start;
+                }
+            }
             if at != start {
                 moved_now += 1;
                 visits.moved(mesh, adj, v, sweep);
@@ -1003,6 +1035,40 @@ mod tests {
         assert!(destretch_with(&mut m, &SmoothParams::DEFAULT, &adj, &nodes) >= 1);
         assert!(ratio(&m) < GOOD_RATIO, "{}", ratio(&m));
         assert!(worst_sj(&m) >= before.min(STRETCH_SJ), "{}", worst_sj(&m));
+        m.check_invariants(true).unwrap();
+    }
+
+    #[test]
+    fn a_node_in_a_slits_mouth_keeps_its_quads_square() {
+        // A slit 4 wide and 120 long (its walls y = ±2) opens at x = 0
+        // into a corner of 120° between sides 119 long; the node x in
+        // the mouth's middle is the one interior node. Its four quads
+        // have side ratios of 30 to 60 that no move mends: pulling x into
+        // the slit gains a few per cent of ratio and would take the
+        // corners beside the mouth from 150° towards 173°.
+        let p = Point::new;
+        let pts = vec![
+            p(-59.5, 103.1),  // 0: side's far end, above
+            p(0.0, 2.0),      // 1: mouth, above
+            p(0.0, -2.0),     // 2: mouth, below
+            p(-59.5, -103.1), // 3: side's far end, below
+            p(120.0, 2.0),    // 4: slit's upper wall end
+            p(120.0, -2.0),   // 5: slit's lower wall end
+            p(122.3, 0.0),    // 6: the junction beyond
+            p(0.0, 0.0),      // 7: x, in the mouth
+            p(-59.5, 0.0),    // 8: on the chord between the sides' ends
+        ];
+        let quads = vec![[2, 5, 6, 7], [7, 6, 4, 1], [3, 2, 7, 8], [8, 7, 1, 0]];
+        let mut m = QuadMesh::from_quads(pts, quads).unwrap();
+        let x = m.nodes.iter().position(|&q| q == p(0.0, 0.0)).unwrap();
+        let worst_sj = |m: &QuadMesh| m.quads.iter().map(|q| quad_sj(m, q)).fold(1.0, f64::min);
+        let before = worst_sj(&m);
+        assert!((before - 0.5).abs() < 0.01, "{before}");
+        let adj = Adjacency::new(&m);
+        let nodes = interior_nodes(&m, None);
+        assert_eq!(nodes, vec![x]);
+        destretch_with(&mut m, &SmoothParams::DEFAULT, &adj, &nodes);
+        assert!(worst_sj(&m) >= before - 1e-12, "{}", worst_sj(&m));
         m.check_invariants(true).unwrap();
     }
 
