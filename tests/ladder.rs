@@ -28,6 +28,7 @@ fn kinds_of(rung: Rung) -> &'static [StepKind] {
         Rung::SmallLoop => &[Close4, Close6],
         Rung::MappedGrid | Rung::Strip | Rung::Band => &[Mapped],
         Rung::Fan => &[Fan],
+        Rung::Notch => &[Notch],
         Rung::Queue => &[Element, Transition, Seam],
         Rung::SharpSeam => &[Seam],
         Rung::SmallSplit | Rung::Split => &[Split],

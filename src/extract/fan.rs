@@ -26,9 +26,7 @@ use super::report::{StepKind, StepReport};
 use super::session::Mesher;
 use super::tuning::FanTuning;
 use crate::front::SlotId;
-use crate::geom::{
-    is_measurably_convex, point_in_polygon, polygon_area, segments_intersect, Point,
-};
+use crate::geom::{is_measurably_convex, polygon_area, Point};
 use crate::quality::Shape;
 
 /// The range of the weights of the spokes in a fan quad's far corner
@@ -249,49 +247,13 @@ impl Mesher {
             let Some(fan) = plan(self, s, &t) else {
                 continue;
             };
-            if !self.fan_is_clear(s, &fan) {
+            let chain = [self.front.prev(s), s, self.front.next(s)];
+            if !self.chain_is_clear(&chain, &fan.points) {
                 continue;
             }
             return Some(self.commit_fan(s, &fan));
         }
         None
-    }
-
-    /// No front node other than the corner's three lies inside the fan,
-    /// and no front edge crosses its outline.
-    fn fan_is_clear(&mut self, s: SlotId, fan: &FanQuads) -> bool {
-        let f = &self.front;
-        let (p, n) = (f.prev(s), f.next(s));
-        let (c, prev, next) = (self.world(s), self.world(p), self.world(n));
-        let mut outline = vec![c, next];
-        outline.extend(fan.points.iter().rev());
-        outline.push(prev);
-        let Some(bb) = crate::geom::Aabb::of(outline.iter().copied()) else {
-            return false;
-        };
-        self.front
-            .edges_near(bb.min, bb.max, &mut self.scratch.near);
-        let own = [p, s, n].map(|x| self.front.node(x));
-        // The outline's new edges: from next through the new points to prev.
-        let new_edges: Vec<(Point, Point)> =
-            outline[1..].windows(2).map(|w| (w[0], w[1])).collect();
-        self.scratch.near.iter().all(|&e| {
-            let (u, v) = (self.front.node(e), self.front.node(self.front.next(e)));
-            let (a, b) = (self.mesh.nodes[u as usize], self.mesh.nodes[v as usize]);
-            if !own.contains(&u) && point_in_polygon(a, &outline) {
-                return false;
-            }
-            new_edges.iter().enumerate().all(|(i, &(x, y))| {
-                // Edges meeting at `next` (the first new edge) or `prev`
-                // (the last) share that node.
-                let shared =
-                    |w: u32| (i == 0 && w == own[2]) || (i + 1 == new_edges.len() && w == own[0]);
-                if shared(u) || shared(v) {
-                    return true;
-                }
-                !segments_intersect(x, y, a, b)
-            })
-        })
     }
 
     /// Commits the fan at slot `s`: its quads, and the front running along

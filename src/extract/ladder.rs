@@ -1,5 +1,5 @@
 //! The step ladder: what one automatic step tries, in order (method §2,
-//! thesis §5.1): thin bands closed by rows, mapped grids on narrow logical
+//! thesis §5.1): notches cut off by rule, thin bands closed by rows, mapped grids on narrow logical
 //! rectangles, fans at strongly graded corners of the boundary, a first row
 //! on a loop without reference points, closing small loops, the fill inside
 //! the first layers, the reference points in queue order, seams, chord
@@ -113,6 +113,9 @@ pub enum Rung {
     /// A corner of the given boundary between a short and a long segment
     /// takes a fan of quads around it ([`super::tuning::FanTuning`]).
     Fan,
+    /// A front edge far shorter than the given segments beside it is cut
+    /// off with them ([`super::tuning::NotchTuning`]).
+    Notch,
     /// A thin band (a loop with two short ends, or the ring between the
     /// front's two loops) closes by rows along it ([`super::tuning::BandTuning`]).
     Band,
@@ -161,9 +164,10 @@ pub enum Rung {
 const CLOSED_LOOP: usize = 6;
 
 /// The step ladder: the order one automatic step tries its rungs in.
-pub const LADDER: [Rung; 20] = [
+pub const LADDER: [Rung; 21] = [
     Rung::FillDue,
     Rung::FillStalled,
+    Rung::Notch,
     Rung::Band,
     Rung::MappedGrid,
     Rung::Fan,
@@ -195,6 +199,7 @@ impl Rung {
             Rung::MappedGrid => "mapped-grid",
             Rung::Band => "band",
             Rung::Fan => "fan",
+            Rung::Notch => "notch",
             Rung::FillLayers => "fill-layers",
             Rung::Queue => "queue",
             Rung::SharpSeam => "sharp-seam",
@@ -267,6 +272,7 @@ impl Mesher {
             Rung::MappedGrid => self.mapped_grid(),
             Rung::Band => self.close_band(),
             Rung::Fan => self.corner_fan(),
+            Rung::Notch => self.notch(),
             Rung::Queue => {
                 let (r, skipped) = self.queue_rung(limits)?;
                 climb.skipped = skipped;

@@ -26,6 +26,7 @@ mod ladder;
 mod mapped;
 mod memo;
 mod model_path;
+mod notch;
 mod params;
 mod queue;
 mod repair;

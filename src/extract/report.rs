@@ -80,6 +80,9 @@ pub enum StepKind {
     /// A fan of quads around a boundary corner between a short and a long
     /// segment.
     Fan,
+    /// One or two quads cutting off a front edge far shorter than the
+    /// given segments beside it.
+    Notch,
     /// A loop split along a chord.
     Split,
     /// Two facing front edges joined by one quad across a gap no other

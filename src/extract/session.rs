@@ -78,6 +78,7 @@ pub struct Mesher {
     pub(super) grids: GridsSeen,
     pub(super) bands: super::band::BandsSeen,
     pub(super) fans: super::fan::Fans,
+    pub(super) notches: super::notch::Notches,
     pub(super) runs: RowRuns,
     pub(super) repairs: Repairs,
     pub(super) fill: FillBudget,
@@ -209,6 +210,7 @@ impl Mesher {
             grids: GridsSeen::default(),
             bands: Default::default(),
             fans: Default::default(),
+            notches: Default::default(),
             runs: RowRuns::default(),
             repairs: Repairs::default(),
             fill: FillBudget::new(fill_after),
@@ -234,6 +236,7 @@ impl Mesher {
             m.push(s);
         }
         m.fans = super::fan::Fans::of(&m);
+        m.notches = super::notch::Notches::of(&m);
         m
     }
 
@@ -396,6 +399,7 @@ impl Mesher {
             | StepKind::Close4
             | StepKind::Close6
             | StepKind::Mapped
+            | StepKind::Notch
             | StepKind::Square => crate::geom::Aabb::of(
                 r.quads
                     .iter()
@@ -734,6 +738,43 @@ impl Mesher {
             self.push_quad(quad);
             r.quads.push(quad);
         }
+    }
+
+    /// True when a patch may take the front chain `chain` (consecutive
+    /// slots) and run the front from its first slot through `path` (new
+    /// points, in front order) to its last: no front node other than the
+    /// chain's lies inside the outline (the chain, then `path` backwards),
+    /// and no front edge crosses the outline's new edges.
+    pub(super) fn chain_is_clear(&mut self, chain: &[SlotId], path: &[Point]) -> bool {
+        let mut outline: Vec<Point> = chain.iter().map(|&t| self.world(t)).collect();
+        outline.extend(path.iter().rev());
+        let Some(bb) = crate::geom::Aabb::of(outline.iter().copied()) else {
+            return false;
+        };
+        self.front
+            .edges_near(bb.min, bb.max, &mut self.scratch.near);
+        let own: Vec<u32> = chain.iter().map(|&t| self.front.node(t)).collect();
+        let (first, last) = (own[0], own[own.len() - 1]);
+        // The outline's new edges: from the chain's last point through the
+        // path backwards to its first.
+        let k = chain.len() - 1;
+        let new_edges: Vec<(Point, Point)> = (k..outline.len())
+            .map(|i| (outline[i], outline[(i + 1) % outline.len()]))
+            .collect();
+        self.scratch.near.iter().all(|&e| {
+            let (u, v) = (self.front.node(e), self.front.node(self.front.next(e)));
+            let (a, b) = (self.mesh.nodes[u as usize], self.mesh.nodes[v as usize]);
+            if !own.contains(&u) && crate::geom::point_in_polygon(a, &outline) {
+                return false;
+            }
+            new_edges.iter().enumerate().all(|(i, &(x, y))| {
+                // The first new edge starts at the chain's last node, the
+                // last one ends at its first.
+                let shared =
+                    |w: u32| (i == 0 && w == last) || (i + 1 == new_edges.len() && w == first);
+                shared(u) || shared(v) || !crate::geom::segments_intersect(x, y, a, b)
+            })
+        })
     }
 
     pub(super) fn push_quad(&mut self, q: [u32; 4]) {

@@ -40,6 +40,8 @@ pub struct Tuning {
     pub band: BandTuning,
     /// Corner fans: quads around a corner between a short and a long segment.
     pub fan: FanTuning,
+    /// Notches: a front edge far shorter than the given segments beside it.
+    pub notch: NotchTuning,
     /// The progress watch: when a run is going round in circles.
     pub watch: WatchTuning,
     /// The region fill as a step: its budget, and rewinding.
@@ -64,6 +66,7 @@ impl Tuning {
         mapped: MappedTuning::DEFAULT,
         band: BandTuning::DEFAULT,
         fan: FanTuning::DEFAULT,
+        notch: NotchTuning::DEFAULT,
         watch: WatchTuning::DEFAULT,
         fill: FillTuning::DEFAULT,
     };
@@ -546,6 +549,33 @@ impl FanTuning {
 impl Default for FanTuning {
     fn default() -> FanTuning {
         FanTuning::DEFAULT
+    }
+}
+
+/// Notches ([`super::Rung::Notch`]): a front edge far shorter than the
+/// segments of the given boundary on either side of it is cut off with
+/// them by one quad, or two short edges in a row by two.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct NotchTuning {
+    /// The given segments beside a notch are at least this many times as
+    /// long as its short edges (0: no notches at all).
+    pub min_ratio: f64,
+    /// The worst quad a notch may have (scaled Jacobian).
+    pub min_sj: f64,
+}
+
+impl NotchTuning {
+    /// The defaults.
+    pub const DEFAULT: NotchTuning = NotchTuning {
+        min_ratio: 8.0,
+        min_sj: 0.25,
+    };
+}
+
+impl Default for NotchTuning {
+    fn default() -> NotchTuning {
+        NotchTuning::DEFAULT
     }
 }
 

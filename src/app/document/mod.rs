@@ -174,6 +174,7 @@ pub fn kind_name(k: StepKind) -> &'static str {
         StepKind::Transition => "transition (3 to 1)",
         StepKind::Mapped => "mapped grid",
         StepKind::Fan => "corner fan",
+        StepKind::Notch => "notch",
         StepKind::Split => "loop split",
         StepKind::Bridge => "bridge across a gap",
         StepKind::RipUp => "rip-up",
