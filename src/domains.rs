@@ -90,7 +90,10 @@ pub enum Family {
     Band,
     /// Real-like: a ring whose outline is a zig-zag of 120° turns in and
     /// out (a reactor core bounded by hexagonal assemblies), each zig or
-    /// zag cut into 1 to 4 segments, round a round or zig-zag hole.
+    /// zag cut into 1 to 4 segments, round a round or zig-zag hole; half
+    /// of them with slits between the assemblies (1/40 to 1/20 of a zig
+    /// wide, walls of one segment) going out from the outline's tips, dead
+    /// ends and Ys.
     Zigzag,
     /// Real-like: a tube sheet, a plate pierced by a grid of 16 to 196
     /// round holes, its ligaments 1.2 to 4 sizes wide.
@@ -883,12 +886,135 @@ fn zigzag(rng: &mut SplitMix64, extreme: bool) -> Drawn {
         let n = even(TAU * r_hole / h, 8);
         ring_points(Point::ZERO, r_hole, n, 0.0, false)
     };
-    Some((
-        vec![outer, hole],
-        format!(
-            "zig-zag hexagon, {teeth} teeth a side, {cuts} segments a zig, hole radius {r_hole:.2}"
-        ),
-    ))
+    let mut description = format!(
+        "zig-zag hexagon, {teeth} teeth a side, {cuts} segments a zig, hole radius {r_hole:.2}"
+    );
+    let outer = if extreme || rng.chance(0.5) {
+        let (outer, slits) = with_slits(rng, &outer, zig, extreme);
+        description += &slits;
+        outer
+    } else {
+        outer
+    };
+    Some((vec![outer, hole], description))
+}
+
+/// Slits between the assemblies of a zig-zag outline (`zig` the length of
+/// a zig): at each outward tip, by chance, a dead-end slit going out along
+/// the tip's bisector, or a slit forking at its end into two dead ends at
+/// ±60° (a Y), each `1/40` to `1/20` of a zig wide with single-segment
+/// walls half to one zig long, as between the hexagonal assemblies of a
+/// reactor core. Every tip has one in the extreme case. The number of
+/// dead-end slits is kept even (each adds 3 nodes, a Y 8). Returns the
+/// outline and a description.
+fn with_slits(
+    rng: &mut SplitMix64,
+    outline: &[Point],
+    zig: f64,
+    extreme: bool,
+) -> (Vec<Point>, String) {
+    let n = outline.len();
+    let width = zig
+        * if extreme {
+            1.0 / 40.0
+        } else {
+            rng.uni(1.0 / 40.0, 1.0 / 20.0)
+        };
+    let tip = |k: usize| {
+        let (a, b, c) = (outline[(k + n - 1) % n], outline[k], outline[(k + 1) % n]);
+        // An outward tip of a counter-clockwise outline turns left by 60°.
+        let turn = (b - a).angle_to(c - b).to_degrees();
+        (turn - 60.0).abs() < 1e-6
+    };
+    // Per tip: 0 none, 1 a dead end, 2 a Y.
+    let mut kind: Vec<u8> = (0..n)
+        .map(|k| match (tip(k), extreme) {
+            (false, _) => 0,
+            (true, true) => 1 + u8::from(rng.chance(0.4)),
+            (true, false) => {
+                let x = rng.unit();
+                u8::from(x < 0.6) + u8::from(x < 0.25)
+            }
+        })
+        .collect();
+    if kind.iter().filter(|&&k| k == 1).count() % 2 == 1 {
+        if let Some(last) = kind.iter().rposition(|&k| k == 1) {
+            kind[last] = 0;
+        }
+    }
+    let mut pts = Vec::with_capacity(n + 8 * kind.iter().filter(|&&k| k > 0).count());
+    for k in 0..n {
+        if kind[k] == 0 {
+            pts.push(outline[k]);
+            continue;
+        }
+        let (prev, b, next) = (outline[(k + n - 1) % n], outline[k], outline[(k + 1) % n]);
+        let length = zig * rng.uni(0.5, 1.0);
+        let branch = zig * rng.uni(0.4, 0.7);
+        pts.extend(slit(
+            prev,
+            b,
+            next,
+            width,
+            length,
+            (kind[k] == 2).then_some(branch),
+        ));
+    }
+    let count = |v: u8| kind.iter().filter(|&&k| k == v).count();
+    let text = format!(
+        ", {} dead-end slits and {} Y slits {:.4} wide ({:.0} to a zig)",
+        count(1),
+        count(2),
+        width,
+        zig / width
+    );
+    (pts, text)
+}
+
+/// The points that replace the convex corner `tip` (between `prev` and
+/// `next`, counter-clockwise) of an outline when a slit `width` wide goes
+/// out from it along its bisector for `length`: a dead end (4 points), or
+/// with `branch`, a fork into two dead ends `branch` long at ±60° whose
+/// three channels meet in a triangular hub (9 points). Each wall is one
+/// segment.
+pub fn slit(
+    prev: Point,
+    tip: Point,
+    next: Point,
+    width: f64,
+    length: f64,
+    branch: Option<f64>,
+) -> Vec<Point> {
+    let (to_prev, to_next) = ((prev - tip).normalize(), (next - tip).normalize());
+    let out = -(to_prev + to_next).normalize();
+    let half_angle = to_prev.angle_to(-out).abs();
+    let h = width / 2.0;
+    let t = h / half_angle.sin();
+    // The mouth: on the edge from prev (the right, looking out) and on the
+    // edge to next (the left).
+    let (m_r, m_l) = (tip + to_prev * t, tip + to_next * t);
+    let Some(branch) = branch else {
+        return vec![m_r, m_r + out * length, m_l + out * length, m_l];
+    };
+    let dir = |deg: f64| {
+        let a = out.y.atan2(out.x) + deg.to_radians();
+        Point::new(a.cos(), a.sin())
+    };
+    let o = (m_r + m_l) * 0.5 + out * length;
+    let r = h / 60f64.to_radians().sin();
+    let left_of = |u: Point| Point::new(-u.y, u.x);
+    let (u_r, u_l) = (dir(-60.0), dir(60.0));
+    vec![
+        m_r,
+        o + dir(-120.0) * r,
+        o + u_r * branch - left_of(u_r) * h,
+        o + u_r * branch + left_of(u_r) * h,
+        o + dir(0.0) * r,
+        o + u_l * branch - left_of(u_l) * h,
+        o + u_l * branch + left_of(u_l) * h,
+        o + dir(120.0) * r,
+        m_l,
+    ]
 }
 
 fn tube_sheet(rng: &mut SplitMix64, extreme: bool) -> Drawn {

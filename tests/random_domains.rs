@@ -272,6 +272,18 @@ fn real_like_families_draw_what_they_say() {
                     .count();
                 // Six sides of at least two teeth, two turns a tooth.
                 assert!(sharp >= 24, "{}: {sharp} turns of 60°", d.description);
+                if d.description.contains("slits") {
+                    // A slit's end is 1/40 to 1/20 of a zig, its walls
+                    // half a zig or more.
+                    let len = |k: usize| p[k].distance(p[(k + 1) % n]);
+                    let ends = (0..n)
+                        .filter(|&k| {
+                            let (before, after) = (len((k + n - 1) % n), len((k + 1) % n));
+                            before > 10.0 * len(k) && after > 10.0 * len(k)
+                        })
+                        .count();
+                    assert!(ends > 0, "{}: no slit end", d.description);
+                }
             }
             Family::TubeSheet => {
                 assert!((17..=197).contains(&b.loops.len()), "{}", d.description);

@@ -165,3 +165,50 @@ fn corners_of_a_strongly_graded_side_take_fans() {
     let q = finished(&m);
     assert!(q.sj_min >= 0.25, "scaled Jacobian {}", q.sj_min);
 }
+
+/// A hexagon 100 across its corners with a slit 4 wide and 100 long going
+/// out from four of them, each wall one segment: two dead ends and two
+/// that fork into two dead ends 60 long (the gaps between a reactor
+/// core's assemblies). Each dead end is cut off by one quad, a fork's
+/// junction by two through a node in its mouth, and each mouth with the
+/// hexagon's sides beside it; the model's elements, whose leading points
+/// are scaled by a 4-long edge among 100-long ones, knotted there.
+#[test]
+fn slits_between_assemblies_close_by_notches() {
+    let corner = |k: usize| {
+        let a = std::f64::consts::TAU * k as f64 / 6.0;
+        Point::new(a.cos(), a.sin()) * 100.0
+    };
+    let mut pts = Vec::new();
+    for k in 0..6 {
+        let (prev, tip, next) = (corner((k + 5) % 6), corner(k), corner((k + 1) % 6));
+        match k {
+            0 | 3 => pts.extend(quadex::domains::slit(
+                prev,
+                tip,
+                next,
+                4.0,
+                100.0,
+                Some(60.0),
+            )),
+            1 | 4 => pts.extend(quadex::domains::slit(prev, tip, next, 4.0, 100.0, None)),
+            _ => pts.push(tip),
+        }
+    }
+    let n = pts.len();
+    assert_eq!(n, 28);
+    let boundary = Boundary::new(pts, vec![(0..n).collect()], None).expect("a valid boundary");
+    let (m, _) = stepped("slits", &boundary, MeshParams::DEFAULT);
+    // Two dead ends; two forks, each two dead ends, a junction (two
+    // quads) and a mouth (two quads). A dead end's mouth takes no notch
+    // here: the fork's mouth before it took the hexagon side it needs.
+    assert_eq!(
+        (
+            m.stats().count(StepKind::Notch),
+            m.stats().quads_made(StepKind::Notch)
+        ),
+        (10, 14)
+    );
+    let q = finished(&m);
+    assert!(q.sj_min >= 0.3, "scaled Jacobian {}", q.sj_min);
+}
