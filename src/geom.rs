@@ -37,6 +37,15 @@ pub fn ccw_angle(p: Point, from: Point, to: Point) -> f64 {
     }
 }
 
+/// The sine of the corner at `b` of the turn `a → b → c`, the domain to
+/// the left: positive when the corner is convex, negative when reflex; a
+/// quad's scaled Jacobian is the least of its corners'.
+#[inline]
+pub fn corner_sine(a: Point, b: Point, c: Point) -> f64 {
+    let (next, prev) = (c - b, a - b);
+    next.perp_dot(prev) / (next.length() * prev.length()).max(1e-300)
+}
+
 /// A corner angle to compare [`ccw_angle`]s with, mostly without the
 /// arctangent: where a corner is clearly on one side of the limit, the
 /// sign of a cross product decides; only corners within about

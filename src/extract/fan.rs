@@ -144,8 +144,7 @@ fn far_corner(c: Point, p: Point, q: Point) -> Option<Point> {
 /// The sine of corner `k` of the quad `p` (CCW): its scaled Jacobian
 /// there.
 fn corner_sine(p: [Point; 4], k: usize) -> f64 {
-    let (e_next, e_prev) = (p[(k + 1) % 4] - p[k], p[(k + 3) % 4] - p[k]);
-    e_next.perp_dot(e_prev) / (e_next.length() * e_prev.length()).max(1e-300)
+    crate::geom::corner_sine(p[(k + 3) % 4], p[k], p[(k + 1) % 4])
 }
 
 /// The fan's quads and its outline: new points (the inner spoke ends and

@@ -33,7 +33,7 @@
 use super::report::{StepKind, StepReport};
 use super::session::Mesher;
 use crate::front::SlotId;
-use crate::geom::{is_measurably_convex, Point};
+use crate::geom::{corner_sine, is_measurably_convex, Point};
 use crate::quality::Shape;
 
 /// The range of the weights in [`middle_node`]'s search.
@@ -152,16 +152,9 @@ pub fn notch_quads(pts: &[Point], before: Point, after: Point, min_sj: f64) -> O
     }
 }
 
-/// The sine of the corner `b` of the turn `a → b → c` (negative when it
-/// is reflex, the domain to the left).
-fn turn_sine(a: Point, b: Point, c: Point) -> f64 {
-    let (u, v) = (c - b, a - b);
-    u.perp_dot(v) / (u.length() * v.length()).max(1e-300)
-}
-
 /// The sines of the corners of the quad `q` (counter-clockwise).
 fn corner_sines(q: [Point; 4]) -> [f64; 4] {
-    [0, 1, 2, 3].map(|k| turn_sine(q[(k + 3) % 4], q[k], q[(k + 1) % 4]))
+    [0, 1, 2, 3].map(|k| corner_sine(q[(k + 3) % 4], q[k], q[(k + 1) % 4]))
 }
 
 /// The new node `x = c + α (a − c) + γ (e − c)` of a notch of two short
@@ -191,9 +184,9 @@ fn middle_node(p: [Point; 7]) -> Option<Point> {
             let sines = [corner_sines(q1), corner_sines(q2)].concat();
             let worst = sines.iter().copied().fold(f64::INFINITY, f64::min);
             let mean = sines.iter().sum::<f64>() / sines.len() as f64;
-            let front = turn_sine(before, a, x)
+            let front = corner_sine(before, a, x)
                 .abs()
-                .min(turn_sine(x, e, after).abs());
+                .min(corner_sine(x, e, after).abs());
             let score = (worst.min(front), mean);
             if best.is_none_or(|(w, _)| score > w) {
                 best = Some((score, x));
@@ -298,8 +291,8 @@ mod tests {
         // The new node sits in the mouth, between the walls, leaving the
         // front corners there no flatter than the mouth's own 150°.
         assert!(x.x.abs() < 2.0 && x.y > 0.5 && x.y < 3.5, "{x:?}");
-        assert!(turn_sine(before, chain[0], x) > 0.45);
-        assert!(turn_sine(x, chain[4], after) > 0.45);
+        assert!(corner_sine(before, chain[0], x) > 0.45);
+        assert!(corner_sine(x, chain[4], after) > 0.45);
         let all = |k: usize| if k < 5 { chain[k] } else { n.points[k - 5] };
         let area: f64 = n
             .quads
