@@ -46,6 +46,27 @@ pub fn corner_sine(a: Point, b: Point, c: Point) -> f64 {
     next.perp_dot(prev) / (next.length() * prev.length()).max(1e-300)
 }
 
+/// The sines of the corners of the quad `q` (counter-clockwise): its
+/// scaled Jacobian at each ([`corner_sine`]).
+#[inline]
+pub fn corner_sines(q: [Point; 4]) -> [f64; 4] {
+    [0, 1, 2, 3].map(|k| corner_sine(q[(k + 3) % 4], q[k], q[(k + 1) % 4]))
+}
+
+/// The points `c + α u + γ v` for `α` and `γ` each one of `steps` values
+/// spread evenly over `range` (ends included), `α` in the outer loop: the
+/// grid the boundary patches search for a new node over.
+pub fn weighted_points(
+    c: Point,
+    u: Point,
+    v: Point,
+    range: (f64, f64),
+    steps: usize,
+) -> impl Iterator<Item = Point> {
+    let at = move |i: usize| range.0 + (range.1 - range.0) * i as f64 / (steps - 1) as f64;
+    (0..steps).flat_map(move |i| (0..steps).map(move |j| c + u * at(i) + v * at(j)))
+}
+
 /// A corner angle to compare [`ccw_angle`]s with, mostly without the
 /// arctangent: where a corner is clearly on one side of the limit, the
 /// sign of a cross product decides; only corners within about

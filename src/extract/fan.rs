@@ -26,7 +26,7 @@ use super::report::{StepKind, StepReport};
 use super::session::Mesher;
 use super::tuning::FanTuning;
 use crate::front::SlotId;
-use crate::geom::{is_measurably_convex, polygon_area, Point};
+use crate::geom::{corner_sines, is_measurably_convex, weighted_points, Point};
 use crate::quality::Shape;
 
 /// The range of the weights of the spokes in a fan quad's far corner
@@ -54,15 +54,9 @@ impl Fans {
         if t.min_ratio <= 0.0 {
             return Fans::default();
         }
-        let mut pending: Vec<SlotId> = m
-            .front
-            .live_loops()
-            .flat_map(|l| m.front.loop_slots(l))
-            .filter(|&s| spokes_at(m, s, t).is_some())
-            .collect();
-        pending.sort_unstable();
-        pending.reverse();
-        Fans { pending }
+        Fans {
+            pending: m.initial_slots(|s| spokes_at(m, s, t).is_some()),
+        }
     }
 }
 
@@ -119,32 +113,21 @@ pub fn fan_spokes(c: Point, prev: Point, next: Point, t: &FanTuning) -> Option<S
 /// where the quad's three corners other than `c` are squarest. `None` if
 /// no such quad is measurably convex.
 fn far_corner(c: Point, p: Point, q: Point) -> Option<Point> {
-    let (dp, dq) = (p - c, q - c);
-    let at =
-        |i: usize| FAR_RANGE.0 + (FAR_RANGE.1 - FAR_RANGE.0) * i as f64 / (FAR_STEPS - 1) as f64;
     let mut best: Option<(f64, Point)> = None;
-    for i in 0..FAR_STEPS {
-        for j in 0..FAR_STEPS {
-            let m = c + dp * at(i) + dq * at(j);
-            let quad = [c, p, m, q];
-            if !is_measurably_convex(quad) {
-                continue;
-            }
-            let worst = (1..4)
-                .map(|k| corner_sine(quad, k))
-                .fold(f64::INFINITY, f64::min);
-            if best.is_none_or(|(b, _)| worst > b) {
-                best = Some((worst, m));
-            }
+    for m in weighted_points(c, p - c, q - c, FAR_RANGE, FAR_STEPS) {
+        let quad = [c, p, m, q];
+        if !is_measurably_convex(quad) {
+            continue;
+        }
+        let worst = corner_sines(quad)[1..]
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        if best.is_none_or(|(b, _)| worst > b) {
+            best = Some((worst, m));
         }
     }
     best.map(|(_, m)| m)
-}
-
-/// The sine of corner `k` of the quad `p` (CCW): its scaled Jacobian
-/// there.
-fn corner_sine(p: [Point; 4], k: usize) -> f64 {
-    crate::geom::corner_sine(p[(k + 3) % 4], p[k], p[(k + 1) % 4])
 }
 
 /// The fan's quads and its outline: new points (the inner spoke ends and
@@ -191,10 +174,7 @@ pub fn fan_quads(sp: &Spokes, prev: Point, next: Point, min_sj: f64) -> Option<F
     for i in 0..k {
         let q = [0, end_at[i], far_at[i], end_at[i + 1]];
         let p = q.map(all);
-        if polygon_area(p) <= 0.0
-            || !is_measurably_convex(p)
-            || Shape::of(p).scaled_jacobian < min_sj
-        {
+        if !is_measurably_convex(p) || Shape::of(p).scaled_jacobian < min_sj {
             return None;
         }
         quads.push(q);
@@ -279,6 +259,7 @@ impl Mesher {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::polygon_area;
 
     /// A right-angled corner at the origin, its next node `a` along x and
     /// its previous node `b` up y (the domain in the first quadrant).

@@ -33,7 +33,7 @@
 use super::report::{StepKind, StepReport};
 use super::session::Mesher;
 use crate::front::SlotId;
-use crate::geom::{corner_sine, is_measurably_convex, Point};
+use crate::geom::{corner_sine, corner_sines, is_measurably_convex, weighted_points, Point};
 use crate::quality::Shape;
 
 /// The range of the weights in [`middle_node`]'s search.
@@ -67,15 +67,7 @@ impl Notches {
             pending: Vec::new(),
             succ,
         };
-        let mut pending: Vec<SlotId> = m
-            .front
-            .live_loops()
-            .flat_map(|l| m.front.loop_slots(l))
-            .filter(|&s| n.wants(m, s))
-            .collect();
-        pending.sort_unstable();
-        pending.reverse();
-        n.pending = pending;
+        n.pending = m.initial_slots(|s| n.shape_at(m, s).is_some());
         n
     }
 
@@ -86,17 +78,16 @@ impl Notches {
         self.succ.get(u as usize) == Some(&v)
     }
 
-    /// True when slot `s` starts one short edge, or sits between two,
-    /// flanked by given segments at least [`super::tuning::NotchTuning::min_ratio`] times
-    /// longer.
-    fn wants(&self, m: &Mesher, s: SlotId) -> bool {
-        self.shape_at(m, s).is_some()
-    }
-
     /// The chain of a notch at slot `s`: `[a, b, c, d]` for one short edge
-    /// from `s`, `[a, b, c, d, e]` for two short edges meeting at `s`.
+    /// from `s`, `[a, b, c, d, e]` for two short edges meeting at `s`,
+    /// flanked by given segments at least
+    /// [`super::tuning::NotchTuning::min_ratio`] times longer; `None` when
+    /// `s` has neither.
     fn shape_at(&self, m: &Mesher, s: SlotId) -> Option<Vec<SlotId>> {
         let f = &m.front;
+        if f.loop_len(s) < 6 {
+            return None;
+        }
         let ratio = m.params.tuning.notch.min_ratio;
         let len = |t: SlotId| m.world(t).distance(m.world(f.next(t)));
         let flanked = |left: SlotId, right: SlotId, short: f64| {
@@ -107,12 +98,12 @@ impl Notches {
         };
         let (p, n) = (f.prev(s), f.next(s));
         // One short edge s → n.
-        if f.loop_len(s) >= 6 && flanked(p, n, len(s)) {
+        if flanked(p, n, len(s)) {
             return Some(vec![p, s, n, f.next(n)]);
         }
         // Two short edges p → s → n.
         let pp = f.prev(p);
-        if f.loop_len(s) >= 6 && flanked(pp, n, len(p).max(len(s))) {
+        if flanked(pp, n, len(p).max(len(s))) {
             return Some(vec![pp, p, s, n, f.next(n)]);
         }
         None
@@ -152,11 +143,6 @@ pub fn notch_quads(pts: &[Point], before: Point, after: Point, min_sj: f64) -> O
     }
 }
 
-/// The sines of the corners of the quad `q` (counter-clockwise).
-fn corner_sines(q: [Point; 4]) -> [f64; 4] {
-    [0, 1, 2, 3].map(|k| corner_sine(q[(k + 3) % 4], q[k], q[(k + 1) % 4]))
-}
-
 /// The new node `x = c + α (a − c) + γ (e − c)` of a notch of two short
 /// edges over the front points `[before, a, b, c, d, e, after]`, with `α`
 /// and `γ` each one of [`MIDDLE_STEPS`] values over [`MIDDLE_RANGE`]: the
@@ -169,28 +155,21 @@ fn corner_sines(q: [Point; 4]) -> [f64; 4] {
 /// no such pair of quads is measurably convex.
 fn middle_node(p: [Point; 7]) -> Option<Point> {
     let [before, a, b, c, d, e, after] = p;
-    let (da, de) = (a - c, e - c);
-    let at = |i: usize| {
-        MIDDLE_RANGE.0 + (MIDDLE_RANGE.1 - MIDDLE_RANGE.0) * i as f64 / (MIDDLE_STEPS - 1) as f64
-    };
     let mut best: Option<((f64, f64), Point)> = None;
-    for i in 0..MIDDLE_STEPS {
-        for j in 0..MIDDLE_STEPS {
-            let x = c + da * at(i) + de * at(j);
-            let (q1, q2) = ([a, b, c, x], [x, c, d, e]);
-            if !is_measurably_convex(q1) || !is_measurably_convex(q2) {
-                continue;
-            }
-            let sines = [corner_sines(q1), corner_sines(q2)].concat();
-            let worst = sines.iter().copied().fold(f64::INFINITY, f64::min);
-            let mean = sines.iter().sum::<f64>() / sines.len() as f64;
-            let front = corner_sine(before, a, x)
-                .abs()
-                .min(corner_sine(x, e, after).abs());
-            let score = (worst.min(front), mean);
-            if best.is_none_or(|(w, _)| score > w) {
-                best = Some((score, x));
-            }
+    for x in weighted_points(c, a - c, e - c, MIDDLE_RANGE, MIDDLE_STEPS) {
+        let (q1, q2) = ([a, b, c, x], [x, c, d, e]);
+        if !is_measurably_convex(q1) || !is_measurably_convex(q2) {
+            continue;
+        }
+        let sines = [corner_sines(q1), corner_sines(q2)].concat();
+        let worst = sines.iter().copied().fold(f64::INFINITY, f64::min);
+        let mean = sines.iter().sum::<f64>() / sines.len() as f64;
+        let front = corner_sine(before, a, x)
+            .abs()
+            .min(corner_sine(x, e, after).abs());
+        let score = (worst.min(front), mean);
+        if best.is_none_or(|(w, _)| score > w) {
+            best = Some((score, x));
         }
     }
     best.map(|(_, x)| x)

@@ -740,6 +740,20 @@ impl Mesher {
         }
     }
 
+    /// The slots of the front's live loops that `keep` keeps, the highest
+    /// id first: a rung's list of places to try, popped lowest id first.
+    pub(super) fn initial_slots(&self, keep: impl Fn(SlotId) -> bool) -> Vec<SlotId> {
+        let mut slots: Vec<SlotId> = self
+            .front
+            .live_loops()
+            .flat_map(|l| self.front.loop_slots(l))
+            .filter(|&s| keep(s))
+            .collect();
+        slots.sort_unstable();
+        slots.reverse();
+        slots
+    }
+
     /// True when a patch may take the front chain `chain` (consecutive
     /// slots) and run the front from its first slot through `path` (new
     /// points, in front order) to its last: no front node other than the
