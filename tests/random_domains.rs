@@ -239,6 +239,31 @@ fn settling_a_small_loop_never_collapses_an_edge() {
     );
 }
 
+/// Generated domains on which a rip-up took away what the first steps had
+/// put at the given boundary: the corner of a graded side (segments 1:100)
+/// lost its fan, the mouth of a slit between zig-zag assemblies its
+/// notches, and the region left there needed the fill. The rebuilt front's
+/// corners and short edges are now looked at again; each domain is stepped
+/// to the end with the invariants checked after every step and no fill.
+#[test]
+fn what_a_rip_up_takes_away_at_the_boundary_is_made_again() {
+    use quadex::domains::Family;
+    for seed in [0xf65b_d507_8796_b41c, 0xf65b_d507_8796_b43c] {
+        let fans = steps_checked(Family::GradedSide, seed, StepKind::Fan, false);
+        assert!(
+            fans >= 3,
+            "{seed:#x}: {fans} fans, the two corners' and one again at least"
+        );
+    }
+    let notches = steps_checked(
+        Family::Zigzag,
+        0x6deb_28c2_64f8_a0e3,
+        StepKind::Notch,
+        false,
+    );
+    assert!(notches > 0, "the zig-zag's slits take notches");
+}
+
 /// The real-like families draw what they say: a band's two sides differ in
 /// node count, a zig-zag outline turns by 60° at every node that is not a
 /// cut point (120° in or out), a tube sheet has 16 to 196 holes, and a

@@ -38,14 +38,15 @@ const FAR_RANGE: (f64, f64) = (0.5, 2.0);
 const FAR_STEPS: usize = 31;
 
 /// The boundary corners still to be tried for a fan, in front order (the
-/// next one last).
+/// next one last): those of the initial front, and those of the front a
+/// rip-up rebuilds (which may have taken a fan away).
 #[derive(Clone, Debug, Default)]
 pub(super) struct Fans {
     pending: Vec<SlotId>,
 }
 
 impl Fans {
-    /// The corners of the initial front that ask for a fan
+    /// The corners of the front that ask for a fan
     /// ([`spokes_at`]: segments whose lengths differ by at least
     /// [`FanTuning::min_ratio`], an angle under [`FanTuning::max_angle`]);
     /// whether its quads fit is worked out when each is tried.

@@ -54,7 +54,8 @@ pub(super) struct Notches {
 
 impl Notches {
     /// Every slot of the initial front is looked at once; the notches'
-    /// own front edges are looked at again as they are made.
+    /// own front edges are looked at again as they are made, and every
+    /// slot again when a rip-up rebuilds the front.
     pub(super) fn of(m: &Mesher) -> Notches {
         if m.params.tuning.notch.min_ratio <= 0.0 {
             return Notches::default();

@@ -146,6 +146,10 @@ impl Mesher {
         let live: Vec<u32> = self.front.live_loops().collect();
         self.rows.front_rebuilt(live);
         self.bands.front_rebuilt();
+        // A corner or a short edge of the given boundary the removal put
+        // back on the front is looked at for its fan or notch again.
+        let (fans, notches) = (super::fan::Fans::of(self), super::notch::Notches::of(self));
+        (self.fans, self.notches) = (fans, notches);
         (count, mark)
     }
 
