@@ -239,12 +239,13 @@ fn settling_a_small_loop_never_collapses_an_edge() {
     );
 }
 
-/// Generated domains on which a rip-up took away what the first steps had
-/// put at the given boundary: the corner of a graded side (segments 1:100)
-/// lost its fan, the mouth of a slit between zig-zag assemblies its
-/// notches, and the region left there needed the fill. The rebuilt front's
-/// corners and short edges are now looked at again; each domain is stepped
-/// to the end with the invariants checked after every step and no fill.
+/// Generated domains on which a rip-up put parts of the given boundary
+/// back on the front and nothing looked at them again: the corner of a
+/// graded side (segments 1:100) lost its fan, short given edges of a
+/// zig-zag's slits got no notch, and the region left there needed the
+/// fill. The rebuilt front's corners and short edges are now looked at
+/// again; each domain is stepped to the end with the invariants checked
+/// after every step and no fill.
 #[test]
 fn what_a_rip_up_takes_away_at_the_boundary_is_made_again() {
     use quadex::domains::Family;
