@@ -68,8 +68,23 @@ impl Notches {
             pending: Vec::new(),
             succ,
         };
-        n.pending = m.initial_slots(|s| n.shape_at(m, s).is_some());
+        n.pending = n.listed(m);
         n
+    }
+
+    /// The slots of `m`'s front that have a notch's shape, in front order
+    /// (the next one last): what a rebuilt front is looked at for again.
+    pub(super) fn listed(&self, m: &Mesher) -> Vec<SlotId> {
+        if self.succ.is_empty() {
+            return Vec::new();
+        }
+        m.initial_slots(|s| self.shape_at(m, s).is_some())
+    }
+
+    /// The front was rebuilt (slot ids from before mean nothing now):
+    /// `pending` is its slots to look at.
+    pub(super) fn front_rebuilt(&mut self, pending: Vec<SlotId>) {
+        self.pending = pending;
     }
 
     /// True when the front edge from slot `s` is a segment of the given

@@ -148,8 +148,9 @@ impl Mesher {
         self.bands.front_rebuilt();
         // A corner or a short edge of the given boundary the removal put
         // back on the front is looked at for its fan or notch again.
-        let (fans, notches) = (super::fan::Fans::of(self), super::notch::Notches::of(self));
-        (self.fans, self.notches) = (fans, notches);
+        self.fans = super::fan::Fans::of(self);
+        let notches = self.notches.listed(self);
+        self.notches.front_rebuilt(notches);
         (count, mark)
     }
 
