@@ -265,6 +265,26 @@ fn what_a_rip_up_takes_away_at_the_boundary_is_made_again() {
     assert!(notches > 0, "the zig-zag's slits take notches");
 }
 
+/// A zig-zag ring (a hexagonal outline of teeth around a hole, nothing
+/// between them but the ring) closes by band rows. Split into three rows
+/// (wedges beside the sides, a clean middle row), its rows were each
+/// convex but folded over one another where a tooth's tip and the hole
+/// face each other askew: the quads covered more than the ring, and the
+/// finished mesh used an edge twice. Rows that fold are not taken; the
+/// ring takes its own rows instead. Stepped with the invariants (among
+/// them the covered area) checked after every step, no fill.
+#[test]
+fn band_rows_that_fold_over_are_not_taken() {
+    use quadex::domains::Family;
+    let bands = steps_checked(
+        Family::Zigzag,
+        0x6deb_28c2_64f8_a0ea,
+        StepKind::Mapped,
+        false,
+    );
+    assert!(bands > 0, "the ring closes by rows");
+}
+
 /// The real-like families draw what they say: a band's two sides differ in
 /// node count, a zig-zag outline turns by 60° at every node that is not a
 /// cut point (120° in or out), a tube sheet has 16 to 196 holes, and a

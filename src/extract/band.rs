@@ -31,8 +31,16 @@
 //! beside the side the lines do not follow taking all of it. The inner
 //! nodes are smoothed among themselves, the band's own nodes held.
 //!
+//! A ring whose sides' counts differ, at most three rows wide, gets three
+//! rows where they fit: its two rows' inner line is split in two
+//! ([`ring_rows_split`]), each row's nodes squeezed towards its side, so
+//! the wedges stay in the rows beside the sides and the middle row is a
+//! clean strip (a rotating machine's sliding band). The irregular nodes
+//! are the same, the interior nodes twice as many.
+//!
 //! The rows are taken only if every quad is measurably convex with a
-//! scaled Jacobian of at least [`BandTuning::min_sj`].
+//! scaled Jacobian of at least [`BandTuning::min_sj`], and the quads do not
+//! fold over one another (their areas add up to the band's).
 
 use super::closure::is_pinched;
 use super::report::{StepKind, StepReport};
@@ -45,6 +53,14 @@ use crate::smooth::{smooth_and_optimize, SmoothParams};
 
 /// A node's front angle under this (degrees) makes it a corner of a band.
 const CORNER_MAX: f64 = 150.0;
+
+/// The rows of a ring whose sides' counts differ: a row of wedges beside
+/// each side and a clean row between them.
+const RING_ROWS: usize = 3;
+
+/// The quads of a band may cover this much more than its area (relative)
+/// before they are taken to fold over one another: rounding only.
+const FOLD_TOLERANCE: f64 = 1e-9;
 
 /// Sweeps per row of the placement across the band ([`across`]).
 const ACROSS_SWEEPS: usize = 4;
@@ -302,6 +318,145 @@ fn across(points: &mut [Point], pts: &[Point], base: usize, pairs: &[Vec<(usize,
 /// end of `rows` segments, or of one segment with two rows) or a quad is
 /// not measurably convex with a scaled Jacobian of at least `min_sj`.
 pub fn band_rows(pts: &[Point], sides: &BandSides, rows: usize, min_sj: f64) -> Option<BandRows> {
+    lay_and_settle(pts, sides, rows, false, min_sj)
+}
+
+/// Three rows over a ring whose sides' counts differ: the two rows of
+/// [`band_rows`] with their inner line then split in two
+/// ([`split_inner_line`]), so that every wedge is in a row beside a side
+/// and the middle row is a clean strip of quads (a rotating machine's
+/// sliding band). The same wedges as two rows, each leaving one irregular
+/// node, among twice the interior nodes. `None` as for [`band_rows`].
+pub fn ring_rows_split(pts: &[Point], sides: &BandSides, min_sj: f64) -> Option<BandRows> {
+    let ring = sides.ends.is_none();
+    if !ring || sides.a.len() == sides.b.len() {
+        return None;
+    }
+    lay_and_settle(pts, sides, 2, true, min_sj)
+}
+
+fn lay_and_settle(
+    pts: &[Point],
+    sides: &BandSides,
+    rows: usize,
+    split: bool,
+    min_sj: f64,
+) -> Option<BandRows> {
+    let ring = sides.ends.is_none();
+    // The band's area: the loop's, or the outer side's less the hole's.
+    let area = if ring {
+        let side = |s: &[usize]| polygon_area(s.iter().map(|&k| pts[k])).abs();
+        (side(&sides.a) - side(&sides.b)).abs()
+    } else {
+        polygon_area(pts.iter().copied()).abs()
+    };
+    let mut laid = lay_rows(pts, sides, rows)?;
+    settle(pts, &mut laid, min_sj, area)?;
+    if split {
+        split_inner_line(pts, &mut laid);
+        settle(pts, &mut laid, min_sj, area)?;
+    }
+    Some(BandRows {
+        points: laid.points,
+        quads: laid.quads,
+    })
+}
+
+/// Orients the laid quads counter-clockwise and smooths the inner nodes
+/// among themselves, the band's own nodes held; `None` when a quad is then
+/// not measurably convex with a scaled Jacobian of at least `min_sj`, or
+/// the quads fold over one another (their areas add up to more than the
+/// band's `area`: each quad may be convex and still lie over another).
+fn settle(pts: &[Point], laid: &mut Laid, min_sj: f64, area: f64) -> Option<()> {
+    let base = pts.len();
+    let mut mesh = QuadMesh {
+        nodes: pts.iter().chain(&laid.points).copied().collect(),
+        quads: Vec::with_capacity(laid.quads.len()),
+        loops: vec![(0..base as u32).collect()],
+    };
+    for q in &mut laid.quads {
+        if polygon_area(q.map(|k| mesh.nodes[k])) < 0.0 {
+            q.reverse();
+        }
+        mesh.quads.push(q.map(|k| k as u32));
+    }
+    smooth_and_optimize(&mut mesh, &SmoothParams::DEFAULT, None);
+    laid.points.copy_from_slice(&mesh.nodes[base..]);
+    let mut covered = 0.0;
+    for q in &laid.quads {
+        let p = q.map(|k| mesh.nodes[k]);
+        if !is_measurably_convex(p) || Shape::of(p).scaled_jacobian < min_sj {
+            return None;
+        }
+        covered += polygon_area(p);
+    }
+    (covered <= area * (1.0 + FOLD_TOLERANCE)).then_some(())
+}
+
+/// Rows laid over a band, before smoothing: the new points and quads (in
+/// row order, `row_starts` the first quad of each row), the lines from
+/// the coarser side (`lines[0]`) to the finer, and whether it is a ring.
+struct Laid {
+    points: Vec<Point>,
+    quads: Vec<[usize; 4]>,
+    row_starts: Vec<usize>,
+    lines: Vec<Vec<usize>>,
+    ring: bool,
+}
+
+/// Splits the inner line of a ring's two rows in two (the pillowing of
+/// that line): each node of it becomes a node a third of the way towards
+/// its foot on the coarser side, kept by the first row, and one a third
+/// of the way towards its foot on the finer side, taken by the second;
+/// a clean strip of quads joins the two lines. Every wedge stays in the
+/// row beside a side, and the middle row has no irregular node. Moving
+/// each row's nodes towards its side by the same fraction keeps its quads'
+/// shapes (an affine squeeze across a locally straight band), so the
+/// split is convex where the two rows were.
+fn split_inner_line(pts: &[Point], laid: &mut Laid) {
+    let base = pts.len();
+    let (side_a, line, side_b) = (&laid.lines[0], &laid.lines[1], &laid.lines[2]);
+    let all: Vec<Point> = pts.iter().chain(&laid.points).copied().collect();
+    let foot = |side: &[usize]| -> Vec<Point> {
+        let fr = fractions(&all, side, laid.ring);
+        feet(&all, side, &fr, laid.ring, line)
+            .iter()
+            .map(|&(u, _)| at_fraction(&all, side, &fr, laid.ring, u))
+            .collect()
+    };
+    let (on_a, on_b) = (foot(side_a), foot(side_b));
+    let mut lower = vec![usize::MAX; laid.points.len()];
+    let mut split: Vec<(usize, usize)> = Vec::with_capacity(line.len());
+    for (k, &v) in line.iter().enumerate() {
+        if v < base {
+            continue;
+        }
+        let p = all[v];
+        laid.points[v - base] = p + (on_a[k] - p) / 3.0;
+        laid.points.push(p + (on_b[k] - p) / 3.0);
+        lower[v - base] = base + laid.points.len() - 1;
+        split.push((v, lower[v - base]));
+    }
+    let second = laid.row_starts[1];
+    for q in &mut laid.quads[second..] {
+        for k in q.iter_mut() {
+            if *k >= base && *k - base < lower.len() && lower[*k - base] != usize::MAX {
+                *k = lower[*k - base];
+            }
+        }
+    }
+    let n = split.len();
+    let strips = if laid.ring { n } else { n.saturating_sub(1) };
+    laid.quads.extend((0..strips).map(|i| {
+        let ((t0, b0), (t1, b1)) = (split[i], split[(i + 1) % n]);
+        [t0, t1, b1, b0]
+    }));
+    laid.row_starts.push(laid.quads.len() - strips);
+}
+
+/// Lays `rows` rows over the band `sides` (see [`band_rows`]), before the
+/// quads are oriented and smoothed.
+fn lay_rows(pts: &[Point], sides: &BandSides, rows: usize) -> Option<Laid> {
     let ring = sides.ends.is_none();
     let edges = |s: &[usize]| if ring { s.len() } else { s.len() - 1 };
     if rows == 0 || sides.a.len() < 2 || sides.b.len() < 2 {
@@ -435,7 +590,9 @@ pub fn band_rows(pts: &[Point], sides: &BandSides, rows: usize, min_sj: f64) -> 
     // A node that is a wedge's middle in one row is none in the next (it
     // would be left with two edges).
     let mut middles: Vec<usize> = Vec::new();
+    let mut row_starts = Vec::with_capacity(rows);
     for j in 0..rows {
+        row_starts.push(quads.len());
         let (p, q) = (&lines[j], &lines[j + 1]);
         // The wedges go on the line with more edges, never on a side.
         let up = edges(&q.idx) >= edges(&p.idx);
@@ -481,26 +638,13 @@ pub fn band_rows(pts: &[Point], sides: &BandSides, rows: usize, min_sj: f64) -> 
             points[middle - base] = m.lerp(c, -WEDGE_LIFT);
         }
     }
-    for q in &mut quads {
-        if polygon_area(q.map(|k| all(&points, k))) < 0.0 {
-            q.reverse();
-        }
-    }
-    // The inner nodes smoothed among themselves, the band's nodes held.
-    let mut mesh = QuadMesh {
-        nodes: pts.iter().chain(&points).copied().collect(),
-        quads: quads.iter().map(|q| q.map(|k| k as u32)).collect(),
-        loops: vec![(0..base as u32).collect()],
-    };
-    smooth_and_optimize(&mut mesh, &SmoothParams::DEFAULT, None);
-    points.copy_from_slice(&mesh.nodes[base..]);
-    for q in &quads {
-        let p = q.map(|k| all(&points, k));
-        if !is_measurably_convex(p) || Shape::of(p).scaled_jacobian < min_sj {
-            return None;
-        }
-    }
-    Some(BandRows { points, quads })
+    Some(Laid {
+        points,
+        quads,
+        row_starts,
+        lines: lines.into_iter().map(|l| l.idx).collect(),
+        ring,
+    })
 }
 
 /// Rows for a band `w` wide whose spacing is `h`: its width over its
@@ -734,7 +878,12 @@ impl Mesher {
             &(no..no + nh).collect::<Vec<_>>(),
             t,
         )?;
-        let grid = band_rows(&pts, &sides, rows, t.min_sj)?;
+        // Unequal counts: three rows, the wedges beside the sides and a
+        // clean row between them, where they fit; else the ring's own rows.
+        let split = (rows <= RING_ROWS && t.max_rows >= RING_ROWS)
+            .then(|| ring_rows_split(&pts, &sides, t.min_sj))
+            .flatten();
+        let grid = split.or_else(|| band_rows(&pts, &sides, rows, t.min_sj))?;
         Some(self.commit_band(&[l0, l1], &nodes, &grid))
     }
 
@@ -802,6 +951,61 @@ mod tests {
             (area - ring).abs() < 1e-9 * ring.abs().max(1.0),
             "{area} vs {ring}"
         );
+    }
+
+    /// The same ring in three rows: the two rows' inner line split in two,
+    /// the 5 wedges (5 irregular nodes) beside the sides and a clean middle
+    /// row of 70 quads between two lines of 70 nodes; the quads cover the
+    /// ring once.
+    #[test]
+    fn a_thin_ring_of_unequal_counts_splits_into_three_rows_with_a_clean_middle() {
+        let mut pts = circle(60, 1.1);
+        let inner: Vec<Point> = circle(70, 1.0).into_iter().rev().collect();
+        pts.extend(inner);
+        let outer: Vec<usize> = (0..60).collect();
+        let hole: Vec<usize> = (60..130).collect();
+        let (sides, _) = ring_band(&pts, &outer, &hole, &default()).expect("a band");
+        let g = ring_rows_split(&pts, &sides, 0.3).expect("three rows");
+        assert_eq!(g.points.len(), 140);
+        assert_eq!(g.quads.len(), 60 + 5 + 70 + 70);
+        let at = |k: usize| {
+            if k < pts.len() {
+                pts[k]
+            } else {
+                g.points[k - pts.len()]
+            }
+        };
+        let area: f64 = g.quads.iter().map(|q| polygon_area(q.map(at))).sum();
+        let ring = polygon_area(circle(60, 1.1)) - polygon_area(circle(70, 1.0));
+        assert!(
+            (area - ring).abs() < 1e-9 * ring.abs().max(1.0),
+            "{area} vs {ring}"
+        );
+        let mut neighbours = vec![std::collections::BTreeSet::new(); pts.len() + 140];
+        for q in &g.quads {
+            for i in 0..4 {
+                neighbours[q[i]].insert(q[(i + 1) % 4]);
+                neighbours[q[(i + 1) % 4]].insert(q[i]);
+            }
+        }
+        let irregular = (pts.len()..pts.len() + 140)
+            .filter(|&v| neighbours[v].len() != 4)
+            .count();
+        assert_eq!(irregular, 5);
+    }
+
+    /// Sides of equal counts are no split ring's (the mapped grid's).
+    #[test]
+    fn a_ring_of_equal_counts_is_not_split() {
+        let mut pts = circle(60, 1.1);
+        let inner: Vec<Point> = circle(60, 1.0).into_iter().rev().collect();
+        pts.extend(inner);
+        let sides = BandSides {
+            a: (0..60).collect(),
+            b: (60..120).rev().collect(),
+            ends: None,
+        };
+        assert!(ring_rows_split(&pts, &sides, 0.1).is_none());
     }
 
     /// A thin strip of 30 and 24 segments with ends of one segment: two
