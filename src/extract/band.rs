@@ -315,8 +315,9 @@ fn across(points: &mut [Point], pts: &[Point], base: usize, pairs: &[Vec<(usize,
 /// Lays `rows` rows over the band `sides` of the points `pts`: the inner
 /// lines follow the side with more edges, the row beside the other takes
 /// the difference by wedges. `None` when the ends do not fit the rows (an
-/// end of `rows` segments, or of one segment with two rows) or a quad is
-/// not measurably convex with a scaled Jacobian of at least `min_sj`.
+/// end of `rows` segments, or of one segment with two rows), a quad is
+/// not measurably convex with a scaled Jacobian of at least `min_sj`, or
+/// the quads fold over one another.
 pub fn band_rows(pts: &[Point], sides: &BandSides, rows: usize, min_sj: f64) -> Option<BandRows> {
     lay_and_settle(pts, sides, rows, false, min_sj)
 }
@@ -394,17 +395,16 @@ fn settle(pts: &[Point], laid: &mut Laid, min_sj: f64, area: f64) -> Option<()> 
 }
 
 /// Rows laid over a band, before smoothing: the new points and quads (in
-/// row order, `row_starts` the first quad of each row), the lines from
-/// the coarser side (`lines[0]`) to the finer, and whether it is a ring.
+/// row order, `row_starts` the first quad of each row), and the lines from
+/// the coarser side (`lines[0]`) to the finer.
 struct Laid {
     points: Vec<Point>,
     quads: Vec<[usize; 4]>,
     row_starts: Vec<usize>,
     lines: Vec<Vec<usize>>,
-    ring: bool,
 }
 
-/// Splits the inner line of a ring's two rows in two (the pillowing of
+/// Splits the inner line of a ring's two rows (every node of it new) in two (the pillowing of
 /// that line): each node of it becomes a node a third of the way towards
 /// its foot on the coarser side, kept by the first row, and one a third
 /// of the way towards its foot on the finer side, taken by the second;
@@ -418,19 +418,16 @@ fn split_inner_line(pts: &[Point], laid: &mut Laid) {
     let (side_a, line, side_b) = (&laid.lines[0], &laid.lines[1], &laid.lines[2]);
     let all: Vec<Point> = pts.iter().chain(&laid.points).copied().collect();
     let foot = |side: &[usize]| -> Vec<Point> {
-        let fr = fractions(&all, side, laid.ring);
-        feet(&all, side, &fr, laid.ring, line)
+        let fr = fractions(&all, side, true);
+        feet(&all, side, &fr, true, line)
             .iter()
-            .map(|&(u, _)| at_fraction(&all, side, &fr, laid.ring, u))
+            .map(|&(u, _)| at_fraction(&all, side, &fr, true, u))
             .collect()
     };
     let (on_a, on_b) = (foot(side_a), foot(side_b));
     let mut lower = vec![usize::MAX; laid.points.len()];
     let mut split: Vec<(usize, usize)> = Vec::with_capacity(line.len());
     for (k, &v) in line.iter().enumerate() {
-        if v < base {
-            continue;
-        }
         let p = all[v];
         laid.points[v - base] = p + (on_a[k] - p) / 3.0;
         laid.points.push(p + (on_b[k] - p) / 3.0);
@@ -440,18 +437,19 @@ fn split_inner_line(pts: &[Point], laid: &mut Laid) {
     let second = laid.row_starts[1];
     for q in &mut laid.quads[second..] {
         for k in q.iter_mut() {
-            if *k >= base && *k - base < lower.len() && lower[*k - base] != usize::MAX {
-                *k = lower[*k - base];
+            if let Some(&l) = k.checked_sub(base).and_then(|i| lower.get(i)) {
+                if l != usize::MAX {
+                    *k = l;
+                }
             }
         }
     }
     let n = split.len();
-    let strips = if laid.ring { n } else { n.saturating_sub(1) };
-    laid.quads.extend((0..strips).map(|i| {
+    laid.row_starts.push(laid.quads.len());
+    laid.quads.extend((0..n).map(|i| {
         let ((t0, b0), (t1, b1)) = (split[i], split[(i + 1) % n]);
         [t0, t1, b1, b0]
     }));
-    laid.row_starts.push(laid.quads.len() - strips);
 }
 
 /// Lays `rows` rows over the band `sides` (see [`band_rows`]), before the
@@ -643,7 +641,6 @@ fn lay_rows(pts: &[Point], sides: &BandSides, rows: usize) -> Option<Laid> {
         quads,
         row_starts,
         lines: lines.into_iter().map(|l| l.idx).collect(),
-        ring,
     })
 }
 
