@@ -916,55 +916,19 @@ mod tests {
             .collect()
     }
 
-    /// The ring between circles of 60 and 70 nodes, radii 1 and 1.1:
-    /// two rows, 5 wedges (each takes two edges of the difference).
-    #[test]
-    fn a_thin_ring_of_unequal_counts_gets_two_rows_with_wedges() {
+    /// The points of the ring between a circle of 60 nodes, radius 1.1,
+    /// and a hole of 70 nodes, radius 1 (clockwise), and its band.
+    fn thin_ring() -> (Vec<Point>, BandSides, usize) {
         let mut pts = circle(60, 1.1);
-        let inner: Vec<Point> = circle(70, 1.0).into_iter().rev().collect();
-        pts.extend(inner);
+        pts.extend(circle(70, 1.0).into_iter().rev());
         let outer: Vec<usize> = (0..60).collect();
         let hole: Vec<usize> = (60..130).collect();
         let (sides, rows) = ring_band(&pts, &outer, &hole, &default()).expect("a band");
-        assert_eq!(rows, 2);
-        let g = band_rows(&pts, &sides, rows, 0.3).expect("rows");
-        assert_eq!(g.points.len(), 70);
-        assert_eq!(g.quads.len(), 60 + 5 + 70);
-        let area: f64 = g
-            .quads
-            .iter()
-            .map(|q| {
-                polygon_area(q.map(|k| {
-                    if k < pts.len() {
-                        pts[k]
-                    } else {
-                        g.points[k - pts.len()]
-                    }
-                }))
-            })
-            .sum();
-        let ring = polygon_area(circle(60, 1.1)) - polygon_area(circle(70, 1.0));
-        assert!(
-            (area - ring).abs() < 1e-9 * ring.abs().max(1.0),
-            "{area} vs {ring}"
-        );
+        (pts, sides, rows)
     }
 
-    /// The same ring in three rows: the two rows' inner line split in two,
-    /// the 5 wedges (5 irregular nodes) beside the sides and a clean middle
-    /// row of 70 quads between two lines of 70 nodes; the quads cover the
-    /// ring once.
-    #[test]
-    fn a_thin_ring_of_unequal_counts_splits_into_three_rows_with_a_clean_middle() {
-        let mut pts = circle(60, 1.1);
-        let inner: Vec<Point> = circle(70, 1.0).into_iter().rev().collect();
-        pts.extend(inner);
-        let outer: Vec<usize> = (0..60).collect();
-        let hole: Vec<usize> = (60..130).collect();
-        let (sides, _) = ring_band(&pts, &outer, &hole, &default()).expect("a band");
-        let g = ring_rows_split(&pts, &sides, 0.3).expect("three rows");
-        assert_eq!(g.points.len(), 140);
-        assert_eq!(g.quads.len(), 60 + 5 + 70 + 70);
+    /// Asserts that the quads of `g` over `pts` cover [`thin_ring`] once.
+    fn assert_covers_thin_ring(pts: &[Point], g: &BandRows) {
         let at = |k: usize| {
             if k < pts.len() {
                 pts[k]
@@ -978,6 +942,31 @@ mod tests {
             (area - ring).abs() < 1e-9 * ring.abs().max(1.0),
             "{area} vs {ring}"
         );
+    }
+
+    /// The ring between circles of 60 and 70 nodes, radii 1 and 1.1:
+    /// two rows, 5 wedges (each takes two edges of the difference).
+    #[test]
+    fn a_thin_ring_of_unequal_counts_gets_two_rows_with_wedges() {
+        let (pts, sides, rows) = thin_ring();
+        assert_eq!(rows, 2);
+        let g = band_rows(&pts, &sides, rows, 0.3).expect("rows");
+        assert_eq!(g.points.len(), 70);
+        assert_eq!(g.quads.len(), 60 + 5 + 70);
+        assert_covers_thin_ring(&pts, &g);
+    }
+
+    /// The same ring in three rows: the two rows' inner line split in two,
+    /// the 5 wedges (5 irregular nodes) beside the sides and a clean middle
+    /// row of 70 quads between two lines of 70 nodes; the quads cover the
+    /// ring once.
+    #[test]
+    fn a_thin_ring_of_unequal_counts_splits_into_three_rows_with_a_clean_middle() {
+        let (pts, sides, _) = thin_ring();
+        let g = ring_rows_split(&pts, &sides, 0.3).expect("three rows");
+        assert_eq!(g.points.len(), 140);
+        assert_eq!(g.quads.len(), 60 + 5 + 70 + 70);
+        assert_covers_thin_ring(&pts, &g);
         let mut neighbours = vec![std::collections::BTreeSet::new(); pts.len() + 140];
         for q in &g.quads {
             for i in 0..4 {
