@@ -359,7 +359,7 @@ impl Mesher {
                 // around it.
                 let near = nbs.iter().map(|&u| self.mesh.nodes[u as usize]);
                 if let Some(bb) = crate::geom::Aabb::of([old, at, pp, pn].into_iter().chain(near)) {
-                    self.memo.changed(bb.min, bb.max);
+                    self.forget(Some(bb));
                 }
             }
             self.front.refile_edges_at(s, v, &self.mesh.nodes);

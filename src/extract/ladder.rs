@@ -487,68 +487,75 @@ impl Mesher {
         let mut deferred: Vec<Entry> = Vec::new();
         let mut best: Option<Chosen> = None;
         let mut chosen = None;
-        let mut group = None;
-        while let Some(e) = self.queue.pop() {
-            let i = e.slot as usize;
-            if !self.front.slot(e.slot).alive || self.queue.version[i] != e.version {
-                continue;
+        let mut after = None;
+        'groups: while let Some(key) = self.queue.group_after(after) {
+            after = Some(key);
+            while let Some(e) = self.queue.pop_from(key) {
+                let i = e.slot as usize;
+                if !self.front.slot(e.slot).alive || self.queue.version[i] != e.version {
+                    continue;
+                }
+                if e.class == 0
+                    && self
+                        .front
+                        .angle_below(e.slot, &self.mesh.nodes, &self.angles.seam)
+                {
+                    if let Some(mut r) = self.try_seam(e.slot) {
+                        r.skipped = skipped;
+                        self.requeue(deferred);
+                        return Ok((Some(r), skipped));
+                    }
+                }
+                if e.class > 0 {
+                    if let Some(mut r) = self.try_transition(e.slot, limits) {
+                        r.skipped = skipped;
+                        self.requeue(deferred);
+                        return Ok((Some(r), skipped));
+                    }
+                }
+                let node = self.front.node(e.slot);
+                let result = match self.memo.get(Eval::Queue, e.slot, node) {
+                    // A remembered element is copied out only when it may be
+                    // taken or kept as the best so far: most are neither, at
+                    // every step they wait through.
+                    Some(Some(c))
+                        if c.score >= self.params.defer_score
+                            || Chosen::would_keep(c.score, &best)
+                            || self.at_needle(e.slot) =>
+                    {
+                        Some(c.clone())
+                    }
+                    Some(_) => None,
+                    None => {
+                        let r = self.evaluate(e.slot, limits, false)?;
+                        if r.as_ref().is_none_or(|c| c.score < self.params.defer_score) {
+                            self.memo
+                                .put(Eval::Queue, e.slot, node, self.memo.read_box, r.clone());
+                        }
+                        r
+                    }
+                };
+                match result {
+                    Some(c) if c.score >= self.params.defer_score || self.at_needle(e.slot) => {
+                        chosen = Some(c);
+                        break 'groups;
+                    }
+                    Some(c) => c.keep_if_best(&mut best),
+                    None => {}
+                }
+                deferred.push(e);
+                skipped += 1;
             }
-            let key = (e.class > 0, e.band, e.layer);
-            if best.is_some() && group.is_some_and(|g| g != key) {
-                self.queue.push_entry(e);
+            // The points parked in the group wait for a change near them:
+            // only their best score counts.
+            self.best_parked(key, &mut best);
+            if best.is_some() {
                 break;
             }
-            group = Some(key);
-            if e.class == 0
-                && self
-                    .front
-                    .angle_below(e.slot, &self.mesh.nodes, &self.angles.seam)
-            {
-                if let Some(mut r) = self.try_seam(e.slot) {
-                    r.skipped = skipped;
-                    self.requeue(deferred);
-                    return Ok((Some(r), skipped));
-                }
-            }
-            if e.class > 0 {
-                if let Some(mut r) = self.try_transition(e.slot, limits) {
-                    r.skipped = skipped;
-                    self.requeue(deferred);
-                    return Ok((Some(r), skipped));
-                }
-            }
-            let node = self.front.node(e.slot);
-            let result = match self.memo.get(Eval::Queue, e.slot, node) {
-                // A remembered element is copied out only when it may be
-                // taken or kept as the best so far: most are neither, at
-                // every step they wait through.
-                Some(Some(c))
-                    if c.score >= self.params.defer_score
-                        || Chosen::would_keep(c.score, &best)
-                        || self.at_needle(e.slot) =>
-                {
-                    Some(c.clone())
-                }
-                Some(_) => None,
-                None => {
-                    let r = self.evaluate(e.slot, limits, false)?;
-                    if r.as_ref().is_none_or(|c| c.score < self.params.defer_score) {
-                        self.memo
-                            .put(Eval::Queue, e.slot, node, self.memo.read_box, r.clone());
-                    }
-                    r
-                }
-            };
-            match result {
-                Some(c) if c.score >= self.params.defer_score || self.at_needle(e.slot) => {
-                    chosen = Some(c);
-                    break;
-                }
-                Some(c) => c.keep_if_best(&mut best),
-                None => {}
-            }
-            deferred.push(e);
-            skipped += 1;
+        }
+        if chosen.is_none() && best.is_none() {
+            // Every group was walked and no point has an element.
+            self.queue.drop_parked();
         }
         // A remembered element is checked again before it is taken (its
         // box was read with room to spare, but a guard is a guard).
@@ -665,7 +672,7 @@ impl Mesher {
     ) -> Result<Option<Chosen>, MeshError> {
         Ok(match best {
             Some(c) if self.check(c.cand, limits).is_none() => {
-                self.memo.clear();
+                self.forget(None);
                 match c.cand.slot() {
                     s if self.front.slot(s).alive => self.evaluate(s, limits, rules)?,
                     _ => None,

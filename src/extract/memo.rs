@@ -62,6 +62,10 @@ pub(super) struct EvalMemo {
     /// beside it and the mesh edges at the merged node), forgotten after
     /// the step.
     pub(super) seam_box: Option<crate::geom::Aabb>,
+    /// The slots whose queue evaluation was forgotten since this was last
+    /// emptied ([`super::session::Mesher::forget`] hands their parked
+    /// reference points back to the queue).
+    pub(super) forgotten: Vec<SlotId>,
 }
 
 impl EvalMemo {
@@ -106,6 +110,16 @@ impl EvalMemo {
         self.stored.push(stored);
     }
 
+    /// Widens the box of the entry of kind `eval` at `slot`, if any, to
+    /// take in `bb`: a result that also stands on what lies there.
+    pub(super) fn widen(&mut self, eval: Eval, slot: SlotId, bb: crate::geom::Aabb) {
+        if let Some(i) = self.position(eval, slot) {
+            let k = &mut self.keyed[i];
+            k.lo = k.lo.min(bb.min);
+            k.hi = k.hi.max(bb.max);
+        }
+    }
+
     /// Forgets the entries whose box meets the box `lo..hi`.
     pub(super) fn changed(&mut self, lo: Point, hi: Point) {
         let mut i = 0;
@@ -116,6 +130,9 @@ impl EvalMemo {
                 continue;
             }
             self.at[e.eval as usize][e.slot as usize] = NONE;
+            if e.eval == Eval::Queue {
+                self.forgotten.push(e.slot);
+            }
             self.keyed.swap_remove(i);
             self.stored.swap_remove(i);
             if let Some(moved) = self.keyed.get(i) {
@@ -128,6 +145,9 @@ impl EvalMemo {
     pub(super) fn clear(&mut self) {
         for e in &self.keyed {
             self.at[e.eval as usize][e.slot as usize] = NONE;
+            if e.eval == Eval::Queue {
+                self.forgotten.push(e.slot);
+            }
         }
         self.keyed.clear();
         self.stored.clear();

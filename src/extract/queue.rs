@@ -12,10 +12,22 @@
 //! size is uniform, every slot is in one band and the order is by layer.
 //! Entries are versioned: a slot whose angle changed is pushed again and
 //! its old entry skipped.
+//!
+//! A reference point passed over (its element refused or too poor) whose
+//! evaluation the memory ([`super::memo`]) keeps is *parked* in its group,
+//! by score, instead of going back on the stack: a step reads its group's
+//! best parked score in `O(log n)` and walks only the points that are new
+//! or whose surroundings changed. The memory hands a parked point back to
+//! the stack when it forgets its evaluation, so a front of many loops with
+//! long runs of poor reference points (a tube sheet's ligaments) costs a
+//! step what a single loop does.
 
+use super::candidate::Chosen;
+use super::memo::Eval;
 use super::params::Strategy;
 use super::session::Mesher;
 use crate::front::SlotId;
+use std::cmp::Reverse;
 use std::collections::BTreeMap;
 
 /// The queue itself: its entries by group, each slot's current version
@@ -34,20 +46,45 @@ pub(super) struct RefQueue {
     spare: Vec<Group>,
     pub(super) version: Vec<u32>,
     pub(super) seq: u64,
+    /// Per slot, where its parked entry is (its group and key), if any.
+    parked_at: Vec<Option<(GroupKey, ParkKey)>>,
 }
 
 /// A group's key: not sharp (sharp corners first), band, layer.
-type GroupKey = (bool, u32, u32);
+pub(super) type GroupKey = (bool, u32, u32);
 
-/// One group's entries: a stack per class, each in `seq` order.
+/// What parking an entry needs: its remembered score (`None`: no
+/// element) and a box the memory's entry must widen to, if any.
+struct Park {
+    score: Option<f64>,
+    widen: Option<crate::geom::Aabb>,
+}
+
+/// A parked entry's key: its remembered score, best first (no element
+/// last), then the latest parked first.
+type ParkKey = (Reverse<i64>, Reverse<u64>);
+
+/// The key of a parked entry scoring `score` (`None`: no element).
+fn park_key(score: Option<f64>, seq: u64) -> ParkKey {
+    // The bits of an f64 as an integer in its total order.
+    let bits = score.unwrap_or(f64::NEG_INFINITY).to_bits() as i64;
+    (
+        Reverse(bits ^ (((bits >> 63) as u64) >> 1) as i64),
+        Reverse(seq),
+    )
+}
+
+/// One group's entries: a stack per class, each in `seq` order, and the
+/// parked entries by score.
 #[derive(Clone, Debug, Default)]
 struct Group {
     by_class: [Vec<Entry>; 3],
+    parked: BTreeMap<ParkKey, Entry>,
 }
 
 impl Group {
     fn is_empty(&self) -> bool {
-        self.by_class.iter().all(Vec::is_empty)
+        self.by_class.iter().all(Vec::is_empty) && self.parked.is_empty()
     }
 }
 
@@ -107,24 +144,100 @@ impl RefQueue {
         }
     }
 
-    /// Takes the first entry out.
-    pub(super) fn pop(&mut self) -> Option<Entry> {
-        self.drop_empty_front();
-        let mut first = self.groups.first_entry()?;
-        first.get_mut().by_class.iter_mut().find_map(Vec::pop)
+    /// Takes the first entry of the stacks out (parked entries stay).
+    #[cfg(test)]
+    fn pop(&mut self) -> Option<Entry> {
+        self.groups
+            .values_mut()
+            .find_map(|g| g.by_class.iter_mut().find_map(Vec::pop))
     }
 
-    /// The first entry.
-    fn peek(&mut self) -> Option<Entry> {
-        self.drop_empty_front();
-        let (_, g) = self.groups.first_key_value()?;
-        g.by_class.iter().find_map(|v| v.last().copied())
+    /// The first entry of the stacks.
+    #[cfg(test)]
+    fn peek(&self) -> Option<Entry> {
+        self.groups
+            .values()
+            .find_map(|g| g.by_class.iter().find_map(|v| v.last().copied()))
+    }
+
+    /// The key of the first group after `after` (the first of all for
+    /// `None`) that holds any entry, on its stacks or parked.
+    pub(super) fn group_after(&mut self, after: Option<GroupKey>) -> Option<GroupKey> {
+        match after {
+            None => {
+                self.drop_empty_front();
+                self.groups.first_key_value().map(|(k, _)| *k)
+            }
+            Some(a) => self
+                .groups
+                .range((std::ops::Bound::Excluded(a), std::ops::Bound::Unbounded))
+                .find(|(_, g)| !g.is_empty())
+                .map(|(k, _)| *k),
+        }
+    }
+
+    /// Takes the first entry of group `key`'s stacks out.
+    pub(super) fn pop_from(&mut self, key: GroupKey) -> Option<Entry> {
+        let g = self.groups.get_mut(&key)?;
+        g.by_class.iter_mut().find_map(Vec::pop)
+    }
+
+    /// Group `key`'s first parked entry (the best score).
+    fn first_parked(&self, key: GroupKey) -> Option<Entry> {
+        let g = self.groups.get(&key)?;
+        g.parked.first_key_value().map(|(_, e)| *e)
+    }
+
+    /// Parks `e`, whose remembered evaluation scores `score` (`None`: no
+    /// element); a slot's earlier parked entry is dropped.
+    pub(super) fn park(&mut self, e: Entry, score: Option<f64>) {
+        self.unpark(e.slot);
+        self.seq += 1;
+        let e = Entry { seq: self.seq, ..e };
+        let key = park_key(score, e.seq);
+        let spare = &mut self.spare;
+        self.groups
+            .entry(e.group())
+            .or_insert_with(|| spare.pop().unwrap_or_default())
+            .parked
+            .insert(key, e);
+        let i = e.slot as usize;
+        if self.parked_at.len() <= i {
+            self.parked_at.resize(i + 1, None);
+        }
+        self.parked_at[i] = Some((e.group(), key));
+    }
+
+    /// Takes slot `s`'s parked entry out, if it has one.
+    fn unpark(&mut self, s: SlotId) -> Option<Entry> {
+        let (group, key) = self.parked_at.get_mut(s as usize)?.take()?;
+        self.groups.get_mut(&group)?.parked.remove(&key)
+    }
+
+    /// Puts the parked entries of `slots` back on their stacks, in the
+    /// order they were parked (the slots without one are passed over).
+    pub(super) fn release(&mut self, slots: &[SlotId]) {
+        let mut back: Vec<Entry> = slots.iter().filter_map(|&s| self.unpark(s)).collect();
+        back.sort_unstable_by_key(|e| e.seq);
+        for e in back {
+            self.seq += 1;
+            self.push_entry(Entry { seq: self.seq, ..e });
+        }
+    }
+
+    /// Drops every parked entry.
+    pub(super) fn drop_parked(&mut self) {
+        for g in self.groups.values_mut() {
+            g.parked.clear();
+        }
+        self.parked_at.clear();
     }
 
     /// Empties the queue.
     pub(super) fn clear(&mut self) {
         self.groups.clear();
         self.version.clear();
+        self.parked_at.clear();
     }
 }
 
@@ -169,9 +282,19 @@ impl Mesher {
     /// and layer unchanged, without working them out again (a long group of
     /// poor reference points is popped and put back at every step, and a
     /// band asks the size field); any other is pushed anew.
+    ///
+    /// An entry whose evaluation the memory keeps is parked instead
+    /// ([`Mesher::parkable`]).
     pub(super) fn requeue(&mut self, deferred: Vec<Entry>) {
         for e in deferred {
             if self.front.slot(e.slot).alive && self.queue.version[e.slot as usize] == e.version {
+                if let Some(p) = self.parkable(e) {
+                    if let Some(bb) = p.widen {
+                        self.memo.widen(Eval::Queue, e.slot, bb);
+                    }
+                    self.queue.park(e, p.score);
+                    continue;
+                }
                 self.queue.seq += 1;
                 self.queue.push_entry(Entry {
                     seq: self.queue.seq,
@@ -197,14 +320,104 @@ impl Mesher {
         }
     }
 
-    /// Band and layer of the first live entry of the queue (stale entries
-    /// dropped).
+    /// Whether entry `e` (current) may be parked rather than walked again
+    /// at the next step: the memory keeps its evaluation, it is not a
+    /// needle nor a sharp corner tried for a seam, and no transition can
+    /// be laid out there. Whether it is a needle or a sharp corner is read
+    /// within the box the evaluation read; a row's end widens that box to
+    /// the front a transition's layout reads. All stay as they are until
+    /// the memory forgets the evaluation and the entry goes back on its
+    /// stack.
+    fn parkable(&self, e: Entry) -> Option<Park> {
+        let s = e.slot;
+        let r = self.memo.get(Eval::Queue, s, self.front.node(s))?;
+        if self.at_needle(s) {
+            return None;
+        }
+        let score = r.as_ref().map(|c| c.score);
+        if e.class == 0 {
+            let seam = self
+                .front
+                .angle_below(s, &self.mesh.nodes, &self.angles.seam);
+            return (!seam).then_some(Park { score, widen: None });
+        }
+        if self.params.transition_ratio.is_none() || self.row_at(s).is_none() {
+            return Some(Park { score, widen: None });
+        }
+        // A row's end: parked while no transition can be laid out there,
+        // its evaluation kept as long as the front a layout reads stands.
+        if self.transition_laid(s) {
+            return None;
+        }
+        Some(Park {
+            score,
+            widen: Some(self.transition_extent(s)?),
+        })
+    }
+
+    /// Keeps in `best` the best parked element of group `key` if it beats
+    /// `best` ([`Chosen::keep_if_best`]); stale parked entries met on the
+    /// way are dropped.
+    pub(super) fn best_parked(&mut self, key: GroupKey, best: &mut Option<Chosen>) {
+        while let Some(e) = self.queue.first_parked(key) {
+            let s = e.slot;
+            let live = self.front.slot(s).alive && self.queue.version[s as usize] == e.version;
+            match self.memo.get(Eval::Queue, s, self.front.node(s)) {
+                Some(r) if live => {
+                    if let Some(c) = r.as_ref().filter(|c| Chosen::would_keep(c.score, best)) {
+                        *best = Some(c.clone());
+                    }
+                    return;
+                }
+                _ => {
+                    self.queue.unpark(s);
+                    if live {
+                        // Its evaluation is gone: looked at afresh.
+                        self.push(s);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The memory forgets its evaluations whose box meets `within`, or
+    /// all of them for `None`; the parked entries of the slots forgotten
+    /// go back on the stacks.
+    pub(super) fn forget(&mut self, within: Option<crate::geom::Aabb>) {
+        match within {
+            Some(bb) => self.memo.changed(bb.min, bb.max),
+            None => self.memo.clear(),
+        }
+        let slots = std::mem::take(&mut self.memo.forgotten);
+        self.queue.release(&slots);
+        self.memo.forgotten = slots;
+        self.memo.forgotten.clear();
+    }
+
+    /// Band and layer of the first live entry of the queue, on a stack or
+    /// parked (stale entries dropped).
     pub(super) fn queue_top(&mut self) -> Option<(u32, u32)> {
-        while let Some(e) = self.queue.peek() {
-            if self.front.slot(e.slot).alive && self.queue.version[e.slot as usize] == e.version {
+        let mut after = None;
+        while let Some(key) = self.queue.group_after(after) {
+            after = Some(key);
+            let live = |m: &Mesher, e: &Entry| {
+                m.front.slot(e.slot).alive && m.queue.version[e.slot as usize] == e.version
+            };
+            while let Some(e) = self
+                .queue
+                .groups
+                .get(&key)
+                .and_then(|g| g.by_class.iter().find_map(|v| v.last().copied()))
+            {
+                if live(self, &e) {
+                    return Some((e.band, e.layer));
+                }
+                self.queue.pop_from(key);
+            }
+            let g = &self.queue.groups[&key];
+            if let Some(e) = g.parked.values().find(|e| live(self, e)) {
                 return Some((e.band, e.layer));
             }
-            self.queue.pop();
         }
         None
     }
@@ -263,5 +476,55 @@ mod tests {
             assert_eq!(q.pop().map(|e| e.slot), Some(s));
         }
         assert_eq!(q.pop(), None);
+    }
+
+    /// Parked entries come out best score first (no element last); a
+    /// group holding only parked entries is still walked; a slot parked
+    /// again keeps only its newest entry; released entries go back on
+    /// their stacks in the order they were parked, above the entries
+    /// already there.
+    #[test]
+    fn parked_entries_by_score_and_released_in_order() {
+        let mut q = RefQueue::default();
+        let entry = |slot: u32, layer: u32| Entry {
+            class: 1,
+            band: 0,
+            layer,
+            seq: 0,
+            slot,
+            version: 0,
+        };
+        q.seq = 10;
+        q.push_entry(Entry {
+            seq: 10,
+            ..entry(9, 0)
+        });
+        q.park(entry(1, 0), Some(0.4));
+        q.park(entry(2, 0), None);
+        q.park(entry(3, 0), Some(0.7));
+        q.park(entry(4, 1), Some(0.9));
+        let g0 = entry(0, 0).group();
+        let g1 = entry(0, 1).group();
+        assert_eq!(q.first_parked(g0).map(|e| e.slot), Some(3));
+        q.park(entry(3, 0), Some(0.1));
+        assert_eq!(q.first_parked(g0).map(|e| e.slot), Some(1));
+        // Group 0's stack runs dry, its parked entries keep it; group 1
+        // holds parked entries alone.
+        assert_eq!(q.group_after(None), Some(g0));
+        assert_eq!(q.pop_from(g0).map(|e| e.slot), Some(9));
+        assert_eq!(q.pop_from(g0), None);
+        assert_eq!(q.group_after(None), Some(g0));
+        assert_eq!(q.group_after(Some(g0)), Some(g1));
+        assert_eq!(q.group_after(Some(g1)), None);
+        // Slots 2 and 3 were parked after 1: 3 is on top once released.
+        q.release(&[3, 7, 1, 2]);
+        let out: Vec<u32> = std::iter::from_fn(|| q.pop_from(g0))
+            .map(|e| e.slot)
+            .collect();
+        assert_eq!(out, vec![3, 2, 1]);
+        assert_eq!(q.first_parked(g0), None);
+        q.drop_parked();
+        assert_eq!(q.first_parked(g1), None);
+        assert_eq!(q.group_after(None), None);
     }
 }

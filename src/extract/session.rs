@@ -380,7 +380,7 @@ impl Mesher {
             Err(e) => {
                 if self.params.fill && !self.record.replaying {
                     if let Some(r) = self.rewind_and_fill() {
-                        self.memo.clear();
+                        self.forget(None);
                         return Ok(StepOutcome::Stepped(Box::new(r)));
                     }
                 }
@@ -409,10 +409,7 @@ impl Mesher {
             StepKind::Seam => seam_box,
             _ => None,
         };
-        match local {
-            Some(bb) => self.memo.changed(bb.min, bb.max),
-            None => self.memo.clear(),
-        }
+        self.forget(local);
         r.rejected = self.rejections.take();
         if r.kind != StepKind::Relax {
             self.repairs.other_step();
@@ -495,7 +492,7 @@ impl Mesher {
     }
 
     pub(super) fn apply_correction(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
-        self.memo.clear();
+        self.forget(None);
         let (s, cand, _) = self.correction_cand(c)?;
         let leading: Vec<u32> = self
             .leading_slots(s, self.leading_n())
@@ -709,7 +706,7 @@ impl Mesher {
             .model_changes
             .push((self.record.history.len(), model.clone()));
         self.model = model;
-        self.memo.clear();
+        self.forget(None);
     }
 
     pub(super) fn add_node(&mut self, p: Point) -> u32 {

@@ -65,11 +65,107 @@ impl RowRuns {
 /// element may be a transition.
 const FRESH_ROW: u32 = u32::MAX / 2;
 
+/// A transition laid out at a reference slot, before the guard: the
+/// stretch it takes, its new points and its outline against the front.
+struct Plan {
+    right: bool,
+    a: [SlotId; 4],
+    ids: [u32; 4],
+    top: SlotId,
+    top_id: u32,
+    m1: Point,
+    m2: Point,
+    t0: Point,
+    t3: Point,
+    corners: [Corner; 4],
+    consumed: [SlotId; 4],
+    want: f64,
+}
+
 impl Mesher {
     /// The transition element at reference slot `s` when the row `s`
     /// continues runs on along a straight, too-fine stretch of front, if it
     /// passes the guard: the step that commits it.
     pub(super) fn try_transition(&mut self, s: SlotId, limits: Limits) -> Option<StepReport> {
+        let Plan {
+            right,
+            a,
+            ids,
+            top,
+            top_id,
+            m1,
+            m2,
+            t0,
+            t3,
+            corners,
+            consumed,
+            want,
+        } = self.transition_plan(s)?;
+        let passed = guard::check(
+            &self.front,
+            &self.mesh.nodes,
+            corners,
+            &consumed,
+            limits,
+            want,
+            &mut self.scratch,
+        )?;
+        if passed.score < self.params.tuning.transition.min_score {
+            return None;
+        }
+        // Commit: the reference slot becomes the new top and a1, a2 leave
+        // the front.
+        let mut r = self.report(StepKind::Transition);
+        r.reference = Some(self.front.node(s));
+        let layer = self.front.slot(top).layer;
+        let (v1, v2) = (self.add_node(m1), self.add_node(m2));
+        let vt = self.add_node(if right { t3 } else { t0 });
+        let (id0, id3) = if right { (top_id, vt) } else { (vt, top_id) };
+        for q in [
+            [ids[0], ids[1], v1, id0],
+            [ids[1], ids[2], v2, v1],
+            [ids[2], ids[3], id3, v2],
+            [v1, v2, id3, id0],
+        ] {
+            self.push_quad(q);
+            r.quads.push(q);
+        }
+        r.new_nodes = vec![v1, v2, vt];
+        self.runs.since[vt as usize] = 0;
+        self.front.replace_node(s, vt, layer, &self.mesh.nodes);
+        self.front.remove_pair(a[1], &self.mesh.nodes);
+        let other_end = if right { a[3] } else { a[0] };
+        for x in [s, top, other_end] {
+            self.push(x);
+        }
+        Some(r)
+    }
+
+    /// Whether a transition may be laid out at reference slot `s` (it may
+    /// still fail the guard): `false` stays so until the front within
+    /// [`Mesher::transition_extent`] of `s` changes.
+    pub(super) fn transition_laid(&self, s: SlotId) -> bool {
+        self.transition_plan(s).is_some()
+    }
+
+    /// The box of the front a transition's layout at `s` reads: the slots
+    /// as far either side as [`Mesher::spacing_around`] looks.
+    pub(super) fn transition_extent(&self, s: SlotId) -> Option<crate::geom::Aabb> {
+        let f = &self.front;
+        let reach = self.spacing_reach().max(0) as usize + 4;
+        let (mut back, mut ahead) = (s, s);
+        let mut pts = vec![self.world(s)];
+        for _ in 0..reach.min(f.loop_len(s)) {
+            (back, ahead) = (f.prev(back), f.next(ahead));
+            pts.push(self.world(back));
+            pts.push(self.world(ahead));
+        }
+        crate::geom::Aabb::of(pts)
+    }
+
+    /// The transition at `s` laid out (see [`Mesher::try_transition`]),
+    /// before the guard.
+    fn transition_plan(&self, s: SlotId) -> Option<Plan> {
         let coarser = self.params.transition_ratio?;
         let row = self.row_at(s)?;
         let f = &self.front;
@@ -198,48 +294,20 @@ impl Mesher {
                 [a[0], a[1], a[2], a[3]],
             )
         };
-        let passed = guard::check(
-            &self.front,
-            &self.mesh.nodes,
+        Some(Plan {
+            right: row.right,
+            a,
+            ids,
+            top,
+            top_id,
+            m1,
+            m2,
+            t0,
+            t3,
             corners,
-            &consumed,
-            limits,
+            consumed,
             want,
-            &mut self.scratch,
-        )?;
-        if passed.score < self.params.tuning.transition.min_score {
-            return None;
-        }
-        // Commit: the reference slot becomes the new top and a1, a2 leave
-        // the front.
-        let mut r = self.report(StepKind::Transition);
-        r.reference = Some(self.front.node(s));
-        let layer = self.front.slot(top).layer;
-        let (v1, v2) = (self.add_node(m1), self.add_node(m2));
-        let vt = self.add_node(if row.right { t3 } else { t0 });
-        let (id0, id3) = if row.right {
-            (top_id, vt)
-        } else {
-            (vt, top_id)
-        };
-        for q in [
-            [ids[0], ids[1], v1, id0],
-            [ids[1], ids[2], v2, v1],
-            [ids[2], ids[3], id3, v2],
-            [v1, v2, id3, id0],
-        ] {
-            self.push_quad(q);
-            r.quads.push(q);
-        }
-        r.new_nodes = vec![v1, v2, vt];
-        self.runs.since[vt as usize] = 0;
-        self.front.replace_node(s, vt, layer, &self.mesh.nodes);
-        self.front.remove_pair(a[1], &self.mesh.nodes);
-        let other_end = if row.right { a[3] } else { a[0] };
-        for x in [s, top, other_end] {
-            self.push(x);
-        }
-        Some(r)
+        })
     }
 
     /// Front edges either side of a stretch looked at for the top of an
