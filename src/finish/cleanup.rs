@@ -37,7 +37,7 @@ use serde::{Deserialize, Serialize};
 use crate::geom::{ccw_angle, is_measurably_convex, Point};
 use crate::mesh::QuadMesh;
 use crate::quality::{QuadQuality, Shape};
-use crate::smooth::{after_change, pattern_search, smooth_and_optimize, SmoothParams, LOCAL_ABOVE};
+use crate::smooth::{after_change, pattern_search, smooth_and_optimize, SmoothParams};
 
 /// Cleanup parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -53,8 +53,8 @@ pub struct CleanupParams {
     /// Rounds of cleanup and smoothing in [`improve`] (default 8): a swap
     /// refused in one round for want of convexity is often taken after the
     /// smoothing that follows. Rounds stop early when a cleanup changes
-    /// nothing, and on a mesh of more than 20,000 quads after a round that
-    /// changed less than a twentieth of what the first changed.
+    /// nothing, and after a round that changed less than a twentieth of
+    /// what the first changed.
     pub rounds: usize,
     /// A quad whose scaled Jacobian is below this is collapsed across a
     /// diagonal when that raises the worst quad around it (default 0.2;
@@ -561,10 +561,11 @@ fn cleanup_marking(
     }
 }
 
-/// On a mesh of more than [`LOCAL_ABOVE`] quads, [`improve`] stops after a
-/// round whose cleanup made less than 1/`LAST_ROUND_SHARE` of the first
-/// round's changes: there the last few changes do not pay for another
-/// cleanup of the whole.
+/// [`improve`] stops after a round whose cleanup made less than
+/// 1/`LAST_ROUND_SHARE` of the first round's changes: the last few changes
+/// do not pay for another round (on a mesh of up to [`crate::smooth::LOCAL_ABOVE`] quads,
+/// another smoothing of the whole). A first round of fewer changes than
+/// this goes on while any round changes something.
 const LAST_ROUND_SHARE: usize = 20;
 
 /// Mesh improvement after extraction: smoothing ([`smooth`] then
@@ -612,7 +613,7 @@ pub fn improve(
                 .map(|(a, b)| a != b)
                 .collect(),
         });
-        if mesh.quads.len() > LOCAL_ABOVE && changes * LAST_ROUND_SHARE < first {
+        if changes * LAST_ROUND_SHARE < first {
             break;
         }
     }
