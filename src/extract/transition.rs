@@ -87,27 +87,14 @@ impl Mesher {
     /// continues runs on along a straight, too-fine stretch of front, if it
     /// passes the guard: the step that commits it.
     pub(super) fn try_transition(&mut self, s: SlotId, limits: Limits) -> Option<StepReport> {
-        let Plan {
-            right,
-            a,
-            ids,
-            top,
-            top_id,
-            m1,
-            m2,
-            t0,
-            t3,
-            corners,
-            consumed,
-            want,
-        } = self.transition_plan(s)?;
+        let plan = self.transition_plan(s)?;
         let passed = guard::check(
             &self.front,
             &self.mesh.nodes,
-            corners,
-            &consumed,
+            plan.corners,
+            &plan.consumed,
             limits,
-            want,
+            plan.want,
             &mut self.scratch,
         )?;
         if passed.score < self.params.tuning.transition.min_score {
@@ -117,14 +104,18 @@ impl Mesher {
         // the front.
         let mut r = self.report(StepKind::Transition);
         r.reference = Some(self.front.node(s));
-        let layer = self.front.slot(top).layer;
-        let (v1, v2) = (self.add_node(m1), self.add_node(m2));
-        let vt = self.add_node(if right { t3 } else { t0 });
-        let (id0, id3) = if right { (top_id, vt) } else { (vt, top_id) };
+        let layer = self.front.slot(plan.top).layer;
+        let (v1, v2) = (self.add_node(plan.m1), self.add_node(plan.m2));
+        let vt = self.add_node(if plan.right { plan.t3 } else { plan.t0 });
+        let (id0, id3) = if plan.right {
+            (plan.top_id, vt)
+        } else {
+            (vt, plan.top_id)
+        };
         for q in [
-            [ids[0], ids[1], v1, id0],
-            [ids[1], ids[2], v2, v1],
-            [ids[2], ids[3], id3, v2],
+            [plan.ids[0], plan.ids[1], v1, id0],
+            [plan.ids[1], plan.ids[2], v2, v1],
+            [plan.ids[2], plan.ids[3], id3, v2],
             [v1, v2, id3, id0],
         ] {
             self.push_quad(q);
@@ -133,9 +124,9 @@ impl Mesher {
         r.new_nodes = vec![v1, v2, vt];
         self.runs.since[vt as usize] = 0;
         self.front.replace_node(s, vt, layer, &self.mesh.nodes);
-        self.front.remove_pair(a[1], &self.mesh.nodes);
-        let other_end = if right { a[3] } else { a[0] };
-        for x in [s, top, other_end] {
+        self.front.remove_pair(plan.a[1], &self.mesh.nodes);
+        let other_end = if plan.right { plan.a[3] } else { plan.a[0] };
+        for x in [s, plan.top, other_end] {
             self.push(x);
         }
         Some(r)
