@@ -155,9 +155,13 @@ impl RefQueue {
     /// The first entry of the stacks.
     #[cfg(test)]
     fn peek(&self) -> Option<Entry> {
-        self.groups
-            .values()
-            .find_map(|g| g.by_class.iter().find_map(|v| v.last().copied()))
+        self.groups.keys().find_map(|&k| self.peek_in(k))
+    }
+
+    /// The first entry of group `key`'s stacks.
+    fn peek_in(&self, key: GroupKey) -> Option<Entry> {
+        let g = self.groups.get(&key)?;
+        g.by_class.iter().find_map(|v| v.last().copied())
     }
 
     /// The key of the first group after `after` (the first of all for
@@ -388,9 +392,7 @@ impl Mesher {
             Some(bb) => self.memo.changed(bb.min, bb.max),
             None => self.memo.clear(),
         }
-        let slots = std::mem::take(&mut self.memo.forgotten);
-        self.queue.release(&slots);
-        self.memo.forgotten = slots;
+        self.queue.release(&self.memo.forgotten);
         self.memo.forgotten.clear();
     }
 
@@ -403,12 +405,7 @@ impl Mesher {
             let live = |m: &Mesher, e: &Entry| {
                 m.front.slot(e.slot).alive && m.queue.version[e.slot as usize] == e.version
             };
-            while let Some(e) = self
-                .queue
-                .groups
-                .get(&key)
-                .and_then(|g| g.by_class.iter().find_map(|v| v.last().copied()))
-            {
+            while let Some(e) = self.queue.peek_in(key) {
                 if live(self, &e) {
                     return Some((e.band, e.layer));
                 }
