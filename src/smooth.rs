@@ -78,27 +78,21 @@ impl Adjacency {
             start: quad_start,
             quads,
         } = mesh.node_quads_flat();
-        // Per slot of `quads`, the two corners next to its node.
-        let mut nb_raw = vec![0u32; 8 * mesh.quads.len()];
-        for v in 0..n {
-            for at in quad_start[v] as usize..quad_start[v + 1] as usize {
-                let q = mesh.quads[quads[at] as usize];
-                let i = q.iter().position(|&u| u as usize == v).unwrap_or(0);
-                nb_raw[2 * at] = q[(i + 1) % 4];
-                nb_raw[2 * at + 1] = q[(i + 3) % 4];
-            }
-        }
         let mut nb_start = vec![0u32; n + 1];
         let mut nbs = Vec::with_capacity(4 * mesh.quads.len());
+        // Per node, the two corners next to it in each of its quads, each
+        // once, in id order.
+        let mut list = Vec::new();
         for v in 0..n {
-            let (a, b) = (2 * quad_start[v] as usize, 2 * quad_start[v + 1] as usize);
-            let list = &mut nb_raw[a..b];
-            list.sort_unstable();
-            for (i, &u) in list.iter().enumerate() {
-                if i == 0 || list[i - 1] != u {
-                    nbs.push(u);
-                }
+            list.clear();
+            for &k in &quads[quad_start[v] as usize..quad_start[v + 1] as usize] {
+                let q = mesh.quads[k as usize];
+                let i = q.iter().position(|&u| u as usize == v).unwrap_or(0);
+                list.extend([q[(i + 1) % 4], q[(i + 3) % 4]]);
             }
+            list.sort_unstable();
+            list.dedup();
+            nbs.extend_from_slice(&list);
             nb_start[v + 1] = nbs.len() as u32;
         }
         Adjacency {
@@ -106,6 +100,56 @@ impl Adjacency {
             quads,
             nb_start,
             nbs,
+        }
+    }
+}
+
+/// The quads with a corner among some interior nodes of a mesh, as a mesh
+/// of their own, for work on those nodes alone. Node and quad ids keep
+/// their order, and a visit of [`smooth_with`] or [`search_with`] reads
+/// only the node's quads and their corners, so working on the patch does
+/// exactly what working on those nodes of the whole mesh does, at a cost
+/// that follows the nodes rather than the mesh.
+struct Patch {
+    mesh: QuadMesh,
+    /// Per node of the patch, its id in the whole mesh.
+    global: Vec<u32>,
+    /// The patch's ids of the nodes worked on, in order.
+    moving: Vec<usize>,
+}
+
+impl Patch {
+    /// The patch of the interior nodes `only` marks.
+    fn of(mesh: &QuadMesh, only: &[bool]) -> Patch {
+        let nb = mesh.n_boundary();
+        let moves = |v: u32| v as usize >= nb && only.get(v as usize).copied().unwrap_or(false);
+        let quads: Vec<[u32; 4]> = mesh
+            .quads
+            .iter()
+            .filter(|q| q.iter().any(|&v| moves(v)))
+            .copied()
+            .collect();
+        let mut global: Vec<u32> = quads.iter().flatten().copied().collect();
+        global.sort_unstable();
+        global.dedup();
+        let local = |v: u32| global.partition_point(|&g| g < v) as u32;
+        let quads = quads.iter().map(|q| q.map(local)).collect();
+        let moving = (0..global.len()).filter(|&i| moves(global[i])).collect();
+        Patch {
+            mesh: QuadMesh {
+                nodes: global.iter().map(|&v| mesh.nodes[v as usize]).collect(),
+                quads,
+                loops: Vec::new(),
+            },
+            global,
+            moving,
+        }
+    }
+
+    /// Puts the nodes worked on back into `mesh`.
+    fn write_back(&self, mesh: &mut QuadMesh) {
+        for &i in &self.moving {
+            mesh.nodes[self.global[i] as usize] = self.mesh.nodes[i];
         }
     }
 }
@@ -216,11 +260,11 @@ pub fn near(mesh: &QuadMesh, changed: &[bool], rings: usize) -> Vec<bool> {
     if rings == 0 || layer.is_empty() {
         return mask;
     }
-    let inc = mesh.node_quads();
+    let inc = mesh.node_quads_flat();
     for _ in 0..rings {
         let mut next = Vec::new();
         for v in layer {
-            for &k in &inc[v as usize] {
+            for &k in inc.at(v) {
                 for &u in &mesh.quads[k as usize] {
                     if !mask[u as usize] {
                         mask[u as usize] = true;
@@ -247,9 +291,9 @@ pub fn smooth_only(mesh: &mut QuadMesh, params: &SmoothParams, only: Option<&[bo
     if params.iterations == 0 || mesh.quads.is_empty() {
         return 0;
     }
-    let adj = Adjacency::new(mesh);
-    let nodes = interior_nodes(mesh, only);
-    smooth_with(mesh, params, &adj, &nodes)
+    on_nodes(mesh, only, |mesh, adj, nodes| {
+        smooth_with(mesh, params, adj, nodes)
+    })
 }
 
 /// [`smooth_only`], then [`optimize_only`] and the optimisation of
@@ -264,12 +308,36 @@ pub fn smooth_and_optimize(
     if mesh.quads.is_empty() || (params.iterations == 0 && params.optimize_sweeps == 0) {
         return (0, 0);
     }
-    let adj = Adjacency::new(mesh);
-    let nodes = interior_nodes(mesh, only);
-    let smoothed = smooth_with(mesh, params, &adj, &nodes);
-    let optimized =
-        optimize_with(mesh, params, &adj, &nodes) + destretch_with(mesh, params, &adj, &nodes);
-    (smoothed, optimized)
+    on_nodes(mesh, only, |mesh, adj, nodes| {
+        let smoothed = smooth_with(mesh, params, adj, nodes);
+        let optimized =
+            optimize_with(mesh, params, adj, nodes) + destretch_with(mesh, params, adj, nodes);
+        (smoothed, optimized)
+    })
+}
+
+/// Runs `work` over the interior nodes `only` marks, with the adjacency
+/// of the mesh it works on: the whole mesh with `None`, else the nodes'
+/// [`Patch`], put back into `mesh` after.
+fn on_nodes<R>(
+    mesh: &mut QuadMesh,
+    only: Option<&[bool]>,
+    work: impl FnOnce(&mut QuadMesh, &Adjacency, &[usize]) -> R,
+) -> R {
+    match only {
+        Some(only) => {
+            let mut patch = Patch::of(mesh, only);
+            let adj = Adjacency::new(&patch.mesh);
+            let done = work(&mut patch.mesh, &adj, &patch.moving);
+            patch.write_back(mesh);
+            done
+        }
+        None => {
+            let adj = Adjacency::new(mesh);
+            let nodes = interior_nodes(mesh, None);
+            work(mesh, &adj, &nodes)
+        }
+    }
 }
 
 /// The quads of `nodes`, each once, in id order.
@@ -679,9 +747,9 @@ pub fn optimize_only(mesh: &mut QuadMesh, params: &SmoothParams, only: Option<&[
     if params.optimize_sweeps == 0 || mesh.quads.is_empty() {
         return 0;
     }
-    let adj = Adjacency::new(mesh);
-    let nodes = interior_nodes(mesh, only);
-    optimize_with(mesh, params, &adj, &nodes)
+    on_nodes(mesh, only, |mesh, adj, nodes| {
+        optimize_with(mesh, params, adj, nodes)
+    })
 }
 
 /// Polishing, once a mesh is final: every interior node of a quad whose
@@ -710,11 +778,6 @@ pub fn polish(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
             }
         }
     }
-    let nodes = interior_nodes(mesh, Some(&mark));
-    if nodes.is_empty() {
-        return 0;
-    }
-    let adj = Adjacency::new(mesh);
     let pass = Search {
         below: params.polish_below,
         seek: Seek::Sum {
@@ -724,7 +787,9 @@ pub fn polish(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
         area_ratio: POLISH_AREA_RATIO,
         measure: Measure::Jacobian,
     };
-    search_with(mesh, &pass, &adj, &nodes)
+    on_nodes(mesh, Some(&mark), |mesh, adj, nodes| {
+        search_with(mesh, &pass, adj, nodes)
+    })
 }
 
 /// A quad may shrink to this fraction of its area when polished.

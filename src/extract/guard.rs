@@ -129,14 +129,14 @@ pub fn check(
         return None;
     }
     // New edges: quad sides that are not consumed front edges.
-    let consumed_edges: Vec<(u32, u32)> = consumed
-        .iter()
-        .map(|&s| (front.node(s), front.node(front.next(s))))
-        .collect();
-    let is_consumed = |k: usize| match (ids[k], ids[(k + 1) % 4]) {
-        (Some(a), Some(b)) => consumed_edges.contains(&(b, a)) || consumed_edges.contains(&(a, b)),
+    let side_consumed: [bool; 4] = std::array::from_fn(|k| match (ids[k], ids[(k + 1) % 4]) {
+        (Some(a), Some(b)) => consumed.iter().any(|&s| {
+            let e = (front.node(s), front.node(front.next(s)));
+            e == (b, a) || e == (a, b)
+        }),
         _ => false,
-    };
+    });
+    let is_consumed = |k: usize| side_consumed[k];
     // Side lengths within the thesis's ratio (aspect and taper ≤ 10), unless
     // the front edges the quad takes already differ that much, or the quad
     // takes a needle, which no quad can take within it.
@@ -190,7 +190,7 @@ pub fn check(
         .fold(Point::splat(f64::NEG_INFINITY), |a, &b| a.max(b))
         + reach;
     front.edges_near(lo, hi, &mut scratch.near);
-    let new_sides: Vec<usize> = (0..4).filter(|&k| !is_consumed(k)).collect();
+    let new_sides = || (0..4).filter(|&k| !is_consumed(k));
     // Each corner's front neighbours: their room to the sides at that
     // corner is the front angle left there, judged above.
     let neighbours = corners.map(|c| match c {
@@ -214,7 +214,7 @@ pub fn check(
             // consumed sides; anything else is a diagonal or a duplicate.
             return None;
         }
-        for &k in &new_sides {
+        for k in new_sides() {
             let (a, b) = (ids[k], ids[(k + 1) % 4]);
             let shares = |v: u32| a == Some(v) || b == Some(v);
             if shares(c) || shares(d) {
@@ -233,7 +233,7 @@ pub fn check(
                 return None;
             }
             // Room between the quad's new sides and this node.
-            for &k in &new_sides {
+            for k in new_sides() {
                 let k1 = (k + 1) % 4;
                 if neighbours[k].contains(&Some(v)) || neighbours[k1].contains(&Some(v)) {
                     continue;
@@ -253,7 +253,7 @@ pub fn check(
     // New sides far from the local size cost a little: a tie-breaker
     // between otherwise good elements, not a limit.
     let mut fit: f64 = 1.0;
-    for &k in &new_sides {
+    for k in new_sides() {
         let len = p[k].distance(p[(k + 1) % 4]);
         fit = fit.min((1.0 - SIZE_FIT_SLOPE * (len / size).ln().abs()).clamp(SIZE_FIT_FLOOR, 1.0));
     }
@@ -295,7 +295,8 @@ impl Mesher {
         let size = self.needle_span(p0).unwrap_or_else(|| self.size.at(at));
         let f = &self.front;
         let n = self.front.loop_len(p0);
-        let (corners, consumed): ([Corner; 4], Vec<SlotId>) = match c {
+        // The front edges the element takes, the first `taken` of `consumed`.
+        let (corners, consumed, taken): ([Corner; 4], [SlotId; 3], usize) = match c {
             Cand::New { s, pn } => {
                 let (l, r) = (f.prev(s), f.next(s));
                 // On a four-node loop the element leaves another four-node
@@ -315,7 +316,8 @@ impl Mesher {
                         Corner::New(pn),
                         Corner::Partial(l),
                     ],
-                    vec![l, s],
+                    [l, s, s],
+                    2,
                 )
             }
             Cand::Snap { s, q } => {
@@ -330,7 +332,8 @@ impl Mesher {
                         Corner::Partial(q),
                         Corner::Partial(l),
                     ],
-                    vec![l, s],
+                    [l, s, s],
+                    2,
                 )
             }
             Cand::Right { s } => {
@@ -346,7 +349,8 @@ impl Mesher {
                         Corner::Partial(r2),
                         Corner::Partial(l),
                     ],
-                    vec![l, s, r],
+                    [l, s, r],
+                    3,
                 )
             }
             Cand::Left { s } => {
@@ -362,7 +366,8 @@ impl Mesher {
                         Corner::Partial(l2),
                         Corner::Full(l),
                     ],
-                    vec![l2, l, s],
+                    [l2, l, s],
+                    3,
                 )
             }
         };
@@ -370,7 +375,7 @@ impl Mesher {
             f,
             &self.mesh.nodes,
             corners,
-            &consumed,
+            &consumed[..taken],
             limits,
             size,
             &mut self.scratch,

@@ -298,13 +298,14 @@ pub struct RunProgress {
 /// One recorded step, as [`Mesher::actions`] lists them: replaying the
 /// actions of a run with [`Mesher::take`] rebuilds it (steps are
 /// deterministic), which is how undo works and how a project file keeps a
-/// mesh that can be stepped on.
+/// mesh that can be stepped on. A run keeps one per step, millions on a
+/// large domain, so the rare correction is boxed and an action is two words.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Action {
     /// A step chosen by the mesher.
     Auto,
     /// An element given by the user.
-    Correction(Correction),
+    Correction(Box<Correction>),
     /// A fill taken after rewinding (see [`Mesher::rewind_and_fill`]).
     Fill,
 }
@@ -325,6 +326,11 @@ mod tests {
             quads: vec![[0, 1, 2, 3]; quads],
             ..StepReport::new(index, kind)
         }
+    }
+
+    #[test]
+    fn an_action_is_two_words() {
+        assert!(std::mem::size_of::<Action>() <= 2 * std::mem::size_of::<usize>());
     }
 
     #[test]

@@ -436,7 +436,9 @@ impl Mesher {
     /// Commits an element chosen by the user at reference node `c.reference`.
     pub fn correct(&mut self, c: &Correction) -> Result<StepReport, MeshError> {
         let r = self.apply_correction(c)?;
-        self.record.history.push(Action::Correction(c.clone()));
+        self.record
+            .history
+            .push(Action::Correction(Box::new(c.clone())));
         self.record.undone.clear();
         self.record.stats.record(&r, self.mesh.quads.len());
         Ok(r)
