@@ -8,6 +8,7 @@
 //! same whether the front has ten nodes or ten thousand.
 
 use crate::geom::{ccw_angle, Aabb, AngleLimit, Point, StraightLimit};
+use std::collections::BTreeSet;
 
 /// Slot id.
 pub type SlotId = u32;
@@ -213,8 +214,10 @@ pub struct Front {
     pub loops: Vec<FrontLoop>,
     grid: EdgeGrid,
     alive: usize,
-    /// Live loops.
-    live: usize,
+    /// The live loops' ids: a front that has taken in a thousand holes
+    /// keeps their dead loops, and the steps that look at every live loop
+    /// need not pass over those.
+    live: BTreeSet<u32>,
 }
 
 impl Front {
@@ -236,7 +239,7 @@ impl Front {
             loops: Vec::new(),
             grid: EdgeGrid::new(bb, cell, max_cells),
             alive: 0,
-            live: loops.len(),
+            live: (0..loops.len() as u32).collect(),
         };
         for l in loops {
             let first = f.slots.len() as SlotId;
@@ -349,16 +352,12 @@ impl Front {
 
     /// The number of live loops.
     pub fn live_loop_count(&self) -> usize {
-        self.live
+        self.live.len()
     }
 
     /// The live loops' ids.
     pub fn live_loops(&self) -> impl Iterator<Item = u32> + '_ {
-        self.loops
-            .iter()
-            .enumerate()
-            .filter(|(_, l)| l.alive)
-            .map(|(i, _)| i as u32)
+        self.live.iter().copied()
     }
 
     /// The slots of a loop, in order from its head.
@@ -496,7 +495,7 @@ impl Front {
         let l = &mut self.loops[lid as usize];
         self.alive -= l.len;
         if l.alive {
-            self.live -= 1;
+            self.live.remove(&lid);
         }
         l.len = 0;
         l.alive = false;
@@ -547,7 +546,7 @@ impl Front {
             let total = self.loops[la as usize].len;
             let (short, short_len) = if x == a { (a, na) } else { (b, nb) };
             let new_id = self.loops.len() as u32;
-            self.live += 1;
+            self.live.insert(new_id);
             self.loops.push(FrontLoop {
                 head: short,
                 len: short_len,
@@ -583,7 +582,7 @@ impl Front {
                 s = self.next(s);
             }
             self.loops[keep as usize].len = total;
-            self.live -= 1;
+            self.live.remove(&gone);
             self.loops[gone as usize] = FrontLoop {
                 head: NONE,
                 len: 0,
@@ -680,9 +679,14 @@ impl Front {
     /// Checks the front's structure: links are mutual, loop lengths and ids
     /// match, no edge is degenerate, and the grid files every live edge.
     pub fn check_invariants(&self, nodes: &[Point]) -> Result<(), String> {
-        let live = self.live_loops().count();
+        let live: BTreeSet<u32> = (0..self.loops.len() as u32)
+            .filter(|&l| self.loops[l as usize].alive)
+            .collect();
         if live != self.live {
-            return Err(format!("{live} live loops, the count says {}", self.live));
+            return Err(format!(
+                "live loops {live:?}, the front's list says {:?}",
+                self.live
+            ));
         }
         let mut count = 0;
         for lid in self.live_loops() {
