@@ -795,6 +795,83 @@ pub fn polish(mesh: &mut QuadMesh, params: &SmoothParams) -> usize {
 /// A quad may shrink to this fraction of its area when polished.
 pub const POLISH_AREA_RATIO: f64 = 0.7;
 
+/// [`untaper`] may lower a quad's scaled Jacobian to this, or not at all
+/// if it is lower already.
+pub const UNTAPER_FLOOR: f64 = 0.5;
+
+/// Brings quads whose longest side is over [`GOOD_RATIO`] times their
+/// shortest (the thesis's aspect and taper bound, §1.2) under it where one
+/// interior corner's move can: each interior corner of such a quad is
+/// moved, by pattern search, to where its quads' side ratios exceed the
+/// bound least, then where the worst of their scaled Jacobians is best;
+/// no quad may stop being measurably convex, shrink under
+/// [`MIN_AREA_RATIO`] of its area or fall under [`UNTAPER_FLOOR`] (or its
+/// own scaled Jacobian, if lower). A move is kept only when all of the
+/// node's quads end within the bound, so quads the boundary forces past
+/// it (a slit between long walls) are left as they are. Returns the
+/// number of nodes moved.
+pub fn untaper(mesh: &mut QuadMesh) -> usize {
+    let over = |m: &QuadMesh, q: &[u32; 4]| Shape::of(m.corners(q)).side_ratio() > GOOD_RATIO;
+    let mut mark = vec![false; mesh.nodes.len()];
+    let mut any = false;
+    for q in &mesh.quads {
+        if over(mesh, q) {
+            any = true;
+            for &v in q {
+                mark[v as usize] = true;
+            }
+        }
+    }
+    if !any {
+        return 0;
+    }
+    on_nodes(mesh, Some(&mark), |mesh, adj, nodes| {
+        let mut moved = 0;
+        for &v in nodes {
+            let quads = &adj.quads[adj.quad_start[v] as usize..adj.quad_start[v + 1] as usize];
+            if !quads.iter().any(|&k| over(mesh, &mesh.quads[k as usize])) {
+                continue;
+            }
+            let floors: Vec<(f64, f64)> = quads
+                .iter()
+                .map(|&k| {
+                    let s = Shape::of(mesh.corners(&mesh.quads[k as usize]));
+                    (
+                        s.scaled_jacobian.min(UNTAPER_FLOOR),
+                        MIN_AREA_RATIO * s.area,
+                    )
+                })
+                .collect();
+            let quality = |m: &QuadMesh, _: f64| {
+                let mut excess = 0.0;
+                let mut worst = f64::INFINITY;
+                for (&k, &(sj, area)) in quads.iter().zip(&floors) {
+                    let p = m.corners(&m.quads[k as usize]);
+                    let s = Shape::of(p);
+                    if s.scaled_jacobian < sj || s.area < area || !is_measurably_convex(p) {
+                        return None;
+                    }
+                    excess += (s.side_ratio() - GOOD_RATIO).max(0.0);
+                    worst = worst.min(s.scaled_jacobian);
+                }
+                Some((-excess, worst))
+            };
+            let Some(start) = quality(mesh, f64::NEG_INFINITY) else {
+                continue;
+            };
+            let old = mesh.nodes[v];
+            let nbs = &adj.nbs[adj.nb_start[v] as usize..adj.nb_start[v + 1] as usize];
+            pattern_search(mesh, v, nbs, start, quality);
+            if quality(mesh, f64::NEG_INFINITY).is_some_and(|q| q.0 == 0.0) {
+                moved += 1;
+            } else {
+                mesh.nodes[v] = old;
+            }
+        }
+        moved
+    })
+}
+
 fn optimize_with(
     mesh: &mut QuadMesh,
     params: &SmoothParams,
@@ -1047,6 +1124,68 @@ mod tests {
 
     /// An n × n grid of unit squares with every interior node pushed off
     /// its place by a fixed pattern.
+    #[test]
+    fn untapering_brings_a_short_sided_quad_within_the_bound() {
+        // A 3 × 3 grid of unit squares whose interior node (1, 1) sits
+        // just above the bottom side: the two quads under it have a side
+        // of 0.09 beside sides of 1.
+        let id = |i: usize, j: usize| (j * 4 + i) as u32;
+        let mut pts = Vec::new();
+        for j in 0..4 {
+            for i in 0..4 {
+                pts.push(Point::new(i as f64, j as f64));
+            }
+        }
+        pts[id(1, 1) as usize] = Point::new(1.0, 0.09);
+        let mut quads = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        let start = QuadMesh::from_quads(pts, quads).unwrap();
+        let worst_ratio = |m: &QuadMesh| {
+            m.quads
+                .iter()
+                .map(|q| Shape::of(m.corners(q)).side_ratio())
+                .fold(0.0, f64::max)
+        };
+        assert!(worst_ratio(&start) > GOOD_RATIO);
+        let mut m = start.clone();
+        assert_eq!(untaper(&mut m), 1);
+        assert!(worst_ratio(&m) <= GOOD_RATIO, "{}", worst_ratio(&m));
+        for (k, q) in m.quads.iter().enumerate() {
+            let (before, after) = (quad_sj(&start, q), quad_sj(&m, q));
+            assert!(
+                after >= before.min(UNTAPER_FLOOR),
+                "quad {k}: {before} -> {after}"
+            );
+        }
+        for v in 0..m.n_boundary() {
+            assert_eq!(m.nodes[v], start.nodes[v], "boundary node {v} moved");
+        }
+        // Nothing over the bound: nothing to do.
+        assert_eq!(untaper(&mut m), 0);
+    }
+
+    #[test]
+    fn untapering_leaves_a_quad_the_boundary_forces() {
+        // A strip of two quads between a side of 0.05 and sides of 1: no
+        // interior node, nothing moves.
+        let pts = vec![
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 0.0),
+            Point::new(2.0, 0.0),
+            Point::new(2.0, 0.05),
+            Point::new(1.0, 0.05),
+            Point::new(0.0, 0.05),
+        ];
+        let mut m = QuadMesh::from_quads(pts, vec![[0, 1, 4, 5], [1, 2, 3, 4]]).unwrap();
+        let before = m.clone();
+        assert_eq!(untaper(&mut m), 0);
+        assert_eq!(m, before);
+    }
+
     fn jittered_grid(n: usize) -> QuadMesh {
         let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
         let mut pts = Vec::new();

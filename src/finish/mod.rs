@@ -21,7 +21,7 @@ pub use params::FinishParams;
 use crate::extract::{MeshError, Mesher};
 use crate::geom::Point;
 use crate::mesh::QuadMesh;
-use crate::smooth::{polish, unflatten, LOCAL_ABOVE};
+use crate::smooth::{polish, unflatten, untaper, LOCAL_ABOVE};
 use cleanup::improve;
 use coarsen::coarsen;
 use remesh::remesh_bad;
@@ -109,6 +109,9 @@ pub fn finish_phased(
         remesh_bad(&mut mesh, mesher.model(), mesher.params(), f);
         phase(FinishPhase::Smoothing);
         polish(&mut mesh, &f.smooth);
+        if f.smooth.optimize_sweeps > 0 {
+            untaper(&mut mesh);
+        }
     }
     phase(FinishPhase::Checking);
     unflatten(&mut mesh);
