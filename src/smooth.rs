@@ -1129,21 +1129,10 @@ mod tests {
         // A 3 × 3 grid of unit squares whose interior node (1, 1) sits
         // just above the bottom side: the two quads under it have a side
         // of 0.09 beside sides of 1.
-        let id = |i: usize, j: usize| (j * 4 + i) as u32;
-        let mut pts = Vec::new();
-        for j in 0..4 {
-            for i in 0..4 {
-                pts.push(Point::new(i as f64, j as f64));
-            }
-        }
-        pts[id(1, 1) as usize] = Point::new(1.0, 0.09);
-        let mut quads = Vec::new();
-        for j in 0..3 {
-            for i in 0..3 {
-                quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
-            }
-        }
-        let start = QuadMesh::from_quads(pts, quads).unwrap();
+        let start = grid_at(3, |i, j| match (i, j) {
+            (1, 1) => Point::new(1.0, 0.09),
+            _ => Point::new(i as f64, j as f64),
+        });
         let worst_ratio = |m: &QuadMesh| {
             m.quads
                 .iter()
@@ -1186,18 +1175,13 @@ mod tests {
         assert_eq!(m, before);
     }
 
-    fn jittered_grid(n: usize) -> QuadMesh {
+    /// An n × n grid of quads, node (i, j) at `at(i, j)`.
+    fn grid_at(n: usize, at: impl Fn(usize, usize) -> Point) -> QuadMesh {
         let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
         let mut pts = Vec::new();
         for j in 0..=n {
             for i in 0..=n {
-                let inside = i > 0 && j > 0 && i < n && j < n;
-                let d = if inside {
-                    0.2 * ((i * 7 + j * 3) % 5) as f64 / 4.0
-                } else {
-                    0.0
-                };
-                pts.push(Point::new(i as f64 + d, j as f64 - d));
+                pts.push(at(i, j));
             }
         }
         let mut quads = Vec::new();
@@ -1207,6 +1191,18 @@ mod tests {
             }
         }
         QuadMesh::from_quads(pts, quads).unwrap()
+    }
+
+    fn jittered_grid(n: usize) -> QuadMesh {
+        grid_at(n, |i, j| {
+            let inside = i > 0 && j > 0 && i < n && j < n;
+            let d = if inside {
+                0.2 * ((i * 7 + j * 3) % 5) as f64 / 4.0
+            } else {
+                0.0
+            };
+            Point::new(i as f64 + d, j as f64 - d)
+        })
     }
 
     #[test]
