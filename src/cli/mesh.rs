@@ -85,9 +85,10 @@ pub(super) struct MeshArgs {
     #[arg(long, value_parser = parse_transitions)]
     transitions: Option<Transitions>,
     /// Loops that are logical rectangles (four corners, opposite sides
-    /// of equal segment counts) at most N elements across, and loops of
-    /// the input graded past 1:10 that have a transfinite grid, are
-    /// closed by a mapped grid (`off`: never) [default: 4].
+    /// of equal segment counts) at most N elements across are closed by a
+    /// mapped grid (`off`: never) [default: 4]. Loops of the input graded
+    /// past 1:10 get their transfinite grid too with the tuning
+    /// {"mapped": {"graded_grid": true}}.
     #[arg(long, value_parser = parse_mapped_rows)]
     mapped_rows: Option<MappedRows>,
     /// Resample the boundary first: every segment cut into

@@ -106,9 +106,10 @@ pub enum Rung {
     /// Loops of 4 and 6 nodes close by the final patterns, settled first
     /// where they are too skewed.
     SmallLoop,
-    /// Narrow logical rectangles, and loops of the given boundary graded
-    /// past [`super::mapped::GRADED_SPREAD`], close by a mapped grid
-    /// ([`super::MeshParams::mapped_rows`]).
+    /// Narrow logical rectangles, and (with
+    /// [`super::tuning::MappedTuning::graded_grid`] on) loops of the given
+    /// boundary graded past [`super::mapped::GRADED_SPREAD`], close by a
+    /// mapped grid ([`super::MeshParams::mapped_rows`]).
     MappedGrid,
     /// A corner of the given boundary between a short and a long segment
     /// takes a fan of quads around it ([`super::tuning::FanTuning`]).
@@ -462,8 +463,8 @@ impl Mesher {
         None
     }
 
-    /// [`Rung::MappedGrid`]: narrow logical rectangles and strongly graded
-    /// loops of the given boundary close by a mapped grid
+    /// [`Rung::MappedGrid`]: narrow logical rectangles (and strongly graded
+    /// loops of the given boundary, if asked) close by a mapped grid
     /// ([`Mesher::close_mapped`]).
     fn mapped_grid(&mut self) -> Option<StepReport> {
         self.params.mapped_rows?;

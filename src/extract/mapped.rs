@@ -15,11 +15,13 @@
 //! match. The grid is taken only if every quad is convex with a scaled
 //! Jacobian of at least [`MappedTuning::min_sj`](super::tuning::MappedTuning::min_sj) and no other loop lies inside.
 //!
-//! A loop of the given boundary graded past [`GRADED_SPREAD`] (a side
-//! graded 1:100 towards a corner, which quads about as long as they are
-//! wide cannot follow) gets its [`transfinite`] grid whatever its width,
-//! as a Gmsh transfinite surface would: the columns carry the grading
-//! across.
+//! With [`MappedTuning::graded_grid`](super::tuning::MappedTuning::graded_grid)
+//! on (it is off by default), a loop of the given boundary graded past
+//! [`GRADED_SPREAD`] (a side graded 1:100 towards a corner) gets its
+//! [`transfinite`] grid whatever its width, as a Gmsh transfinite surface
+//! would: the columns carry the grading across, as slivers where the other
+//! sides are spaced evenly. By default such a loop is left to extraction,
+//! whose corner fans and transitions coarsen the grading within a few rows.
 
 use super::closure::{is_pinched, LoopGeometry};
 use super::report::{StepKind, StepReport};
@@ -252,9 +254,9 @@ fn best_grid(pts: &[Point], choices: impl Iterator<Item = [usize; 4]>) -> Option
 pub const TRANSFINITE_CANDIDATES: usize = 8;
 
 /// A loop of the given boundary whose longest segment is over this many
-/// times its shortest is graded past what extraction's quads, about as long
-/// as they are wide, can follow: it gets its [`transfinite`] grid when it
-/// has one.
+/// times its shortest is strongly graded: with
+/// [`MappedTuning::graded_grid`](super::tuning::MappedTuning::graded_grid)
+/// on, it gets its [`transfinite`] grid when it has one.
 pub const GRADED_SPREAD: f64 = crate::quality::GOOD_RATIO;
 
 /// Longest over shortest segment of a closed loop.
@@ -308,8 +310,10 @@ pub fn transfinite(pts: &[Point]) -> Option<(Grid, f64)> {
 impl Mesher {
     /// Closes loop `lid` by a mapped grid, if it is a logical rectangle at
     /// most [`MeshParams::mapped_rows`](super::MeshParams::mapped_rows)
-    /// across whose grid is good enough, or a loop of the given boundary
-    /// graded past [`GRADED_SPREAD`] whose [`transfinite`] grid is.
+    /// across whose grid is good enough, or (with
+    /// [`MappedTuning::graded_grid`](super::tuning::MappedTuning::graded_grid)
+    /// on) a loop of the given boundary graded past [`GRADED_SPREAD`] whose
+    /// [`transfinite`] grid is.
     pub(super) fn close_mapped(&mut self, lid: u32) -> Option<StepReport> {
         let (rows, (slots, nodes, pts)) = self.grid_loop(lid, |m| &mut m.grids.mapped)?;
         let min_sj = self.params.tuning.mapped.min_sj;
@@ -320,7 +324,10 @@ impl Mesher {
             Some(g) => g,
             None => {
                 let given = nodes.iter().all(|&v| self.is_boundary(v));
-                if !given || segment_spread(&pts) <= GRADED_SPREAD {
+                if !self.params.tuning.mapped.graded_grid
+                    || !given
+                    || segment_spread(&pts) <= GRADED_SPREAD
+                {
                     return None;
                 }
                 let (g, sj) = transfinite(&pts)?;

@@ -79,9 +79,11 @@ pub struct MeshParams {
     pub transition_ratio: Option<f64>,
     /// A loop that is a logical rectangle (four corners, opposite sides of
     /// equal edge counts) at most this many elements across is closed in
-    /// one step by a mapped grid ([`super::mapped`]), as is a loop of the
-    /// given boundary graded past [`super::mapped::GRADED_SPREAD`] that has
-    /// a [`super::mapped::transfinite`] grid; `None` turns both off
+    /// one step by a mapped grid ([`super::mapped`]), as is, with
+    /// [`MappedTuning::graded_grid`](super::tuning::MappedTuning::graded_grid)
+    /// on, a loop of the given boundary graded past
+    /// [`super::mapped::GRADED_SPREAD`] that has a
+    /// [`super::mapped::transfinite`] grid; `None` turns both off
     /// (default 4).
     pub mapped_rows: Option<usize>,
     /// The size field to follow inside the domain (a drawing's target

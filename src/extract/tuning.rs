@@ -461,6 +461,16 @@ pub struct MappedTuning {
     /// again whenever it has changed, and the front of a large domain changes
     /// every step (a 4 × 196 strip is the longest mapped).
     pub max_loop: usize,
+    /// A loop of the given boundary graded past
+    /// [`GRADED_SPREAD`](super::mapped::GRADED_SPREAD) closes by its
+    /// [`transfinite`](super::mapped::transfinite) grid when it has one,
+    /// whatever its width (Gmsh's transfinite surface). Off by default:
+    /// the grid's columns carry the grading across the whole domain, so
+    /// where the other sides are spaced evenly its quads are slivers (a
+    /// side graded 1:158 beside sides of even spacing gave 267 quads with
+    /// a side ratio over 10), where extraction's corner fans and
+    /// transitions coarsen the grading within a few rows.
+    pub graded_grid: bool,
 }
 
 impl MappedTuning {
@@ -469,6 +479,7 @@ impl MappedTuning {
         min_sj: 0.4,
         strip_sj: 0.2,
         max_loop: 400,
+        graded_grid: false,
     };
 }
 
