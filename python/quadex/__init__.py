@@ -46,6 +46,14 @@ def _source(source):
     return [_loop(l) for l in loops]
 
 
+def _options(options):
+    """The options as the extension takes them: ``tuning`` as JSON text."""
+    tuning = options.get("tuning")
+    if tuning is not None and not isinstance(tuning, str):
+        options = {**options, "tuning": json.dumps(tuning)}
+    return options
+
+
 def _to_meshio(out, info):
     import meshio
 
@@ -88,13 +96,15 @@ def mesh(source, size=None, order=1, model="default", **options):
     ``quadex mesh``'s, by name: ``strategy``, ``points``, ``smooth``,
     ``cleanup``, ``coarsen``, ``remesh_below``, ``pure_model``, ``fill``,
     ``layers``, ``transitions``, ``mapped_rows``, ``resample``, ``size_at``,
-    ``size_on``, ``gradation``, ``threads`` (docs/python.md).
+    ``size_on``, ``gradation``, ``threads``, and ``tuning``: the engine's
+    constants as ``--tuning``'s file holds them, a dict or its JSON text,
+    e.g. ``{"mapped": {"graded_grid": True}}`` (docs/python.md).
 
     Regions and boundary groups are cell sets named as in the ``.msh``
     export; ``mesh.info`` holds the quality figures and step counts.
     Raises ``QuadexError`` with the command line's message.
     """
-    out = _quadex.mesh(_source(source), size=size, order=order, model=model, **options)
+    out = _quadex.mesh(_source(source), size=size, order=order, model=model, **_options(options))
     info = {"quality": json.loads(out["quality"]), "steps": json.loads(out["steps"])}
     return _to_meshio(out, info)
 
@@ -118,7 +128,7 @@ class Mesher:
     """
 
     def __init__(self, source, model="default", **options):
-        self._m = _quadex._Mesher(_source(source), model=model, **options)
+        self._m = _quadex._Mesher(_source(source), model=model, **_options(options))
 
     @property
     def done(self):

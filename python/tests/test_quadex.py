@@ -285,3 +285,45 @@ def test_meshing_releases_the_gil():
     lo, hi = t0 + 0.2 * (t1 - t0), t1 - 0.2 * (t1 - t0)
     inside = sum(lo <= x <= hi for x in ticks)
     assert inside > 100, (inside, t1 - t0)
+
+
+def graded_quadrilateral(m=20, n=12, ratio=150.0):
+    """The unit square, bottom and top of m segments graded geometrically
+    1:ratio towards the right-hand corners, the sides of n even segments,
+    counter-clockwise."""
+    g = ratio ** (1.0 / (m - 1))
+    steps = g ** np.arange(m)
+    from_fine = np.r_[0.0, np.cumsum(steps) / steps.sum()]
+    from_fine[-1] = 1.0
+    bottom = np.c_[1.0 - from_fine[m:0:-1], np.zeros(m)]
+    right = np.c_[np.ones(n), np.arange(n) / n]
+    top = np.c_[1.0 - from_fine[:m], np.ones(m)]
+    left = np.c_[np.zeros(n), 1.0 - np.arange(n) / n]
+    return np.concatenate([bottom, right, top, left])
+
+
+def test_tuning_is_the_command_lines(tmp_path):
+    loop = graded_quadrilateral()
+    default = quadex.mesh(loop)
+    assert "Mapped" not in default.info["steps"]["by_kind"]
+    grid = quadex.mesh(loop, tuning={"mapped": {"graded_grid": True}})
+    assert grid.info["steps"]["by_kind"] == {"Mapped": 1}
+    assert len(grid.cells_dict["quad"]) == 20 * 12
+    poly = tmp_path / "graded.poly"
+    k = len(loop)
+    with open(poly, "w") as f:
+        f.write(f"{k} 2 0 0\n")
+        f.writelines(f"{i + 1} {float(x)!r} {float(y)!r}\n" for i, (x, y) in enumerate(loop))
+        f.write(f"{k} 0\n")
+        f.writelines(f"{i + 1} {i + 1} {(i + 1) % k + 1}\n" for i in range(k))
+        f.write("0\n")
+    tuning = tmp_path / "tuning.json"
+    tuning.write_text('{"mapped": {"graded_grid": true}}')
+    theirs = cli_mesh(tmp_path, str(poly), "--tuning", str(tuning))
+    assert np.array_equal(grid.points, theirs.points[:, :2])
+    assert np.array_equal(grid.cells_dict["quad"], theirs.cells_dict["quad"])
+    stepped = quadex.Mesher(loop, tuning='{"mapped": {"graded_grid": true}}')
+    stepped.step()
+    assert stepped.done
+    with pytest.raises(quadex.QuadexError, match="unknown field `graded`"):
+        quadex.mesh(loop, tuning={"mapped": {"graded": True}})

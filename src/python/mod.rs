@@ -104,6 +104,11 @@ fn options(kwargs: Option<&Bound<'_, PyDict>>, drawing: bool) -> PyResult<Option
             "size_on" => o.size_on = v.extract()?,
             "gradation" => o.gradation = v.extract()?,
             "threads" => o.threads = v.extract()?,
+            "tuning" => {
+                let text: String = v.extract()?;
+                o.tuning = serde_json::from_str(&text)
+                    .map_err(|e| QuadexError::new_err(format!("not a tuning: {e}")))?;
+            }
             _ => {
                 return Err(PyTypeError::new_err(format!(
                     "unexpected keyword argument `{k}`"

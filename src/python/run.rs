@@ -5,7 +5,7 @@
 
 use crate::boundary::Boundary;
 use crate::boundary_edit::Draft;
-use crate::extract::{MeshParams, StepStats, Strategy};
+use crate::extract::{MeshParams, StepStats, Strategy, Tuning};
 use crate::finish::remesh::RemeshParams;
 use crate::geom::Point;
 use crate::model::{self, Model};
@@ -79,6 +79,8 @@ pub struct Options {
     pub gradation: Option<f64>,
     /// `--threads N` (regions meshed in parallel; the mesh is the same).
     pub threads: Option<usize>,
+    /// `--tuning FILE`: the extraction engine's constants.
+    pub tuning: Tuning,
 }
 
 impl Options {
@@ -103,6 +105,7 @@ impl Options {
         size_on: Vec::new(),
         gradation: None,
         threads: None,
+        tuning: Tuning::DEFAULT,
     };
 
     /// Checks the values the command line's parser checks, with its
@@ -179,6 +182,7 @@ impl Options {
             fill_after_layers: self.layers,
             transition_ratio: self.transitions,
             mapped_rows: self.mapped_rows,
+            tuning: self.tuning.clone(),
             ..MeshParams::DEFAULT
         };
         let finish =
