@@ -1122,8 +1122,6 @@ mod tests {
         assert!((m.nodes[c] - Point::new(1.0, 1.0)).length() < 1e-12);
     }
 
-    /// An n × n grid of unit squares with every interior node pushed off
-    /// its place by a fixed pattern.
     #[test]
     fn untapering_brings_a_short_sided_quad_within_the_bound() {
         // A 3 × 3 grid of unit squares whose interior node (1, 1) sits
@@ -1193,6 +1191,8 @@ mod tests {
         QuadMesh::from_quads(pts, quads).unwrap()
     }
 
+    /// An n × n grid of unit squares with every interior node pushed off
+    /// its place by a fixed pattern.
     fn jittered_grid(n: usize) -> QuadMesh {
         grid_at(n, |i, j| {
             let inside = i > 0 && j > 0 && i < n && j < n;
