@@ -218,6 +218,11 @@ pub struct Front {
     /// keeps their dead loops, and the steps that look at every live loop
     /// need not pass over those.
     live: BTreeSet<u32>,
+    /// The loops changed (nodes, length, alive or not) since the last
+    /// [`Front::take_changed`], in the order of the changes, with
+    /// repeats: what lets a step look at the loops that changed rather
+    /// than at every loop. A new front lists all its loops.
+    changed: Vec<u32>,
 }
 
 impl Front {
@@ -240,6 +245,7 @@ impl Front {
             grid: EdgeGrid::new(bb, cell, max_cells),
             alive: 0,
             live: (0..loops.len() as u32).collect(),
+            changed: Vec::new(),
         };
         for l in loops {
             let first = f.slots.len() as SlotId;
@@ -398,8 +404,20 @@ impl Front {
     fn grid_insert(&mut self, s: SlotId, nodes: &[Point]) {
         let (a, b) = (self.node(s), self.node(self.next(s)));
         self.grid.insert(s, nodes[a as usize], nodes[b as usize]);
-        let l = &mut self.loops[self.slots[s as usize].loop_id as usize];
+        let lid = self.slots[s as usize].loop_id;
+        let l = &mut self.loops[lid as usize];
         l.version = l.version.wrapping_add(1).max(1);
+        self.changed.push(lid);
+    }
+
+    /// The loops changed since the last call (sorted, each once; all of
+    /// them on a new front), and forgets them: a loop not listed has the
+    /// same slots, length and state as at that call.
+    pub fn take_changed(&mut self) -> Vec<u32> {
+        let mut changed = std::mem::take(&mut self.changed);
+        changed.sort_unstable();
+        changed.dedup();
+        changed
     }
 
     /// Type 0: the node at slot `s` is replaced by `node` (same loop).
@@ -497,6 +515,7 @@ impl Front {
         if l.alive {
             self.live.remove(&lid);
         }
+        self.changed.push(lid);
         l.len = 0;
         l.alive = false;
     }
@@ -559,6 +578,7 @@ impl Front {
                 s = self.next(s);
             }
             let keep = if short == a { b } else { a };
+            self.changed.extend([la, new_id]);
             self.loops[la as usize].len = total - short_len;
             self.loops[la as usize].head = keep;
             (self.slot(a).loop_id, self.slot(b).loop_id)
@@ -582,6 +602,7 @@ impl Front {
                 s = self.next(s);
             }
             self.loops[keep as usize].len = total;
+            self.changed.extend([keep, gone]);
             self.live.remove(&gone);
             self.loops[gone as usize] = FrontLoop {
                 head: NONE,

@@ -17,6 +17,7 @@ use super::repair::Squares;
 use super::report::{MeshError, Remedy, StepReport};
 use super::session::Mesher;
 use crate::front::SlotId;
+use std::collections::BTreeSet;
 use std::f64::consts::PI;
 
 /// The row-start rung's state (strategy B): the coarsest band and deepest
@@ -68,6 +69,19 @@ impl RowStarts {
 #[derive(Clone, Debug, Default)]
 pub(super) struct SmallLoops {
     stuck: Vec<u64>,
+}
+
+/// The loops two rungs look at at every step, kept up to date from the
+/// front's changes ([`crate::front::Front::take_changed`]) rather than
+/// found among all the live loops each time: on a plate of a thousand
+/// holes, most steps change one loop.
+#[derive(Clone, Debug, Default)]
+pub(super) struct WatchedLoops {
+    /// The live loops of at most [`CLOSED_LOOP`] slots.
+    small: BTreeSet<u32>,
+    /// The loops changed since [`Rung::MappedGrid`] last found them not
+    /// [`Mesher::grid_unseen`]: every unseen loop is among them.
+    grid: BTreeSet<u32>,
 }
 
 /// The repairs' budgets: rip-ups and relaxations taken so far, and
@@ -436,11 +450,17 @@ impl Mesher {
     /// close is settled and tried again, and one that neither closes nor
     /// settles is not tried again in the same state.
     fn small_loop(&mut self) -> Option<StepReport> {
-        let small: Vec<u32> = self
-            .front
-            .live_loops()
-            .filter(|&l| self.front.loops[l as usize].len <= CLOSED_LOOP)
-            .collect();
+        self.watch_loops();
+        let small: Vec<u32> = self.watched.small.iter().copied().collect();
+        #[cfg(test)]
+        assert_eq!(
+            small,
+            self.front
+                .live_loops()
+                .filter(|&l| self.front.loops[l as usize].len <= CLOSED_LOOP)
+                .collect::<Vec<u32>>(),
+            "the watched small loops are the small live loops"
+        );
         for lid in small {
             let key = self.small_loop_key(lid);
             if self.small.stuck.get(lid as usize) == Some(&key) {
@@ -468,14 +488,53 @@ impl Mesher {
     /// ([`Mesher::close_mapped`]).
     fn mapped_grid(&mut self) -> Option<StepReport> {
         self.params.mapped_rows?;
-        for lid in 0..self.front.loops.len() as u32 {
+        self.watch_loops();
+        let changed: Vec<u32> = self.watched.grid.iter().copied().collect();
+        #[cfg(test)]
+        assert_eq!(
+            changed
+                .iter()
+                .copied()
+                .filter(|&l| self.grid_unseen(l))
+                .collect::<Vec<u32>>(),
+            (0..self.front.loops.len() as u32)
+                .filter(|&l| self.grid_unseen(l))
+                .collect::<Vec<u32>>(),
+            "every unseen loop is watched"
+        );
+        for lid in changed {
             if self.grid_unseen(lid) {
                 if let Some(r) = self.close_mapped(lid) {
                     return Some(r);
                 }
             }
+            if !self.grid_unseen(lid) {
+                self.watched.grid.remove(&lid);
+            }
         }
         None
+    }
+
+    /// Brings [`WatchedLoops`] up to date with the front's changes (a
+    /// front built anew lists all its loops; ids past its last are
+    /// dropped).
+    fn watch_loops(&mut self) {
+        let n = self.front.loops.len() as u32;
+        let w = &mut self.watched;
+        for set in [&mut w.small, &mut w.grid] {
+            if set.last().is_some_and(|&l| l >= n) {
+                let _stale = set.split_off(&n);
+            }
+        }
+        for lid in self.front.take_changed() {
+            let l = &self.front.loops[lid as usize];
+            if l.alive && l.len <= CLOSED_LOOP {
+                w.small.insert(lid);
+            } else {
+                w.small.remove(&lid);
+            }
+            w.grid.insert(lid);
+        }
     }
 
     /// [`Rung::Queue`]: reference points in queue order; poor elements
@@ -761,5 +820,49 @@ impl Mesher {
             .loop_slots(lid)
             .into_iter()
             .any(|s| self.front.angle(s, &self.mesh.nodes) <= hi)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::extract::{MeshParams, StepOutcome};
+    use std::sync::Arc;
+
+    /// After every step of runs over many loops (a plate of nine holes and
+    /// real-like domains: bands, zig-zags, tube sheets, graded sides), the
+    /// loops the front's changes kept are the ones a scan of every loop
+    /// finds: the small live loops, and every loop not yet looked at for
+    /// a mapped grid among the watched ones.
+    #[test]
+    fn the_watched_loops_are_the_ones_a_scan_finds() {
+        let model: Arc<dyn crate::model::Model> =
+            Arc::new(crate::model::default_model().expect("the shipped model"));
+        let mut boundaries = vec![crate::domains::perforated_plate(3)];
+        boundaries.extend(
+            crate::domains::real_like_domains(8, 7)
+                .into_iter()
+                .map(|d| d.boundary),
+        );
+        let mut checked = 0;
+        for b in boundaries {
+            let mut m = Mesher::new(b, model.clone(), MeshParams::DEFAULT);
+            while let StepOutcome::Stepped(_) = m.step().expect("a step") {
+                m.watch_loops();
+                let small: Vec<u32> = m
+                    .front
+                    .live_loops()
+                    .filter(|&l| m.front.loops[l as usize].len <= CLOSED_LOOP)
+                    .collect();
+                assert_eq!(m.watched.small.iter().copied().collect::<Vec<u32>>(), small);
+                for l in 0..m.front.loops.len() as u32 {
+                    if m.grid_unseen(l) {
+                        assert!(m.watched.grid.contains(&l), "loop {l} unseen, not watched");
+                    }
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > 1000, "{checked} steps checked");
     }
 }

@@ -8,7 +8,7 @@ use super::candidate::Cand;
 use super::candidate::Rejections;
 use super::fill_step::FillBudget;
 use super::guard::{Limits, Scratch};
-use super::ladder::{Repairs, RowStarts, SmallLoops};
+use super::ladder::{Repairs, RowStarts, SmallLoops, WatchedLoops};
 use super::mapped::GridsSeen;
 use super::memo::EvalMemo;
 use super::params::MeshParams;
@@ -75,6 +75,7 @@ pub struct Mesher {
     // Each heuristic's state.
     pub(super) rows: RowStarts,
     pub(super) small: SmallLoops,
+    pub(super) watched: WatchedLoops,
     pub(super) grids: GridsSeen,
     pub(super) bands: super::band::BandsSeen,
     pub(super) fans: super::fan::Fans,
@@ -207,6 +208,7 @@ impl Mesher {
             scratch: Scratch::default(),
             rows: RowStarts::default(),
             small: SmallLoops::default(),
+            watched: WatchedLoops::default(),
             grids: GridsSeen::default(),
             bands: Default::default(),
             fans: Default::default(),
