@@ -410,14 +410,14 @@ impl Front {
         self.changed.push(lid);
     }
 
-    /// The loops changed since the last call (sorted, each once; all of
-    /// them on a new front), and forgets them: a loop not listed has the
-    /// same slots, length and state as at that call.
-    pub fn take_changed(&mut self) -> Vec<u32> {
-        let mut changed = std::mem::take(&mut self.changed);
-        changed.sort_unstable();
-        changed.dedup();
-        changed
+    /// Puts into `out` the loops changed since the last call (sorted, each
+    /// once; all of them on a new front), and forgets them: a loop not
+    /// listed has the same slots, length and state as at that call.
+    pub fn take_changed(&mut self, out: &mut Vec<u32>) {
+        out.clear();
+        out.append(&mut self.changed);
+        out.sort_unstable();
+        out.dedup();
     }
 
     /// Type 0: the node at slot `s` is replaced by `node` (same loop).

@@ -79,9 +79,12 @@ pub(super) struct SmallLoops {
 pub(super) struct WatchedLoops {
     /// The live loops of at most [`CLOSED_LOOP`] slots.
     small: BTreeSet<u32>,
-    /// The loops changed since [`Rung::MappedGrid`] last found them not
-    /// [`Mesher::grid_unseen`]: every unseen loop is among them.
+    /// The loops of a size for a mapped grid changed since
+    /// [`Rung::MappedGrid`] last found them not [`Mesher::grid_unseen`]:
+    /// every unseen loop is among them.
     grid: BTreeSet<u32>,
+    /// The front's last changes, a buffer kept for reuse.
+    changed: Vec<u32>,
 }
 
 /// The repairs' budgets: rip-ups and relaxations taken so far, and
@@ -451,17 +454,22 @@ impl Mesher {
     /// settles is not tried again in the same state.
     fn small_loop(&mut self) -> Option<StepReport> {
         self.watch_loops();
-        let small: Vec<u32> = self.watched.small.iter().copied().collect();
         #[cfg(test)]
-        assert_eq!(
-            small,
-            self.front
-                .live_loops()
-                .filter(|&l| self.front.loops[l as usize].len <= CLOSED_LOOP)
-                .collect::<Vec<u32>>(),
+        assert!(
+            self.watched
+                .small
+                .iter()
+                .copied()
+                .eq(self
+                    .front
+                    .live_loops()
+                    .filter(|&l| self.front.loops[l as usize].len <= CLOSED_LOOP)),
             "the watched small loops are the small live loops"
         );
-        for lid in small {
+        // In id order; the set stays as it is until the next step.
+        let mut from = 0;
+        while let Some(&lid) = self.watched.small.range(from..).next() {
+            from = lid + 1;
             let key = self.small_loop_key(lid);
             if self.small.stuck.get(lid as usize) == Some(&key) {
                 continue;
@@ -489,20 +497,17 @@ impl Mesher {
     fn mapped_grid(&mut self) -> Option<StepReport> {
         self.params.mapped_rows?;
         self.watch_loops();
-        let changed: Vec<u32> = self.watched.grid.iter().copied().collect();
         #[cfg(test)]
-        assert_eq!(
-            changed
-                .iter()
-                .copied()
-                .filter(|&l| self.grid_unseen(l))
-                .collect::<Vec<u32>>(),
+        assert!(
             (0..self.front.loops.len() as u32)
                 .filter(|&l| self.grid_unseen(l))
-                .collect::<Vec<u32>>(),
+                .all(|l| self.watched.grid.contains(&l)),
             "every unseen loop is watched"
         );
-        for lid in changed {
+        // In id order; only this loop takes loops out of the set.
+        let mut from = 0;
+        while let Some(&lid) = self.watched.grid.range(from..).next() {
+            from = lid + 1;
             if self.grid_unseen(lid) {
                 if let Some(r) = self.close_mapped(lid) {
                     return Some(r);
@@ -526,14 +531,20 @@ impl Mesher {
                 let _stale = set.split_off(&n);
             }
         }
-        for lid in self.front.take_changed() {
+        self.front.take_changed(&mut w.changed);
+        let grid_sizes = 8..=self.params.tuning.mapped.max_loop;
+        for &lid in &w.changed {
             let l = &self.front.loops[lid as usize];
             if l.alive && l.len <= CLOSED_LOOP {
                 w.small.insert(lid);
             } else {
                 w.small.remove(&lid);
             }
-            w.grid.insert(lid);
+            // A loop of another size is not unseen; it is listed again
+            // when it changes.
+            if l.alive && grid_sizes.contains(&l.len) {
+                w.grid.insert(lid);
+            }
         }
     }
 
