@@ -130,9 +130,10 @@ pub(super) struct MeshArgs {
     #[arg(long)]
     serendipity: bool,
     /// Threads (default: every core): the regions of a file with several
-    /// are meshed side by side, and the remeshing works out the regions of
-    /// the next bad quads together. The mesh is the same whatever the
-    /// count.
+    /// are meshed side by side, the remeshing works out the regions of the
+    /// next bad quads together, and the optimisation of a large mesh
+    /// searches nodes that share no quad together. The mesh is the same
+    /// whatever the count.
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
     threads: Option<u16>,
     /// The extraction engine's constants from a JSON file: any of the
