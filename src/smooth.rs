@@ -1158,29 +1158,32 @@ fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usi
             }
         }
         let mut moved_now = 0;
+        let wanted = |visits: &Visits, v: usize| {
+            visits.due(v, sweep) && adj.quads_at(v).iter().any(|&k| poor[k as usize])
+        };
+        // Node `v` moves to `at`: the nodes and quads it touches are marked.
+        let mut take = |mesh: &mut QuadMesh, visits: &mut Visits, v: usize, at: Point| {
+            mesh.nodes[v] = at;
+            moved_now += 1;
+            visits.moved(mesh, adj, v, sweep);
+            for &k in adj.quads_at(v) {
+                stale[k as usize] = true;
+            }
+        };
         for group in &groups {
             if !grouped {
                 for &v in group {
-                    if !(visits.due(v, sweep) && adj.quads_at(v).iter().any(|&k| poor[k as usize]))
-                    {
+                    if !wanted(&visits, v) {
                         continue;
                     }
-                    let Some(at) = visit(mesh, adj, v, pass, &floor, clip) else {
-                        continue;
-                    };
-                    mesh.nodes[v] = at;
-                    moved_now += 1;
-                    visits.moved(mesh, adj, v, sweep);
-                    for &k in adj.quads_at(v) {
-                        stale[k as usize] = true;
+                    if let Some(at) = visit(mesh, adj, v, pass, &floor, clip) {
+                        take(mesh, &mut visits, v, at);
                     }
                 }
                 continue;
             }
             due.clear();
-            due.extend(group.iter().copied().filter(|&v| {
-                visits.due(v, sweep) && adj.quads_at(v).iter().any(|&k| poor[k as usize])
-            }));
+            due.extend(group.iter().copied().filter(|&v| wanted(&visits, v)));
             let view: &QuadMesh = mesh;
             let to: Vec<Option<Point>> = if due.len() >= PARALLEL_NODES {
                 due.par_iter()
@@ -1192,14 +1195,8 @@ fn search_with(mesh: &mut QuadMesh, pass: &Search, adj: &Adjacency, nodes: &[usi
                     .collect()
             };
             for (&v, at) in due.iter().zip(to) {
-                let Some(at) = at else {
-                    continue;
-                };
-                mesh.nodes[v] = at;
-                moved_now += 1;
-                visits.moved(mesh, adj, v, sweep);
-                for &k in adj.quads_at(v) {
-                    stale[k as usize] = true;
+                if let Some(at) = at {
+                    take(mesh, &mut visits, v, at);
                 }
             }
         }
