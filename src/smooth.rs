@@ -352,7 +352,7 @@ fn on_nodes<R>(
 fn quads_of(adj: &Adjacency, nodes: &[usize], n_quads: usize) -> Vec<u32> {
     let mut mark = vec![false; n_quads];
     for &v in nodes {
-        for &k in &adj.quads[adj.quad_start[v] as usize..adj.quad_start[v + 1] as usize] {
+        for &k in adj.quads_at(v) {
             mark[k as usize] = true;
         }
     }
@@ -387,7 +387,7 @@ impl Visits {
     /// Node `v` moved in `sweep`: the corners of its quads are visited in
     /// this sweep (those still to come) and the next.
     fn moved(&mut self, mesh: &QuadMesh, adj: &Adjacency, v: usize, sweep: usize) {
-        for &k in &adj.quads[adj.quad_start[v] as usize..adj.quad_start[v + 1] as usize] {
+        for &k in adj.quads_at(v) {
             for &u in &mesh.quads[k as usize] {
                 self.until[u as usize] = sweep + 1;
             }
@@ -853,7 +853,7 @@ pub fn untaper(mesh: &mut QuadMesh) -> usize {
     on_nodes(mesh, Some(&mark), |mesh, adj, nodes| {
         let mut moved = 0;
         for &v in nodes {
-            let quads = &adj.quads[adj.quad_start[v] as usize..adj.quad_start[v + 1] as usize];
+            let quads = adj.quads_at(v);
             if !quads.iter().any(|&k| over(mesh, &mesh.quads[k as usize])) {
                 continue;
             }
@@ -1040,9 +1040,7 @@ fn independent_groups(mesh: &QuadMesh, adj: &Adjacency, nodes: &[usize]) -> Vec<
                 }
             }
         }
-        let g = (0..)
-            .find(|&g| !taken.get(g).copied().unwrap_or(false))
-            .unwrap_or(0);
+        let g = taken.iter().position(|&t| !t).unwrap_or(taken.len());
         if g == groups.len() {
             groups.push(Vec::new());
         }
