@@ -19,8 +19,9 @@
 //! segment's length to the long one's, and extraction goes on from there.
 //!
 //! The fan is taken only if its quads are measurably convex with a scaled
-//! Jacobian of at least [`FanTuning::min_sj`], and no front edge or node
-//! lies inside it or crosses it.
+//! Jacobian of at least [`FanTuning::min_sj`] (if not, the corner's fan of
+//! one quad fewer is tried, down to two), and no front edge or node lies
+//! inside it or crosses it.
 
 use super::report::{StepKind, StepReport};
 use super::session::Mesher;
@@ -96,6 +97,16 @@ pub fn fan_spokes(c: Point, prev: Point, next: Point, t: &FanTuning) -> Option<S
     if k < 2 {
         return None;
     }
+    Some(spokes_of(c, prev, next, k))
+}
+
+/// The `k + 1` spokes of a fan of `k` quads at a corner at `c` between
+/// `prev` and `next` (as [`fan_spokes`] has them, whatever its tuning
+/// would ask).
+fn spokes_of(c: Point, prev: Point, next: Point, k: usize) -> Spokes {
+    let (to_next, to_prev) = (next - c, prev - c);
+    let (ln, lp) = (to_next.length(), to_prev.length());
+    let angle = crate::geom::ccw_angle(c, next, prev);
     let g = (lp / ln).powf(1.0 / k as f64);
     let base = to_next.y.atan2(to_next.x);
     let dirs = (0..=k)
@@ -105,7 +116,7 @@ pub fn fan_spokes(c: Point, prev: Point, next: Point, t: &FanTuning) -> Option<S
         })
         .collect();
     let lengths = (0..=k).map(|i| ln * g.powi(i as i32)).collect();
-    Some(Spokes { c, dirs, lengths })
+    Spokes { c, dirs, lengths }
 }
 
 /// The far corner of the fan quad `c, p, m, q` between the spoke ends `p`
@@ -208,11 +219,25 @@ fn spokes_at(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<(Spokes, Point, Poi
     Some((fan_spokes(c, prev, next, t)?, prev, next))
 }
 
-/// The fan at slot `s` of `m`'s front, if it takes one ([`spokes_at`],
-/// [`fan_quads`]).
+/// The fan at slot `s` of `m`'s front, if it takes one ([`spokes_at`]):
+/// [`fan_quads`] of the spokes asked for, or if its quads do not fit, of
+/// one spoke fewer, down to two quads.
 fn plan(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<FanQuads> {
     let (sp, prev, next) = spokes_at(m, s, t)?;
-    fan_quads(&sp, prev, next, t.min_sj)
+    fitting_fan(&sp, prev, next, t.min_sj)
+}
+
+/// The quads of the fan `sp` ([`fan_quads`]), or if they do not fit, of
+/// the same corner's fan with one quad fewer ([`spokes_of`]), down to
+/// two: a far corner that cannot be squared among narrow spokes may be
+/// among wider ones.
+fn fitting_fan(sp: &Spokes, prev: Point, next: Point, min_sj: f64) -> Option<FanQuads> {
+    let k = sp.dirs.len() - 1;
+    fan_quads(sp, prev, next, min_sj).or_else(|| {
+        (2..k)
+            .rev()
+            .find_map(|j| fan_quads(&spokes_of(sp.c, prev, next, j), prev, next, min_sj))
+    })
 }
 
 impl Mesher {
@@ -269,20 +294,20 @@ mod tests {
     }
 
     #[test]
-    fn a_corner_of_segments_1_and_100_gets_four_quads_growing_evenly() {
+    fn a_corner_of_segments_1_and_100_gets_six_quads_growing_evenly() {
         let (c, prev, next) = corner(0.01, 1.0);
         let t = FanTuning::DEFAULT;
         let sp = fan_spokes(c, prev, next, &t).expect("fan");
-        // ln 100 / ln 3.2 wants 4 quads (3.96); 90° at 15° a quad would
-        // allow 6.
-        assert_eq!(sp.dirs.len(), 5);
+        // ln 100 / ln 2.5 wants 6 quads (5.03); 90° at 10° a quad would
+        // allow 9.
+        assert_eq!(sp.dirs.len(), 7);
         for w in sp.lengths.windows(2) {
-            assert!((w[1] / w[0] - 100f64.powf(0.25)).abs() < 1e-9);
+            assert!((w[1] / w[0] - 100f64.powf(1.0 / 6.0)).abs() < 1e-9);
         }
-        assert!((sp.lengths[4] - 1.0).abs() < 1e-12);
+        assert!((sp.lengths[6] - 1.0).abs() < 1e-12);
         let fan = fan_quads(&sp, prev, next, t.min_sj).expect("quads");
-        assert_eq!(fan.quads.len(), 4);
-        assert_eq!(fan.points.len(), 7);
+        assert_eq!(fan.quads.len(), 6);
+        assert_eq!(fan.points.len(), 11);
         let all = |j: usize| match j {
             0 => c,
             1 => prev,
@@ -293,9 +318,9 @@ mod tests {
         for q in &fan.quads {
             let p = q.map(all);
             assert!(is_measurably_convex(p));
-            // Each quad takes a quarter of the corner: its scaled Jacobian
-            // there is sin 22.5°.
-            assert!(Shape::of(p).scaled_jacobian > 0.38 - 1e-3, "{p:?}");
+            // Each quad takes a sixth of the corner: its scaled Jacobian
+            // there is sin 15°.
+            assert!(Shape::of(p).scaled_jacobian > 0.2588 - 1e-3, "{p:?}");
             area += polygon_area(p);
         }
         // The quads tile the fan: the outline's area is theirs.
@@ -306,6 +331,24 @@ mod tests {
         // The outline goes from next round to prev, away from the corner.
         let r: Vec<f64> = outline[1..].iter().map(|p| p.length()).collect();
         assert!(r.iter().all(|&x| x >= 0.01 - 1e-12));
+    }
+
+    #[test]
+    fn a_fan_whose_quads_do_not_fit_takes_one_fewer() {
+        let (c, prev, next) = corner(0.01, 1.0);
+        // Six quads of 15° at the corner are under a bar of 0.3 (sin 15° =
+        // 0.26); five of 18° are over it (0.31).
+        let sp = fan_spokes(c, prev, next, &FanTuning::DEFAULT).expect("fan");
+        assert_eq!(sp.dirs.len(), 7);
+        assert!(fan_quads(&sp, prev, next, 0.3).is_none());
+        let fan = fitting_fan(&sp, prev, next, 0.3).expect("a fan of five");
+        assert_eq!(fan.quads.len(), 5);
+        assert_eq!(
+            Some(&fan),
+            fan_quads(&spokes_of(c, prev, next, 5), prev, next, 0.3).as_ref()
+        );
+        // Nothing fits a bar over sin 45°: no fan, not even of two.
+        assert!(fitting_fan(&sp, prev, next, 0.75).is_none());
     }
 
     #[test]

@@ -550,10 +550,10 @@ impl FanTuning {
     /// The defaults.
     pub const DEFAULT: FanTuning = FanTuning {
         min_ratio: 8.0,
-        growth: 3.2,
-        min_angle: 15.0,
+        growth: 2.5,
+        min_angle: 10.0,
         max_angle: 150.0,
-        min_sj: 0.25,
+        min_sj: 0.16,
     };
 }
 
