@@ -305,7 +305,9 @@ def graded_quadrilateral(m=20, n=12, ratio=150.0):
 def test_tuning_is_the_command_lines(tmp_path):
     loop = graded_quadrilateral()
     default = quadex.mesh(loop)
-    assert "Mapped" not in default.info["steps"]["by_kind"]
+    # By default extraction, fans at its graded corners, not the grid.
+    assert default.info["steps"]["by_kind"].get("Fan", 0) > 0
+    assert default.info["steps"]["by_kind"] != {"Mapped": 1}
     grid = quadex.mesh(loop, tuning={"mapped": {"graded_grid": True}})
     assert grid.info["steps"]["by_kind"] == {"Mapped": 1}
     assert len(grid.cells_dict["quad"]) == 20 * 12
