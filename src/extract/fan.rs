@@ -219,9 +219,8 @@ fn spokes_at(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<(Spokes, Point, Poi
     Some((fan_spokes(c, prev, next, t)?, prev, next))
 }
 
-/// The fan at slot `s` of `m`'s front, if it takes one ([`spokes_at`]):
-/// [`fan_quads`] of the spokes asked for, or if its quads do not fit, of
-/// one spoke fewer, down to two quads.
+/// The fan at slot `s` of `m`'s front, if it takes one ([`spokes_at`],
+/// [`fitting_fan`]).
 fn plan(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<FanQuads> {
     let (sp, prev, next) = spokes_at(m, s, t)?;
     fitting_fan(&sp, prev, next, t.min_sj)

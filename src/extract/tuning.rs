@@ -542,7 +542,8 @@ pub struct FanTuning {
     /// Corners wider than this (degrees) take no fan: a side graded along
     /// a flat stretch is for the rows.
     pub max_angle: f64,
-    /// The worst quad a fan may have (scaled Jacobian).
+    /// The worst quad a fan may have (scaled Jacobian); a fan with a worse
+    /// one is tried with one quad fewer, down to two.
     pub min_sj: f64,
 }
 
