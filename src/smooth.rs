@@ -110,6 +110,11 @@ impl Adjacency {
     fn quads_at(&self, v: usize) -> &[u32] {
         &self.quads[self.quad_start[v] as usize..self.quad_start[v + 1] as usize]
     }
+
+    /// The neighbours of node `v`.
+    fn nbs_at(&self, v: usize) -> &[u32] {
+        &self.nbs[self.nb_start[v] as usize..self.nb_start[v + 1] as usize]
+    }
 }
 
 /// The quads with a corner among some interior nodes of a mesh, as a mesh
@@ -197,18 +202,14 @@ pub fn unflatten(mesh: &mut QuadMesh) -> usize {
             }
             let centroid = mesh.corners(&q).iter().copied().sum::<Point>() / 4.0;
             for v in q.map(|v| v as usize).into_iter().filter(|&v| v >= nb) {
-                let (q0, q1) = (adj.quad_start[v] as usize, adj.quad_start[v + 1] as usize);
-                let (n0, n1) = (adj.nb_start[v] as usize, adj.nb_start[v + 1] as usize);
-                let mean = adj.nbs[n0..n1]
-                    .iter()
-                    .map(|&u| mesh.nodes[u as usize])
-                    .sum::<Point>()
-                    / (n1 - n0).max(1) as f64;
+                let (quads, nbs) = (adj.quads_at(v), adj.nbs_at(v));
+                let mean = nbs.iter().map(|&u| mesh.nodes[u as usize]).sum::<Point>()
+                    / nbs.len().max(1) as f64;
                 let old = mesh.nodes[v];
                 let found = [mean, centroid].into_iter().any(|goal| {
                     UNFLATTEN_STEPS.iter().any(|&t| {
                         mesh.nodes[v] = old + (goal - old) * t;
-                        adj.quads[q0..q1]
+                        quads
                             .iter()
                             .all(|&j| is_measurably_convex(mesh.corners(&mesh.quads[j as usize])))
                     })
@@ -430,22 +431,22 @@ fn smooth_with(
             if !visits.due(v, sweep) {
                 continue;
             }
-            let (q0, q1) = (adj.quad_start[v] as usize, adj.quad_start[v + 1] as usize);
-            if q0 == q1 {
+            let quads = adj.quads_at(v);
+            if quads.is_empty() {
                 continue;
             }
-            let (n0, n1) = (adj.nb_start[v] as usize, adj.nb_start[v + 1] as usize);
+            let nbs = adj.nbs_at(v);
             let mut mean = Point::ZERO;
-            for &u in &adj.nbs[n0..n1] {
+            for &u in nbs {
                 mean += mesh.nodes[u as usize];
             }
-            mean /= (n1 - n0) as f64;
+            mean /= nbs.len() as f64;
             let old = mesh.nodes[v];
             let target = old + (mean - old) * params.relaxation;
             if (target - old).length_squared() == 0.0 {
                 continue;
             }
-            for &k in &adj.quads[q0..q1] {
+            for &k in quads {
                 if now[k as usize].is_none() {
                     now[k as usize] = Some(limits(mesh.corners(&mesh.quads[k as usize])).1);
                 }
@@ -453,7 +454,7 @@ fn smooth_with(
             mesh.nodes[v] = target;
             // A quad stays convex, and measurably so if it was.
             after.clear();
-            let ok = adj.quads[q0..q1].iter().all(|&k| {
+            let ok = quads.iter().all(|&k| {
                 let Some((b, m, st)) = now[k as usize] else {
                     return false;
                 };
@@ -468,7 +469,7 @@ fn smooth_with(
             });
             if ok {
                 moved += 1;
-                for (&k, &l) in adj.quads[q0..q1].iter().zip(&after) {
+                for (&k, &l) in quads.iter().zip(&after) {
                     now[k as usize] = Some(l);
                 }
                 visits.moved(mesh, adj, v, sweep);
@@ -885,7 +886,7 @@ pub fn untaper(mesh: &mut QuadMesh) -> usize {
                 continue;
             };
             let old = mesh.nodes[v];
-            let nbs = &adj.nbs[adj.nb_start[v] as usize..adj.nb_start[v + 1] as usize];
+            let nbs = adj.nbs_at(v);
             pattern_search(mesh, v, nbs, start, quality);
             if quality(mesh, f64::NEG_INFINITY).is_some_and(|q| q.0 == 0.0) {
                 moved += 1;
@@ -1083,7 +1084,7 @@ fn visit(
         )
     };
     let best = quality(start, f64::NEG_INFINITY)?;
-    let nbs = &adj.nbs[adj.nb_start[v] as usize..adj.nb_start[v + 1] as usize];
+    let nbs = adj.nbs_at(v);
     let at = match pass.seek {
         Seek::Worst => search(start, search_steps(mesh, v, nbs), best, quality),
         Seek::Sum { keep } if best.0 >= keep => {
