@@ -878,3 +878,43 @@ fn local_sizes_from_the_command_line() {
         assert!(!out.exists());
     }
 }
+
+/// A size far too fine for the drawing is refused before the curves are
+/// cut, with the node count it would give, and a negative size or
+/// gradation is refused by the drawing's own check, not read as an option.
+#[test]
+fn a_size_far_too_fine_or_negative_is_refused_at_once() {
+    let part = data("tests/data/cad/part.dxf");
+    // Its bolt's layer is sized 1: the other curves still count at 1e-4.
+    let bracket = data("examples/bracket.json");
+    let dir = tempfile::tempdir().unwrap();
+    for (path, args, says) in [
+        (&part, &["--size", "1e-5"][..], "take a larger size"),
+        (&bracket, &["--size", "1e-4"][..], "take a larger size"),
+        (
+            &part,
+            &["--size", "-1"][..],
+            "a size must be a positive number, not -1",
+        ),
+        (
+            &part,
+            &["--size", "4", "--gradation", "-0.5"][..],
+            "the gradation must be a positive number, not -0.5",
+        ),
+    ] {
+        let out = dir.path().join("bad.msh");
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
+            .arg("mesh")
+            .arg(path)
+            .arg("-o")
+            .arg(&out)
+            .args(args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(!out.exists());
+    }
+}

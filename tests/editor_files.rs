@@ -373,7 +373,10 @@ fn a_drawing_opens_with_its_curves_and_a_size_box() {
             .as_ref()
             .unwrap_or_else(|| panic!("{}", status(&h)));
         assert_eq!(dr.geometry.curves.len(), 2);
-        (dr.size, d.regions.as_ref().unwrap().graph.points.len())
+        (
+            dr.sizes.size,
+            d.regions.as_ref().unwrap().graph.points.len(),
+        )
     };
     // Two circles, each one path of many more points than its nodes.
     assert_eq!(strokes_of(&h, quadex::app::canvas::CURVE_COLOUR), 2);
@@ -388,7 +391,7 @@ fn a_drawing_opens_with_its_curves_and_a_size_box() {
     h.run();
     let d = h.state().doc();
     let now = d.regions.as_ref().unwrap().graph.points.len();
-    assert_eq!(d.drawing.as_ref().unwrap().size, size / 2.0);
+    assert_eq!(d.drawing.as_ref().unwrap().sizes.size, size / 2.0);
     assert!(
         now > 2 * nodes - 8 && now < 2 * nodes + 8,
         "{nodes} nodes, then {now}"
@@ -419,15 +422,16 @@ fn a_drawing_opens_with_its_curves_and_a_size_box() {
     assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&cli).unwrap());
 }
 
-/// A JSON geometry file opens as a drawing at its own target size, its
-/// spline and ellipse drawn as curves and named in the Drawing section
-/// beside the lines and arcs.
+/// A JSON geometry file opens as a drawing at its own target size, local
+/// sizes and gradation, its spline and ellipse drawn as curves and named in
+/// the Drawing section beside the lines and arcs; its export is the
+/// command line's file, byte for byte, and a new size keeps the local ones.
 #[test]
 fn a_geometry_file_opens_as_a_drawing_with_its_splines_and_ellipses() {
     let json = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/bracket.json");
     let mut h = harness(example());
     h.run();
-    h.state_mut().apply(Command::Open(json));
+    h.state_mut().apply(Command::Open(json.clone()));
     h.run();
     let (size, curves, nodes) = {
         let d = h.state().doc();
@@ -436,7 +440,7 @@ fn a_geometry_file_opens_as_a_drawing_with_its_splines_and_ellipses() {
             .as_ref()
             .unwrap_or_else(|| panic!("{}", status(&h)));
         (
-            dr.size,
+            dr.sizes.size,
             dr.geometry.curves.len(),
             d.regions.as_ref().unwrap().graph.points.len(),
         )
@@ -445,9 +449,48 @@ fn a_geometry_file_opens_as_a_drawing_with_its_splines_and_ellipses() {
     assert_eq!(curves, 7);
     assert_eq!(strokes_of(&h, quadex::app::canvas::CURVE_COLOUR), 7);
     h.get_by_label_contains(&format!(
-        "2 lines, 3 arcs, 1 ellipse, 1 spline; cut at size 4 into {nodes} boundary nodes"
+        "2 lines, 3 arcs, 1 ellipse, 1 spline; cut at size 4 (local sizes: bolt 1, 1 point; gradation 0.3) into {nodes} boundary nodes"
     ));
     h.state_mut().apply(Command::RunToEnd);
     settle(&mut h);
     assert_eq!(h.state().shown_kind(), MeshKind::Finished, "{}", status(&h));
+    let dir = tempfile::tempdir().unwrap();
+    let exe = env!("CARGO_BIN_EXE_quadex");
+    let cli_mesh = |name: &str, extra: &[&str]| {
+        let cli = dir.path().join(name);
+        let st = std::process::Command::new(exe)
+            .arg("mesh")
+            .arg(&json)
+            .arg("-o")
+            .arg(&cli)
+            .args(extra)
+            .status()
+            .unwrap();
+        assert!(st.success());
+        std::fs::read(&cli).unwrap()
+    };
+    let out = dir.path().join("bracket.msh");
+    h.state_mut().apply(Command::Export(out.clone()));
+    assert_eq!(std::fs::read(&out).unwrap(), cli_mesh("cli.msh", &[]));
+    // The bolt's circle (length 16π) is cut at its layer's size 1, not at 4.
+    let m = quadex::io::read_mesh(&out).unwrap();
+    let on_bolt = m
+        .nodes
+        .iter()
+        .filter(|p| ((p.x - 80.0).hypot(p.y - 20.0) - 8.0).abs() < 1e-9)
+        .count();
+    assert!((48..=52).contains(&on_bolt), "{on_bolt} nodes on the bolt");
+    // Another target size keeps the local ones.
+    h.state_mut().panels.tools.resample_h = 3.0;
+    h.run();
+    h.get_by_label("Apply").click();
+    h.run();
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    let out3 = dir.path().join("bracket3.msh");
+    h.state_mut().apply(Command::Export(out3.clone()));
+    assert_eq!(
+        std::fs::read(&out3).unwrap(),
+        cli_mesh("cli3.msh", &["--size", "3"])
+    );
 }

@@ -158,6 +158,8 @@ pub enum CadError {
     BadSize(f64),
     #[error("the gradation must be a positive number, not {0}")]
     BadGradation(f64),
+    #[error("a size of {size} cuts the drawing's curves (total length {length:.4e}) into at least {nodes:.3e} boundary nodes, more than {max}: take a larger size", max = crate::boundary_edit::MAX_RESAMPLED_NODES)]
+    TooFine { size: f64, length: f64, nodes: f64 },
     #[error("{0}")]
     Graph(#[from] PslgError),
 }
@@ -485,6 +487,22 @@ impl Geometry {
     /// to mesh with an even node count.
     pub fn discretise_with(&self, spec: &SizeSpec) -> Result<Discretised, CadError> {
         spec.check()?;
+        // A curve is cut at its layer's size if sized, else at the target
+        // size, or finer (near local sizes, where it turns): its length
+        // over that size is a floor on its node count, and a size far too
+        // fine for the drawing is refused before it is cut.
+        let (length, nodes) = self.curves.iter().fold((0.0, 0.0), |(l, n), c| {
+            let h = spec.layers.get(&c.layer).copied().unwrap_or(spec.size);
+            let len = c.curve.length();
+            (l + len, n + len / h)
+        });
+        if nodes > crate::boundary_edit::MAX_RESAMPLED_NODES as f64 {
+            return Err(CadError::TooFine {
+                size: spec.size,
+                length,
+                nodes,
+            });
+        }
         let (ends, vertices) = join_ends(self)?;
         let samples: Vec<curve::Samples> = self.curves.iter().map(|c| c.curve.samples()).collect();
         // The points of each sized layer's curves, to measure the distance

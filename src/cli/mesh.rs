@@ -5,7 +5,7 @@ use super::args::{
     parse_layers, parse_mapped_rows, parse_points, parse_remesh_below, parse_size_at,
     parse_size_on, parse_transitions, Layers, MappedRows, Transitions,
 };
-use super::common::{check_output, load_model, progress_bar, read_resampled};
+use super::common::{check_output, load_model, plural, progress_bar, read_resampled};
 use super::InputError;
 use anyhow::{anyhow, Context, Result};
 use clap::{Args, ValueEnum};
@@ -96,7 +96,7 @@ pub(super) struct MeshArgs {
     /// stay, one part more on the longest piece when the node count
     /// would be odd). Without it the file's nodes are the mesh's
     /// boundary nodes.
-    #[arg(long, value_name = "H")]
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
     resample: Option<f64>,
     /// Write the quality figures and step counts as JSON.
     #[arg(long)]
@@ -105,7 +105,7 @@ pub(super) struct MeshArgs {
     /// none itself): every curve is cut at about this spacing (curved
     /// ones also into at least one segment per 15° of turning), the
     /// counts made even per region, and the interior meshed to it.
-    #[arg(long, value_name = "H")]
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
     size: Option<f64>,
     /// A local size at a point of a drawing, X,Y,H (repeatable): the
     /// size there is H, growing at the gradation away from it.
@@ -118,7 +118,7 @@ pub(super) struct MeshArgs {
     size_on: Vec<(String, f64)>,
     /// How fast the size grows away from a finer local size or curve
     /// (size per unit length) [default: the file's, else 0.3].
-    #[arg(long, value_name = "G")]
+    #[arg(long, value_name = "G", allow_negative_numbers = true)]
     gradation: Option<f64>,
     /// Element order: 1 (4-node quads) or 2 (9-node quads, their
     /// boundary midside nodes on a drawing's true curves; 8-node CPS8
@@ -358,13 +358,16 @@ pub(super) fn run(a: MeshArgs) -> Result<()> {
         ),
     };
     outln!(
-        "{}: {} quads, sj min {:.3} mean {:.3}, {:.1}% in [45,135], {} irregular, {made_by}, {:.3} s",
+        "{}: {} quads, sj min {:.3} mean {:.3}, {:.1}% in [45,135], taper max {:.2}, aspect max {:.2}, {} irregular of {} interior, {made_by}, {:.3} s",
         output.display(),
         q.quads,
         q.sj_min,
         q.sj_mean,
         100.0 * q.frac_angles_45_135,
+        q.taper_max,
+        q.aspect_max,
         q.irregular_interior,
+        q.interior_nodes,
         seconds
     );
     if pure_model {
@@ -490,19 +493,25 @@ fn mesh_graph(a: MeshGraph) -> Result<()> {
     io::write_atomic_all(&files)?;
     let fills = steps.count(StepKind::Fill);
     outln!(
-        "{}: {} quads in {} regions ({} faces), {} groups, sj min {:.3} mean {:.3}, {:.1}% in [45,135], {} irregular of {} interior, {} extraction steps{}, {:.3} s",
+        "{}: {} quads in {} ({}), {}, sj min {:.3} mean {:.3}, {:.1}% in [45,135], taper max {:.2}, aspect max {:.2}, {} irregular of {} interior, {} extraction steps{}, {:.3} s",
         a.output.display(),
         q.quads,
-        m.regions.len(),
-        m.faces.len(),
-        m.groups.len(),
+        plural(m.regions.len(), "region"),
+        plural(m.faces.len(), "face"),
+        plural(m.groups.len(), "group"),
         q.sj_min,
         q.sj_mean,
         100.0 * q.frac_angles_45_135,
+        q.taper_max,
+        q.aspect_max,
         q.irregular_interior,
         q.interior_nodes,
         steps.steps - fills,
-        if fills > 0 { format!(" and {fills} region fills") } else { String::new() },
+        match fills {
+            0 => String::new(),
+            1 => " and a region fill".to_string(),
+            _ => format!(" and {fills} region fills"),
+        },
         seconds
     );
     for r in &m.regions {

@@ -24,8 +24,9 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Mesh a boundary (.poly or .json) and write the mesh; the format
-    /// follows OUT's extension: .msh (4.1), .msh22, .vtk, .vtu, .inp, .svg.
+    /// Mesh a boundary (.poly or .json) or a drawing (.dxf, or a geometry
+    /// .json, with --size) and write the mesh; the format follows OUT's
+    /// extension: .msh (4.1), .msh22, .vtk, .vtu, .inp, .svg.
     Mesh(mesh::MeshArgs),
     /// Quality figures of a mesh file (.msh); with --boundary, also checks
     /// that it meshes that boundary.

@@ -126,12 +126,14 @@ pub struct Document {
     pub drawing: Option<Drawing>,
 }
 
-/// A drawing's curves and the target size its boundary nodes are placed
-/// at ([`crate::cad::Geometry::discretise`]).
+/// A drawing's curves and the sizes its boundary nodes are placed at
+/// ([`crate::cad::Geometry::discretise_with`]): a target size, and a
+/// geometry file's local sizes (by point and by layer) and gradation, the
+/// command line's.
 #[derive(Clone, Debug)]
 pub struct Drawing {
     pub geometry: Arc<crate::cad::Geometry>,
-    pub size: f64,
+    pub sizes: crate::cad::SizeSpec,
     /// The curves given one segment more to make every region even.
     pub parity_fixes: usize,
 }
@@ -291,20 +293,21 @@ impl Document {
         self.meshing.as_ref().map(|m| &m.boundary)
     }
 
-    /// Cuts the drawing `g` into boundary nodes at `size` (its first size,
-    /// [`drawing_size`], when `None`) and meshes its regions from the
-    /// start. A size the drawing cannot be cut at leaves the document as
-    /// it was.
+    /// Cuts the drawing `g` into boundary nodes at `sizes` and meshes its
+    /// regions from the start. Sizes the drawing cannot be cut at leave
+    /// the document as it was.
     pub fn set_drawing(
         &mut self,
         g: Arc<crate::cad::Geometry>,
-        size: Option<f64>,
+        sizes: crate::cad::SizeSpec,
     ) -> Result<(), EditorError> {
-        let size = size.unwrap_or_else(|| drawing_size(&g));
-        let cut = g.discretise(size).map_err(|cause| EditorError::Drawing {
-            path: self.source.clone(),
-            cause,
-        })?;
+        let size = sizes.size;
+        let cut = g
+            .discretise_with(&sizes)
+            .map_err(|cause| EditorError::Drawing {
+                path: self.source.clone(),
+                cause,
+            })?;
         if cut.graph.points.len() > crate::boundary_edit::MAX_RESAMPLED_NODES {
             return Err(EditorError::Size(format!(
                 "a size of {size} cuts the drawing into {} nodes, more than {}: take a larger size",
@@ -319,7 +322,7 @@ impl Document {
         self.problem = None;
         self.drawing = Some(Drawing {
             geometry: g,
-            size,
+            sizes,
             parity_fixes: cut.parity_fixes.len(),
         });
         Ok(())
@@ -331,7 +334,11 @@ impl Document {
     pub fn set_size(&mut self, h: f64) -> Result<(), EditorError> {
         if let Some(d) = &self.drawing {
             let g = d.geometry.clone();
-            return self.set_drawing(g, Some(h));
+            let sizes = crate::cad::SizeSpec {
+                size: h,
+                ..d.sizes.clone()
+            };
+            return self.set_drawing(g, sizes);
         }
         if self.regions.is_some() {
             return Err(EditorError::Size(

@@ -3,7 +3,7 @@
 
 use super::project::PROJECT_FORMAT;
 use super::settings::Settings;
-use super::{Document, Replayed};
+use super::{drawing_size, Document, Replayed};
 use crate::app::error::AtPath;
 use crate::app::error::EditorError;
 use crate::boundary_edit::Draft;
@@ -80,18 +80,21 @@ impl Document {
                 path: Some(path.to_path_buf()),
                 cause,
             };
-            // A geometry file (JSON) may carry its target size; its local
-            // sizes are the command line's (`quadex mesh`).
-            let (g, size) = if crate::cad::is_geometry_file(path) {
+            // A geometry file (JSON) may carry its target size, its local
+            // sizes and its gradation: the command line's (`quadex mesh`).
+            let (g, sizes) = if crate::cad::is_geometry_file(path) {
                 let d = crate::cad::read_geometry_json(path).map_err(failed)?;
-                (d.geometry, d.size)
+                let size = d.size.unwrap_or_else(|| drawing_size(&d.geometry));
+                let sizes = d.spec(Some(size), None, &[], &[]);
+                (d.geometry, sizes)
             } else {
                 (crate::cad::read_dxf(path).map_err(failed)?, None)
             };
+            let sizes = sizes.unwrap_or_else(|| crate::cad::SizeSpec::uniform(drawing_size(&g)));
             let mut doc = Document::empty(settings);
             doc.source = Some(path.to_path_buf());
             doc.name = file_name(path);
-            doc.set_drawing(Arc::new(g), size)?;
+            doc.set_drawing(Arc::new(g), sizes)?;
             doc.boundary_edited = false;
             return Ok((doc, Vec::new()));
         }

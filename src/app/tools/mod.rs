@@ -214,7 +214,7 @@ impl Tools {
         if self.resample_for.as_ref() != Some(&id) {
             self.resample_for = Some(id);
             self.resample_h = match &doc.drawing {
-                Some(d) => d.size,
+                Some(d) => d.sizes.size,
                 None => median_segment(&doc.draft),
             };
             self.resample_loop = 0;
@@ -226,7 +226,7 @@ impl Tools {
         }
         if self.resample_h <= 0.0 {
             self.resample_h = match &doc.drawing {
-                Some(d) => d.size,
+                Some(d) => d.sizes.size,
                 None => median_segment(&doc.draft),
             };
         }

@@ -150,10 +150,30 @@ impl Tools {
         if splines > 0 {
             kinds.push(crate::app::plural(splines, "spline"));
         }
+        // A geometry file's local sizes, which the cut follows too: by
+        // layer ("bolt 1") and at points.
+        let mut local: Vec<String> = d
+            .sizes
+            .layers
+            .iter()
+            .map(|(l, h)| format!("{l} {h}"))
+            .collect();
+        if !d.sizes.points.is_empty() {
+            local.push(crate::app::plural(d.sizes.points.len(), "point"));
+        }
+        let local = if local.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " (local sizes: {}; gradation {})",
+                local.join(", "),
+                d.sizes.gradation
+            )
+        };
         ui.label(format!(
-            "{}; cut at size {} into {}{}",
+            "{}; cut at size {}{local} into {}{}",
             kinds.join(", "),
-            d.size,
+            d.sizes.size,
             crate::app::plural(nodes, "boundary node"),
             if d.parity_fixes > 0 {
                 format!(
@@ -169,7 +189,7 @@ impl Tools {
             let pts = doc.regions.iter().flat_map(|r| r.graph.points.iter().copied());
             size_value(ui, &mut self.resample_h, pts)
                 .on_hover_text("Target size H: each curve is cut into about length / H segments (arcs also one per 15°), every region's node count made even");
-            let changed = (self.resample_h - d.size).abs() > 1e-12 * d.size.abs().max(1.0);
+            let changed = (self.resample_h - d.sizes.size).abs() > 1e-12 * d.sizes.size.abs().max(1.0);
             if ui
                 .add_enabled(changed, egui::Button::new("Apply"))
                 .on_hover_text("Cut the curves again at size H and mesh from the start")
