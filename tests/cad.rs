@@ -784,6 +784,29 @@ fn serendipity_quads_are_written_without_their_centres() {
     assert_eq!(count(&nine), count(&eight) + quads);
     let msh22 = run("a8.msh22", &["--serendipity"]);
     assert!(msh22.lines().any(|l| l.split(' ').nth(1) == Some("16")));
+    // Read back (and judged by `quadex quality`) by their corners: the
+    // first-order mesh.
+    let a4 = dir.path().join("a4.msh");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
+        .args(["mesh".as_ref(), path.as_os_str(), "-o".as_ref()])
+        .arg(&a4)
+        .args(["--size", "0.4"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let first = quadex::io::read_mesh(&a4).unwrap();
+    for name in ["a9.msh", "a8.msh", "a8.msh22"] {
+        let m = quadex::io::read_mesh(&dir.path().join(name)).unwrap();
+        assert_eq!(m.quads.len(), quads, "{name}");
+        assert_eq!(m.nodes, first.nodes, "{name}");
+        assert_eq!(m.quads, first.quads, "{name}");
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
+            .arg("quality")
+            .arg(dir.path().join(name))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
     for ext in ["vtk", "vtu"] {
         let t = run(&format!("a8.{ext}"), &["--serendipity"]);
         assert!(t.contains("\n23\n") && !t.contains("\n28\n"), ".{ext}");
@@ -880,7 +903,8 @@ fn local_sizes_from_the_command_line() {
 }
 
 /// A size far too fine for the drawing is refused before the curves are
-/// cut, with the node count it would give, and a negative size or
+/// cut, with the node count it would give, or before meshing, with the
+/// quads it would ask for inside; and a negative size or
 /// gradation is refused by the drawing's own check, not read as an option.
 #[test]
 fn a_size_far_too_fine_or_negative_is_refused_at_once() {
@@ -890,7 +914,9 @@ fn a_size_far_too_fine_or_negative_is_refused_at_once() {
     let dir = tempfile::tempdir().unwrap();
     for (path, args, says) in [
         (&part, &["--size", "1e-5"][..], "take a larger size"),
-        (&bracket, &["--size", "1e-4"][..], "take a larger size"),
+        (&bracket, &["--size", "1e-4"][..], "boundary nodes, more than"),
+        // 40,000 boundary nodes, but 37 million quads inside.
+        (&bracket, &["--size", "0.01"][..], "quads inside the drawing"),
         (
             &part,
             &["--size", "-1"][..],

@@ -160,6 +160,8 @@ pub enum CadError {
     BadGradation(f64),
     #[error("a size of {size} cuts the drawing's curves (total length {length:.4e}) into at least {nodes:.3e} boundary nodes, more than {max}: take a larger size", max = crate::boundary_edit::MAX_RESAMPLED_NODES)]
     TooFine { size: f64, length: f64, nodes: f64 },
+    #[error("a size of {size} asks for about {quads:.3e} quads inside the drawing (area {area:.4e}), more than {max}: take a larger size", max = crate::boundary_edit::MAX_RESAMPLED_QUADS)]
+    TooManyQuads { size: f64, area: f64, quads: f64 },
     #[error("{0}")]
     Graph(#[from] PslgError),
 }
@@ -614,6 +616,24 @@ impl Geometry {
             .map(|c| (c.density[c.density.len() - 1].round() as usize).max(c.fewest))
             .collect();
         let first = self.build(&ends, &vertices, &counts, &cuts, spec);
+        // The quads inside at the target size, about: the meshed faces'
+        // area over its square (local sizes only add). A size asking for
+        // far more than a mesh can hold is refused before meshing.
+        let cycles = first.graph.face_cycles()?;
+        let area: f64 = cycles
+            .iter()
+            .filter(|f| f.meshed)
+            .flat_map(|f| &f.loops)
+            .map(|l| crate::geom::polygon_area(l.iter().map(|&i| first.graph.points[i])))
+            .sum();
+        let quads = area.abs() / (spec.size * spec.size);
+        if quads > crate::boundary_edit::MAX_RESAMPLED_QUADS as f64 {
+            return Err(CadError::TooManyQuads {
+                size: spec.size,
+                area: area.abs(),
+                quads,
+            });
+        }
         let fixes = parity_fixes(&first, self.curves.len())?;
         for &c in &fixes {
             counts[c] += 1;

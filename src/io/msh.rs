@@ -235,7 +235,9 @@ impl<'a> Tokens<'a> {
 
 /// Reads an all-quad 2D mesh from MSH 2.2 or 4.1 ASCII and checks it
 /// ([`super::check`]): a file that parses but holds non-convex,
-/// overlapping or separate quads is refused. Nodes are renumbered so that
+/// overlapping or separate quads is refused. Second-order quads (9- and
+/// 8-node, as `quadex mesh --order 2` writes them) are read by their
+/// corners: the mesh of their straight-sided quads. Nodes are renumbered so that
 /// the boundary nodes come first, loop by loop (outer loop CCW first,
 /// holes CW), and quads are made CCW.
 pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
@@ -248,6 +250,12 @@ pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
         line: 0,
         total: text.lines().count(),
     };
+    // Gmsh's quads: 4-node, and second-order 9- and 8-node ones, read by
+    // their corners (the first four nodes). Lines (2- and 3-node) and
+    // points are the groups', passed over.
+    const QUAD4: u32 = 3;
+    const QUAD9: u32 = 10;
+    const QUAD8: u32 = 16;
     let mut version = 0.0f64;
     let mut nodes: BTreeMap<u64, Point> = BTreeMap::new();
     // Quads as (element tag, node tags).
@@ -299,11 +307,11 @@ pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
                     for _ in 0..count {
                         let f = t.fields("an element")?;
                         match ty {
-                            3 => quads.push((
+                            QUAD4 | QUAD9 | QUAD8 => quads.push((
                                 t.num(&f, 0)?,
                                 [t.num(&f, 1)?, t.num(&f, 2)?, t.num(&f, 3)?, t.num(&f, 4)?],
                             )),
-                            1 | 15 => {}
+                            1 | 8 | 15 => {}
                             other => {
                                 return Err(ReadError::NotQuadMesh(format!("element type {other}")))
                             }
@@ -320,7 +328,7 @@ pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
                     let ntags: usize = t.num(&f, 2)?;
                     let at = ntags.saturating_add(3);
                     match ty {
-                        3 => quads.push((
+                        QUAD4 | QUAD9 | QUAD8 => quads.push((
                             t.num(&f, 0)?,
                             [
                                 t.num(&f, at)?,
@@ -329,7 +337,7 @@ pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
                                 t.num(&f, at.saturating_add(3))?,
                             ],
                         )),
-                        1 | 15 => {}
+                        1 | 8 | 15 => {}
                         other => {
                             return Err(ReadError::NotQuadMesh(format!("element type {other}")))
                         }
