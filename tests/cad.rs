@@ -353,6 +353,26 @@ fn nine_node_quads_put_their_boundary_midsides_on_the_arcs() {
     assert!(vtk.contains("\n28\n") && vtk.contains("\n21\n"));
     let inp = quadex::io::MeshFormat::Abaqus.render_labelled(&labelled);
     assert!(inp.contains("TYPE=CPS8"));
+    // The .inp lists the nodes its CPS8 elements use, every one of them:
+    // all but the quads' centres.
+    let section = |name: &str| -> Vec<&str> {
+        inp.split(name)
+            .nth(1)
+            .unwrap()
+            .lines()
+            .skip(1)
+            .take_while(|l| !l.starts_with('*'))
+            .collect()
+    };
+    let listed = section("*NODE");
+    assert_eq!(listed.len(), o2.nodes.len() - m.mesh.quads.len());
+    let mut used: Vec<usize> = section("TYPE=CPS8")
+        .iter()
+        .flat_map(|l| l.split(", ").skip(1).map(|w| w.parse::<usize>().unwrap()))
+        .collect();
+    used.sort_unstable();
+    used.dedup();
+    assert_eq!(used, (1..=listed.len()).collect::<Vec<_>>());
 }
 
 fn data(name: &str) -> std::path::PathBuf {
@@ -914,9 +934,17 @@ fn a_size_far_too_fine_or_negative_is_refused_at_once() {
     let dir = tempfile::tempdir().unwrap();
     for (path, args, says) in [
         (&part, &["--size", "1e-5"][..], "take a larger size"),
-        (&bracket, &["--size", "1e-4"][..], "boundary nodes, more than"),
+        (
+            &bracket,
+            &["--size", "1e-4"][..],
+            "boundary nodes, more than",
+        ),
         // 40,000 boundary nodes, but 37 million quads inside.
-        (&bracket, &["--size", "0.01"][..], "quads inside the drawing"),
+        (
+            &bracket,
+            &["--size", "0.01"][..],
+            "quads inside the drawing",
+        ),
         (
             &part,
             &["--size", "-1"][..],

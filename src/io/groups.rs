@@ -237,7 +237,8 @@ fn label(name: &str) -> String {
 }
 
 /// Abaqus input: CPS4 quads (CPS8 at second order, 9-node or serendipity:
-/// Abaqus has no 9-node plane element, so the centre node is left out) numbered region by
+/// Abaqus has no 9-node plane element, so the centre node is left out, of
+/// the elements and of the node list) numbered region by
 /// region, an ELSET per region, and per group an NSET and an element
 /// SURFACE (the quad face on each edge; on an interface, the quad on the
 /// left of the segment as given).
@@ -245,8 +246,22 @@ pub fn write_inp(m: &Labelled) -> String {
     let mesh = m.mesh;
     let mut out = String::with_capacity(40 * mesh.nodes.len() + 40 * mesh.quads.len());
     out.push_str("*HEADING\nquadex all-quad mesh\n*NODE\n");
-    for (i, p) in m.points().iter().enumerate() {
-        let _ = write!(out, "{}, ", i + 1);
+    // The nodes the elements use, numbered in order: all of them but a
+    // 9-node quad's centre, which a CPS8 element has no place for.
+    let points = m.points();
+    let mut used = vec![false; points.len()];
+    for q in 0..mesh.quads.len() {
+        let nodes = m.element(q);
+        for &v in &nodes[..nodes.len().min(8)] {
+            used[v as usize] = true;
+        }
+    }
+    let mut id = vec![0usize; points.len()];
+    let mut count = 0;
+    for (i, p) in points.iter().enumerate().filter(|&(i, _)| used[i]) {
+        count += 1;
+        id[i] = count;
+        let _ = write!(out, "{count}, ");
         fmt_f64(&mut out, p.x);
         out.push_str(", ");
         fmt_f64(&mut out, p.y);
@@ -270,8 +285,8 @@ pub fn write_inp(m: &Labelled) -> String {
             }
             let nodes = m.element(q);
             let _ = write!(out, "{number}");
-            for v in &nodes[..nodes.len().min(8)] {
-                let _ = write!(out, ", {}", v + 1);
+            for &v in &nodes[..nodes.len().min(8)] {
+                let _ = write!(out, ", {}", id[v as usize]);
             }
             out.push('\n');
         }
@@ -283,7 +298,7 @@ pub fn write_inp(m: &Labelled) -> String {
             .edges
             .iter()
             .flat_map(|e| m.line(*e))
-            .map(|v| v as usize + 1)
+            .map(|v| id[v as usize])
             .collect();
         nodes.sort_unstable();
         nodes.dedup();
