@@ -451,6 +451,25 @@ impl RegionMesh {
         }
     }
 
+    /// This mesh with each boundary loop a group, tagged and named as the
+    /// writers of a single domain name them (`outer`, `hole_1`, ...): the
+    /// groups of a boundary file without markers, for the writers of
+    /// regions and groups (second order).
+    pub fn with_loop_groups(mut self) -> RegionMesh {
+        self.groups = self
+            .mesh
+            .loops
+            .iter()
+            .enumerate()
+            .map(|(k, l)| Group {
+                tag: k as i64 + 1,
+                name: crate::io::msh::loop_name(k),
+                edges: (0..l.len()).map(|i| [l[i], l[(i + 1) % l.len()]]).collect(),
+            })
+            .collect();
+        self
+    }
+
     /// Step counts of all faces together.
     pub fn steps(&self) -> StepStats {
         let mut s = StepStats::default();

@@ -972,3 +972,31 @@ fn a_size_far_too_fine_or_negative_is_refused_at_once() {
         assert!(!out.exists());
     }
 }
+
+/// A boundary file without markers keeps its loops' groups at second
+/// order (`outer`, `hole_1`: the names of its first-order file), as
+/// 3-node lines on every loop edge.
+#[test]
+fn second_order_keeps_the_loops_groups_of_a_boundary_file() {
+    let path = data("assets/examples/plate_hole.poly");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("p2.msh");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
+        .arg("mesh")
+        .arg(&path)
+        .arg("-o")
+        .arg(&out)
+        .args(["--order", "2"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("1 1 \"outer\"") && text.contains("1 2 \"hole_1\""));
+    let b = quadex::io::read_boundary(&path).unwrap();
+    let lines: usize = text
+        .lines()
+        .filter(|l| l.starts_with("1 ") && l.split(' ').nth(2) == Some("8"))
+        .map(|l| l.split(' ').nth(3).unwrap().parse::<usize>().unwrap())
+        .sum();
+    assert_eq!(lines, b.node_count());
+}

@@ -323,7 +323,8 @@ pub(super) fn run(a: MeshArgs) -> Result<()> {
     let seconds = t0.elapsed().as_secs_f64();
     let q = MeshQuality::of(&mesh);
     let rendered = if order == 2 {
-        let single = quadex::regions::RegionMesh::single(mesh.clone(), stats.clone());
+        let single =
+            quadex::regions::RegionMesh::single(mesh.clone(), stats.clone()).with_loop_groups();
         let mut o2 = quadex::order2::Order2::elevate(&single.mesh, &|_, _| None);
         if serendipity {
             o2 = o2.serendipity();

@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 /// Physical names: loop 0 is "outer", others "hole_k"; the surface "domain".
-fn loop_name(k: usize) -> String {
+pub(crate) fn loop_name(k: usize) -> String {
     if k == 0 {
         "outer".into()
     } else {
