@@ -349,6 +349,11 @@ pub fn legend(painter: &egui::Painter, rect: egui::Rect, metric: super::quality_
 }
 
 /// A canvas narrower or lower than this (points) gets the compact legend.
+/// The mesh's edges over its quads' fills: dark, so that they stand out on
+/// the quality colours (greens, yellows, oranges) and on the plain fill in
+/// either theme.
+pub const MESH_EDGE: Color32 = Color32::from_black_alpha(150);
+
 pub const COMPACT_LEGEND_BELOW: [f32; 2] = [600.0, 400.0];
 
 /// What the canvas shows.
@@ -457,8 +462,9 @@ pub fn draw(
         cache.fills(o.mesh).1.draw(painter, view, rect);
     }
     if show_edges {
-        let color = ui.visuals().text_color().gamma_multiply(0.7);
-        cache.edge_lines(o.mesh, color).draw(painter, view, rect);
+        cache
+            .edge_lines(o.mesh, MESH_EDGE)
+            .draw(painter, view, rect);
     }
     cache.lines.draw(painter, view, rect);
 
