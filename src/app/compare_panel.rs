@@ -232,26 +232,31 @@ impl super::View for ComparePanel {
 
 /// The comparison's table: a row per model, a column per figure.
 fn table(ui: &mut Ui, c: &Comparison) {
-    egui::Grid::new("compare_table")
-        .striped(true)
-        .num_columns(compare::COLUMNS.len() + 1)
+    // Scrolled sideways in a narrow panel, so no column is cut off.
+    egui::ScrollArea::horizontal()
+        .id_salt("compare_table_scroll")
         .show(ui, |ui| {
-            ui.strong("model");
-            for col in compare::COLUMNS {
-                ui.strong(col);
-            }
-            ui.end_row();
-            for o in &c.outcomes {
-                ui.label(&o.model);
-                ui.label(o.finished_label())
-                    .on_hover_text(o.error.as_deref().unwrap_or("finished"));
-                if let Some(f) = o.figures() {
-                    for v in f {
-                        ui.label(v);
+            egui::Grid::new("compare_table")
+                .striped(true)
+                .num_columns(compare::COLUMNS.len() + 1)
+                .show(ui, |ui| {
+                    ui.strong("model");
+                    for col in compare::COLUMNS {
+                        ui.strong(col);
                     }
-                }
-                ui.end_row();
-            }
+                    ui.end_row();
+                    for o in &c.outcomes {
+                        ui.label(&o.model);
+                        ui.label(o.finished_label())
+                            .on_hover_text(o.error.as_deref().unwrap_or("finished"));
+                        if let Some(f) = o.figures() {
+                            for v in f {
+                                ui.label(v);
+                            }
+                        }
+                        ui.end_row();
+                    }
+                });
         });
 }
 

@@ -365,41 +365,46 @@ impl super::View for RegionsPanel {
             );
         }
         let quality = r.mesh.as_ref();
-        egui::Grid::new("regions_table")
-            .striped(true)
+        // Scrolled sideways in a narrow panel, so no column is cut off.
+        egui::ScrollArea::horizontal()
+            .id_salt("regions_table_scroll")
             .show(ui, |ui| {
-                ui.label("");
-                ui.label("region");
-                ui.label("tag");
-                ui.label("faces");
-                if quality.is_some() {
-                    ui.label("quads");
-                    ui.label("SJ min");
-                    ui.label("SJ mean");
-                }
-                ui.end_row();
-                for (k, (tag, name)) in r.legend.iter().enumerate() {
-                    let (rect, _) =
-                        ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
-                    ui.painter().rect_filled(rect, 2.0, region_color(k));
-                    ui.label(name);
-                    ui.label(tag.to_string());
-                    ui.label(
-                        r.face_region
-                            .iter()
-                            .filter(|&&f| f == k)
-                            .count()
-                            .to_string(),
-                    );
-                    if let Some(m) = quality {
-                        if let Some(q) = m.regions.get(k).map(|x| &x.quality) {
-                            ui.label(q.quads.to_string());
-                            ui.label(format!("{:.3}", q.sj_min));
-                            ui.label(format!("{:.3}", q.sj_mean));
+                egui::Grid::new("regions_table")
+                    .striped(true)
+                    .show(ui, |ui| {
+                        ui.label("");
+                        ui.label("region");
+                        ui.label("tag");
+                        ui.label("faces");
+                        if quality.is_some() {
+                            ui.label("quads");
+                            ui.label("SJ min");
+                            ui.label("SJ mean");
                         }
-                    }
-                    ui.end_row();
-                }
+                        ui.end_row();
+                        for (k, (tag, name)) in r.legend.iter().enumerate() {
+                            let (rect, _) = ui
+                                .allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
+                            ui.painter().rect_filled(rect, 2.0, region_color(k));
+                            ui.label(name);
+                            ui.label(tag.to_string());
+                            ui.label(
+                                r.face_region
+                                    .iter()
+                                    .filter(|&&f| f == k)
+                                    .count()
+                                    .to_string(),
+                            );
+                            if let Some(m) = quality {
+                                if let Some(q) = m.regions.get(k).map(|x| &x.quality) {
+                                    ui.label(q.quads.to_string());
+                                    ui.label(format!("{:.3}", q.sj_min));
+                                    ui.label(format!("{:.3}", q.sj_mean));
+                                }
+                            }
+                            ui.end_row();
+                        }
+                    });
             });
         let groups = groups_of(&r.graph);
         ui.label(egui::RichText::new("Groups").strong());
