@@ -24,7 +24,7 @@
 //! after the layer).
 
 use crate::geom::Point;
-use crate::pslg::{Pslg, PslgError, Segment};
+use crate::pslg::{FaceCycle, Pslg, PslgError, Segment};
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -634,7 +634,7 @@ impl Geometry {
                 quads,
             });
         }
-        let fixes = parity_fixes(&first, self.curves.len())?;
+        let fixes = parity_fixes(&first, &cycles, self.curves.len());
         for &c in &fixes {
             counts[c] += 1;
         }
@@ -707,9 +707,9 @@ impl Geometry {
 }
 
 /// The curves to give one segment more so that every face to mesh has an
-/// even node count (see the module's documentation).
-fn parity_fixes(d: &Discretised, n_curves: usize) -> Result<Vec<usize>, CadError> {
-    let cycles = d.graph.face_cycles()?;
+/// even node count (see the module's documentation); `cycles` are the
+/// faces of `d`'s graph.
+fn parity_fixes(d: &Discretised, cycles: &[FaceCycle], n_curves: usize) -> Vec<usize> {
     // The face on the left of each directed segment: meshed faces by
     // index, every other side is the free face.
     let free = cycles.len();
@@ -792,7 +792,7 @@ fn parity_fixes(d: &Discretised, n_curves: usize) -> Result<Vec<usize>, CadError
         }
     }
     fixes.sort_unstable();
-    Ok(fixes)
+    fixes
 }
 
 #[cfg(test)]

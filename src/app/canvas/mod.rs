@@ -348,12 +348,12 @@ pub fn legend(painter: &egui::Painter, rect: egui::Rect, metric: super::quality_
     }
 }
 
-/// A canvas narrower or lower than this (points) gets the compact legend.
 /// The mesh's edges over its quads' fills: dark, so that they stand out on
 /// the quality colours (greens, yellows, oranges) and on the plain fill in
 /// either theme.
 pub const MESH_EDGE: Color32 = Color32::from_black_alpha(150);
 
+/// A canvas narrower or lower than this (points) gets the compact legend.
 pub const COMPACT_LEGEND_BELOW: [f32; 2] = [600.0, 400.0];
 
 /// What the canvas shows.
