@@ -66,11 +66,12 @@ impl Labelled<'_> {
     }
 
     /// Gmsh element types of the quads and the lines.
-    fn msh_types(&self) -> (u8, u8) {
+    fn msh_types(&self) -> (u32, u32) {
+        use super::msh::{LINE2, LINE3, QUAD4, QUAD8, QUAD9};
         match self.order2 {
-            Some(o) if o.serendipity => (16, 8),
-            Some(_) => (10, 8),
-            None => (3, 1),
+            Some(o) if o.serendipity => (QUAD8, LINE3),
+            Some(_) => (QUAD9, LINE3),
+            None => (QUAD4, LINE2),
         }
     }
 }

@@ -20,6 +20,15 @@ pub(crate) fn loop_name(k: usize) -> String {
 
 const SURFACE_TAG: usize = 100;
 
+/// Gmsh element types: the quads written and read (4-node; 9- and 8-node
+/// at second order), the lines of the groups (2- and 3-node) and points.
+pub(crate) const QUAD4: u32 = 3;
+pub(crate) const QUAD9: u32 = 10;
+pub(crate) const QUAD8: u32 = 16;
+pub(crate) const LINE2: u32 = 1;
+pub(crate) const LINE3: u32 = 8;
+pub(crate) const POINT: u32 = 15;
+
 fn physical_names(out: &mut String, mesh: &QuadMesh) {
     out.push_str("$PhysicalNames\n");
     let _ = writeln!(out, "{}", mesh.loops.len() + 1);
@@ -112,13 +121,13 @@ pub fn write_msh41(mesh: &QuadMesh) -> String {
     let _ = writeln!(out, "{} {total} 1 {total}", mesh.loops.len() + 1);
     let mut tag = 0;
     for (k, l) in mesh.loops.iter().enumerate() {
-        let _ = writeln!(out, "1 {} 1 {}", k + 1, l.len());
+        let _ = writeln!(out, "1 {} {LINE2} {}", k + 1, l.len());
         for i in 0..l.len() {
             tag += 1;
             let _ = writeln!(out, "{tag} {} {}", l[i] + 1, l[(i + 1) % l.len()] + 1);
         }
     }
-    let _ = writeln!(out, "2 1 3 {}", mesh.quads.len());
+    let _ = writeln!(out, "2 1 {QUAD4} {}", mesh.quads.len());
     for q in &mesh.quads {
         tag += 1;
         let _ = writeln!(
@@ -154,7 +163,7 @@ pub fn write_msh22(mesh: &QuadMesh) -> String {
             tag += 1;
             let _ = writeln!(
                 out,
-                "{tag} 1 2 {} {} {} {}",
+                "{tag} {LINE2} 2 {} {} {} {}",
                 k + 1,
                 k + 1,
                 l[i] + 1,
@@ -166,7 +175,7 @@ pub fn write_msh22(mesh: &QuadMesh) -> String {
         tag += 1;
         let _ = writeln!(
             out,
-            "{tag} 3 2 {SURFACE_TAG} 1 {} {} {} {}",
+            "{tag} {QUAD4} 2 {SURFACE_TAG} 1 {} {} {} {}",
             q[0] + 1,
             q[1] + 1,
             q[2] + 1,
@@ -250,12 +259,8 @@ pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
         line: 0,
         total: text.lines().count(),
     };
-    // Gmsh's quads: 4-node, and second-order 9- and 8-node ones, read by
-    // their corners (the first four nodes). Lines (2- and 3-node) and
-    // points are the groups', passed over.
-    const QUAD4: u32 = 3;
-    const QUAD9: u32 = 10;
-    const QUAD8: u32 = 16;
+    // Quads are read by their corners (a second-order quad's first four
+    // nodes); lines and points are the groups', passed over.
     let mut version = 0.0f64;
     let mut nodes: BTreeMap<u64, Point> = BTreeMap::new();
     // Quads as (element tag, node tags).
@@ -311,7 +316,7 @@ pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
                                 t.num(&f, 0)?,
                                 [t.num(&f, 1)?, t.num(&f, 2)?, t.num(&f, 3)?, t.num(&f, 4)?],
                             )),
-                            1 | 8 | 15 => {}
+                            LINE2 | LINE3 | POINT => {}
                             other => {
                                 return Err(ReadError::NotQuadMesh(format!("element type {other}")))
                             }
@@ -337,7 +342,7 @@ pub fn read_msh(text: &str) -> Result<QuadMesh, ReadError> {
                                 t.num(&f, at.saturating_add(3))?,
                             ],
                         )),
-                        1 | 8 | 15 => {}
+                        LINE2 | LINE3 | POINT => {}
                         other => {
                             return Err(ReadError::NotQuadMesh(format!("element type {other}")))
                         }
