@@ -695,6 +695,69 @@ fn the_interior_follows_the_size_field() {
     assert!(median0 < median && share0 < share);
 }
 
+/// A hole on a layer sized six times coarser than the target is met by
+/// sizes falling from its spacing to the target at the gradation, not by
+/// rows of the target's height along segments six times longer (which
+/// knotted into quads of scaled Jacobian 0 beside the bracket's bolt at
+/// `--size 0.15`): the mesh needs no region fill, its quads stay fair, and
+/// the edges beside the hole are about as long as its segments.
+#[test]
+fn a_layer_sized_coarser_than_the_target_grades_down_to_it() {
+    use quadex::cad::{Geometry, LayerCurve, SizeSpec};
+    use quadex::extract::StepKind;
+    let p = quadex::geom::Point::new;
+    let corners = [p(0.0, 0.0), p(24.0, 0.0), p(24.0, 24.0), p(0.0, 24.0)];
+    let mut curves: Vec<LayerCurve> = (0..4)
+        .map(|i| LayerCurve {
+            curve: Curve::Line {
+                a: corners[i],
+                b: corners[(i + 1) % 4],
+            },
+            layer: "outline".into(),
+        })
+        .collect();
+    let (centre, r) = (p(12.0, 12.0), 5.0);
+    curves.push(LayerCurve {
+        curve: Curve::Arc {
+            centre,
+            radius: r,
+            start: 0.0,
+            sweep: 2.0 * std::f64::consts::PI,
+        },
+        layer: "hole".into(),
+    });
+    let g = Geometry { curves };
+    let mut spec = SizeSpec::uniform(0.25);
+    spec.layers.insert("hole".into(), 1.5);
+    let d = g.discretise_with(&spec).unwrap();
+    let m = mesh_drawing(&d);
+    m.check_conforming().unwrap();
+    let fills: usize = m.faces.iter().map(|f| f.steps.count(StepKind::Fill)).sum();
+    let q = m.quality();
+    // The edges with both ends within one hole segment of the hole.
+    let mut near: Vec<f64> = edges(&m.mesh)
+        .into_iter()
+        .filter_map(|(a, b)| {
+            let (pa, pb) = (m.mesh.nodes[a as usize], m.mesh.nodes[b as usize]);
+            let off = |x: quadex::geom::Point| (x - centre).length() - r;
+            (off(pa) < 1.5 && off(pb) < 1.5).then(|| (pa - pb).length())
+        })
+        .collect();
+    near.sort_by(f64::total_cmp);
+    let median = near[near.len() / 2];
+    println!(
+        "{} quads, fills {fills}, sj min {:.3}, taper {:.2}, aspect {:.2}, median edge beside the hole {median:.3}",
+        q.quads, q.sj_min, q.taper_max, q.aspect_max
+    );
+    assert_eq!(fills, 0);
+    assert!(q.sj_min >= 0.3, "sj min {}", q.sj_min);
+    assert!(q.taper_max <= 10.0 && q.aspect_max <= 10.0, "{q:?}");
+    assert!(
+        median >= 0.6,
+        "median edge beside the hole {median}, the target 0.25"
+    );
+}
+
 /// The JSON geometry form (examples/bracket.json: lines, an arc by
 /// centre and angles, one through three points, a spline, a circle and an
 /// ellipse, a layer size and a point size) meshes through the command

@@ -63,7 +63,9 @@ pub struct PointSize {
 /// `gradation`: at `p` the size is
 /// `min(size, h_i + gradation·|p − p_i|, h_L + gradation·dist(p, layer L))`
 /// (a curve on a sized layer itself takes its layer's size, coarser or
-/// finer). Along a curve the spacing also grades from its ends' neighbours
+/// finer; beside a curve spaced more than
+/// [`COARSE_SPACING`](crate::extract::size::COARSE_SPACING) times `size`,
+/// the size falls from its spacing to `size` at `gradation`). Along a curve the spacing also grades from its ends' neighbours
 /// at `gradation` and keeps to [`MAX_ARC_ANGLE`] of the local curvature.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SizeSpec {

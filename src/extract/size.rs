@@ -32,10 +32,19 @@ const MIN_CELLS_PER_SIDE: usize = 256;
 /// a 1.5 ratio from one row to the next.
 const GRADING: f64 = 0.5;
 
+/// A boundary node spaced more than this many times a [`SizeTarget`]'s
+/// size is coarser than the target by request (a layer sized coarser), and
+/// the size falls from its spacing to the target at the gradation around
+/// it. Up to this, the spacing is the target's rounded: a curve cut at
+/// size `h` into `round(length / h)` segments has them up to 1.5 `h` long.
+pub const COARSE_SPACING: f64 = 1.5;
+
 /// A size field asked for from outside (a drawing's target size and its
 /// local sizes, [`crate::cad`]): the size at `p` is
 /// `min(max, h_i + gradation·|p − p_i|)` over the point sizes `(p_i, h_i)`
-/// and over the boundary nodes with their spacing as the size. Given to
+/// and over the boundary nodes with their spacing as the size, `max`
+/// raised first to `h_b − gradation·|p − p_b|` around a boundary node
+/// spaced `h_b` more than [`COARSE_SPACING`] times `max`. Given to
 /// [`SizeField::of_boundary_with`], it replaces the interpolation of the
 /// boundary's spacing inside the domain, so the interior follows the size
 /// asked for rather than the boundary's spacing alone.
@@ -383,11 +392,27 @@ impl SizeField {
     }
 
     /// Sets the field to what `target` asks ([`SizeTarget`]): its largest
-    /// size, lowered around every point size and every boundary node (with
-    /// its spacing) and grown from them at the target's gradation.
+    /// size, raised around the boundary nodes spaced more than
+    /// [`COARSE_SPACING`] times it and falling from them at the target's
+    /// gradation, then lowered around every point size and every boundary
+    /// node (with its spacing) and grown from them at the gradation.
     fn follow_target(&mut self, boundary: &Boundary, node_h: &[f64], target: &SizeTarget) {
         self.h.fill(target.max as f32);
         let g = target.gradation;
+        // A boundary coarser than the target (a curve on a layer sized
+        // coarser) is met by sizes falling to the target at the gradation,
+        // not by the target at once: a row of the target's height along
+        // segments several times longer knots.
+        let mut raised = false;
+        for (&p, &h) in boundary.points.iter().zip(node_h) {
+            if h > COARSE_SPACING * target.max {
+                self.raise_around_at(p, h, g);
+                raised = true;
+            }
+        }
+        if raised {
+            self.limit_decline(g);
+        }
         for (&p, &h) in boundary.points.iter().zip(node_h) {
             self.lower_around_at(p, h, g);
         }
@@ -418,11 +443,41 @@ impl SizeField {
         }
     }
 
+    /// Raises the samples around `p` to size `h` lessened by `rate` with
+    /// their distance from `p` ([`SizeField::limit_decline`] then spreads
+    /// it over the grid).
+    fn raise_around_at(&mut self, p: Point, h: f64, rate: f64) {
+        let cell = 1.0 / self.inv_cell;
+        let g = (p - self.origin) * self.inv_cell;
+        let i0 = (g.x.max(0.0) as usize).min(self.nx - 1);
+        let j0 = (g.y.max(0.0) as usize).min(self.ny - 1);
+        for j in j0..=(j0 + 1).min(self.ny - 1) {
+            for i in i0..=(i0 + 1).min(self.nx - 1) {
+                let at = self.origin + Point::new(i as f64, j as f64) * cell;
+                let k = j * self.nx + i;
+                self.h[k] = self.h[k].max((h - rate * at.distance(p)) as f32);
+            }
+        }
+    }
+
     /// Caps the growth of the size with distance at `rate` (size per unit
     /// length): `h(p) <= h(q) + rate·|p − q|` for every pair of cells, by
     /// two chamfer sweeps over the grid. A fine hole in a coarse box then
     /// grades out smoothly instead of along the long triangles between them.
     fn limit_grading(&mut self, rate: f64) {
+        self.chamfer(rate, false);
+    }
+
+    /// Caps the fall of the size with distance at `rate`: `h(p) >= h(q) −
+    /// rate·|p − q|` for every pair of cells ([`SizeField::limit_grading`]
+    /// turned over): a coarse size fades out instead of stopping.
+    fn limit_decline(&mut self, rate: f64) {
+        self.chamfer(rate, true);
+    }
+
+    /// Two chamfer sweeps over the grid bounding the change of the size
+    /// with distance at `rate`: its growth (`raise` false) or its fall.
+    fn chamfer(&mut self, rate: f64, raise: bool) {
         let (nx, ny) = (self.nx as i64, self.ny as i64);
         let cell = 1.0 / self.inv_cell;
         let straight = (rate * cell) as f32;
@@ -443,7 +498,8 @@ impl SizeField {
                 for &(di, dj, w) in steps {
                     let (a, b) = (i + di, j + dj);
                     if a >= 0 && b >= 0 && a < nx && b < ny {
-                        v = v.min(h[(b * nx + a) as usize] + w);
+                        let u = h[(b * nx + a) as usize];
+                        v = if raise { v.max(u - w) } else { v.min(u + w) };
                     }
                 }
                 h[k] = v;
