@@ -730,6 +730,45 @@ mod tests {
     }
 
     #[test]
+    fn a_boundary_coarser_than_the_target_raises_the_size_beside_it() {
+        // A 10 × 20 rectangle cut at 2 (five times the target 0.4) on its
+        // left side and at 0.4 elsewhere, and a point size of 0.1 near the
+        // bottom right corner.
+        let mut pts: Vec<Point> = (0..25).map(|i| Point::new(i as f64 * 0.4, 0.0)).collect();
+        pts.extend((0..50).map(|i| Point::new(10.0, i as f64 * 0.4)));
+        pts.extend((0..25).map(|i| Point::new(10.0 - i as f64 * 0.4, 20.0)));
+        pts.extend((0..10).map(|i| Point::new(0.0, 20.0 - i as f64 * 2.0)));
+        let n = pts.len();
+        let b = Boundary::new(pts, vec![(0..n).collect()], None).unwrap();
+        let target = SizeTarget {
+            max: 0.4,
+            gradation: 0.3,
+            points: vec![(Point::new(8.0, 1.5), 0.1)],
+        };
+        let f = SizeField::of_boundary_with(&b, Some(&target));
+        let tol = 0.05;
+        // Beside the coarse side, its spacing less the gradation times the
+        // distance; the target from 5.3 away.
+        for (x, want) in [(0.5, 1.85), (2.0, 1.4), (4.0, 0.8), (7.0, 0.4)] {
+            let h = f.at(Point::new(x, 10.0));
+            assert!((h - want).abs() < tol, "at x = {x}: {h}, not {want}");
+        }
+        // The point size still wins where it is finer.
+        let h = f.at(Point::new(8.0, 1.5));
+        assert!((h - 0.1).abs() < tol, "{h}");
+        // Without a coarse side, nothing is raised.
+        let g = SizeField::of_boundary_with(
+            &Boundary::unit_square(10),
+            Some(&SizeTarget {
+                max: 0.1,
+                gradation: 0.3,
+                points: Vec::new(),
+            }),
+        );
+        assert!((g.at(Point::new(0.05, 0.5)) - 0.1).abs() < 1e-6);
+    }
+
+    #[test]
     fn graded_spacing_is_interpolated() {
         // A 1 × 1 square: 10 segments along the bottom, 2 along the top.
         let mut pts: Vec<Point> = (0..=10).map(|i| Point::new(i as f64 / 10.0, 0.0)).collect();
