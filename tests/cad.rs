@@ -622,17 +622,12 @@ fn spacing_grades_along_curves_from_a_short_neighbour() {
     assert!(worst < 1.6, "neighbouring segments differ by {worst}");
 }
 
-/// The interior follows the size field, not only the boundary's spacing:
-/// a 100 × 100 plate at H = 10 with a hole of radius 4 whose layer asks
-/// for 0.8. The field is h(x) = min(10, 0.8 + 0.3·dist(x, hole)); the
-/// interior edges' lengths over the field at their midpoints stay near 1.
-/// The boundary's spacing interpolated alone (no size target) leaves the
-/// plate far finer than asked.
-#[test]
-fn the_interior_follows_the_size_field() {
-    use quadex::cad::{Geometry, LayerCurve, SizeSpec};
+/// A square `side` long from the origin on layer `outline` with a round
+/// hole of radius `r` at `centre` on layer `hole`.
+fn square_with_hole(side: f64, centre: quadex::geom::Point, r: f64) -> quadex::cad::Geometry {
+    use quadex::cad::{Geometry, LayerCurve};
     let p = quadex::geom::Point::new;
-    let corners = [p(0.0, 0.0), p(100.0, 0.0), p(100.0, 100.0), p(0.0, 100.0)];
+    let corners = [p(0.0, 0.0), p(side, 0.0), p(side, side), p(0.0, side)];
     let mut curves: Vec<LayerCurve> = (0..4)
         .map(|i| LayerCurve {
             curve: Curve::Line {
@@ -642,7 +637,6 @@ fn the_interior_follows_the_size_field() {
             layer: "outline".into(),
         })
         .collect();
-    let (centre, r) = (p(30.0, 40.0), 4.0);
     curves.push(LayerCurve {
         curve: Curve::Arc {
             centre,
@@ -652,7 +646,21 @@ fn the_interior_follows_the_size_field() {
         },
         layer: "hole".into(),
     });
-    let g = Geometry { curves };
+    Geometry { curves }
+}
+
+/// The interior follows the size field, not only the boundary's spacing:
+/// a 100 × 100 plate at H = 10 with a hole of radius 4 whose layer asks
+/// for 0.8. The field is h(x) = min(10, 0.8 + 0.3·dist(x, hole)); the
+/// interior edges' lengths over the field at their midpoints stay near 1.
+/// The boundary's spacing interpolated alone (no size target) leaves the
+/// plate far finer than asked.
+#[test]
+fn the_interior_follows_the_size_field() {
+    use quadex::cad::SizeSpec;
+    let p = quadex::geom::Point::new;
+    let (centre, r) = (p(30.0, 40.0), 4.0);
+    let g = square_with_hole(100.0, centre, r);
     let mut spec = SizeSpec::uniform(10.0);
     spec.layers.insert("hole".into(), 0.8);
     let d = g.discretise_with(&spec).unwrap();
@@ -703,30 +711,10 @@ fn the_interior_follows_the_size_field() {
 /// the edges beside the hole are about as long as its segments.
 #[test]
 fn a_layer_sized_coarser_than_the_target_grades_down_to_it() {
-    use quadex::cad::{Geometry, LayerCurve, SizeSpec};
+    use quadex::cad::SizeSpec;
     use quadex::extract::StepKind;
-    let p = quadex::geom::Point::new;
-    let corners = [p(0.0, 0.0), p(24.0, 0.0), p(24.0, 24.0), p(0.0, 24.0)];
-    let mut curves: Vec<LayerCurve> = (0..4)
-        .map(|i| LayerCurve {
-            curve: Curve::Line {
-                a: corners[i],
-                b: corners[(i + 1) % 4],
-            },
-            layer: "outline".into(),
-        })
-        .collect();
-    let (centre, r) = (p(12.0, 12.0), 5.0);
-    curves.push(LayerCurve {
-        curve: Curve::Arc {
-            centre,
-            radius: r,
-            start: 0.0,
-            sweep: 2.0 * std::f64::consts::PI,
-        },
-        layer: "hole".into(),
-    });
-    let g = Geometry { curves };
+    let (centre, r) = (quadex::geom::Point::new(12.0, 12.0), 5.0);
+    let g = square_with_hole(24.0, centre, r);
     let mut spec = SizeSpec::uniform(0.25);
     spec.layers.insert("hole".into(), 1.5);
     let d = g.discretise_with(&spec).unwrap();

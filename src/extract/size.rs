@@ -430,23 +430,20 @@ impl SizeField {
 
     /// [`SizeField::lower_around`] with growth `rate`.
     fn lower_around_at(&mut self, p: Point, h: f64, rate: f64) {
-        let cell = 1.0 / self.inv_cell;
-        let g = (p - self.origin) * self.inv_cell;
-        let i0 = (g.x.max(0.0) as usize).min(self.nx - 1);
-        let j0 = (g.y.max(0.0) as usize).min(self.ny - 1);
-        for j in j0..=(j0 + 1).min(self.ny - 1) {
-            for i in i0..=(i0 + 1).min(self.nx - 1) {
-                let at = self.origin + Point::new(i as f64, j as f64) * cell;
-                let k = j * self.nx + i;
-                self.h[k] = self.h[k].min((h + rate * at.distance(p)) as f32);
-            }
-        }
+        self.set_around(p, h, rate, false);
     }
 
     /// Raises the samples around `p` to size `h` lessened by `rate` with
     /// their distance from `p` ([`SizeField::limit_decline`] then spreads
     /// it over the grid).
     fn raise_around_at(&mut self, p: Point, h: f64, rate: f64) {
+        self.set_around(p, h, rate, true);
+    }
+
+    /// The four samples around `p` lowered to `h` grown by `rate` with
+    /// their distance from `p` (`raise` false), or raised to `h` lessened
+    /// by it.
+    fn set_around(&mut self, p: Point, h: f64, rate: f64, raise: bool) {
         let cell = 1.0 / self.inv_cell;
         let g = (p - self.origin) * self.inv_cell;
         let i0 = (g.x.max(0.0) as usize).min(self.nx - 1);
@@ -455,7 +452,12 @@ impl SizeField {
             for i in i0..=(i0 + 1).min(self.nx - 1) {
                 let at = self.origin + Point::new(i as f64, j as f64) * cell;
                 let k = j * self.nx + i;
-                self.h[k] = self.h[k].max((h - rate * at.distance(p)) as f32);
+                let d = rate * at.distance(p);
+                self.h[k] = if raise {
+                    self.h[k].max((h - d) as f32)
+                } else {
+                    self.h[k].min((h + d) as f32)
+                };
             }
         }
     }
