@@ -65,8 +65,9 @@ pub struct PointSize {
 /// (a curve on a sized layer itself takes its layer's size, coarser or
 /// finer; beside a curve spaced more than
 /// [`COARSE_SPACING`](crate::extract::size::COARSE_SPACING) times `size`,
-/// the size falls from its spacing to `size` at `gradation`). Along a curve the spacing also grades from its ends' neighbours
-/// at `gradation` and keeps to [`MAX_ARC_ANGLE`] of the local curvature.
+/// the size falls from its spacing to `size` at `gradation`). Along a
+/// curve the spacing also grades from its ends' neighbours at `gradation`
+/// and keeps to [`MAX_ARC_ANGLE`] of the local curvature.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SizeSpec {
     pub size: f64,
