@@ -858,12 +858,7 @@ fn serendipity_quads_are_written_without_their_centres() {
     // Read back (and judged by `quadex quality`) by their corners: the
     // first-order mesh.
     let a4 = dir.path().join("a4.msh");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
-        .args(["mesh".as_ref(), path.as_os_str(), "-o".as_ref()])
-        .arg(&a4)
-        .args(["--size", "0.4"])
-        .output()
-        .unwrap();
+    let o = mesh(&path, &a4, 0.4);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let first = quadex::io::read_mesh(&a4).unwrap();
     for name in ["a9.msh", "a8.msh", "a8.msh22"] {
