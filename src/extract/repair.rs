@@ -6,7 +6,7 @@
 use super::guard::{self, Corner, Limits, MAX_SIDE_RATIO};
 use super::report::{StepKind, StepReport};
 use super::session::Mesher;
-use crate::front::{Front, SlotId};
+use crate::front::{Front, FrontLoop, SlotId};
 use crate::geom::{ccw_angle, Point};
 use std::f64::consts::PI;
 
@@ -43,6 +43,33 @@ struct Removal {
 fn toggle_edge(edges: &mut std::collections::BTreeSet<(u32, u32)>, (a, b): (u32, u32)) {
     if !edges.remove(&(b, a)) {
         edges.insert((a, b));
+    }
+}
+
+/// [`Mesher::chord_split`]'s state: per loop, the [`FrontLoop::version`]
+/// and head at which none of its nodes could be a chord's end, every chord
+/// splitting a corner too unevenly
+/// ([`RepairTuning::chord_min_part`](super::tuning::RepairTuning::chord_min_part));
+/// version 0: never. That test reads the loop's own nodes alone (which
+/// slots are paired follows from its length and head), so while the loop
+/// keeps its version and head no chord is found on it. A front built anew
+/// forgets them all (loop ids then mean nothing).
+#[derive(Clone, Debug, Default)]
+pub(super) struct ChordsSeen {
+    cornerless: Vec<(u32, SlotId)>,
+}
+
+impl ChordsSeen {
+    fn cornerless(&self, lid: u32, l: FrontLoop) -> bool {
+        self.cornerless.get(lid as usize) == Some(&(l.version, l.head))
+    }
+
+    fn remember_cornerless(&mut self, lid: u32, l: FrontLoop) {
+        let k = lid as usize;
+        if self.cornerless.len() <= k {
+            self.cornerless.resize(k + 1, (0, 0));
+        }
+        self.cornerless[k] = (l.version, l.head);
     }
 }
 
@@ -146,6 +173,7 @@ impl Mesher {
         let live: Vec<u32> = self.front.live_loops().collect();
         self.rows.front_rebuilt(live);
         self.bands.front_rebuilt();
+        self.chords = ChordsSeen::default();
         // A corner or a short edge of the given boundary the removal put
         // back on the front is looked at for its fan or notch again.
         self.fans = super::fan::Fans::of(self);
@@ -571,13 +599,19 @@ impl Mesher {
     /// given more nodes than its loop has: where the front at its ends is
     /// far finer than its length (a sliver of microscopic elements), a split
     /// would multiply the front instead of dividing it.
+    ///
+    /// A loop on which no two ends' corners can be split (the test that
+    /// depends on the loop alone) is remembered until it changes
+    /// ([`ChordsSeen`]): a round hole's front, reflex everywhere, is
+    /// otherwise searched again at every step that reaches this rung.
     pub(super) fn chord_split(&mut self, lid: u32) -> Option<StepReport> {
+        let l = self.front.loops[lid as usize];
+        if l.len < self.params.tuning.repair.chord_min_loop || self.chords.cornerless(lid, l) {
+            return None;
+        }
         let slots = self.front.loop_slots(lid);
         let n = slots.len();
         let tuning = &self.params.tuning.repair;
-        if n < tuning.chord_min_loop {
-            return None;
-        }
         let min_part = tuning.chord_min_part.to_radians();
         let [spacing_lo, spacing_hi] = tuning.chord_spacing;
         let mut best: Option<(f64, SlotId, SlotId, usize)> = None;
@@ -586,6 +620,7 @@ impl Mesher {
         // out when first needed (most chords fail on their ends' angles).
         let mut any_odd: Option<bool> = None;
         let mut wedges: Vec<Option<f64>> = vec![None; n];
+        let mut any_corners = false;
         for i in (0..n).step_by(stride) {
             for j in (i + 2..n).step_by(stride) {
                 if i == 0 && j == n - 1 {
@@ -613,6 +648,7 @@ impl Mesher {
                 if !ok {
                     continue;
                 }
+                any_corners = true;
                 let len = pa.distance(pb);
                 let h = 0.25
                     * (pa.distance(self.world(self.front.next(a)))
@@ -650,6 +686,9 @@ impl Mesher {
                 }
                 best = Some((score, a, b, k));
             }
+        }
+        if !any_corners {
+            self.chords.remember_cornerless(lid, l);
         }
         let (_, a, b, k) = best?;
         let (pa, pb) = (self.world(a), self.world(b));
@@ -784,5 +823,37 @@ mod tests {
         assert!(!m.chord_clear(a, c, 0.1));
         let d = at(&m, p(0., 0.5));
         assert!(m.chord_clear(a, d, 0.1));
+    }
+
+    /// A round hole's front is reflex at every node, so no chord can have
+    /// its ends on it: the loop is searched once, remembered, and searched
+    /// again only once it has changed.
+    #[test]
+    fn a_loop_without_chord_ends_is_searched_again_only_once_changed() {
+        let p = |x, y| Point::new(x, y);
+        let outer = vec![p(0., 0.), p(4., 0.), p(4., 4.), p(0., 4.)];
+        let hole: Vec<Point> = (0..12)
+            .map(|k| {
+                let t = -(k as f64) * std::f64::consts::TAU / 12.0;
+                p(2. + t.cos(), 2. + t.sin())
+            })
+            .collect();
+        let mut m = Mesher::of_loops(vec![outer, hole]);
+        let lid = m.front.slot(4).loop_id;
+        let l = m.front.loops[lid as usize];
+        assert_eq!(l.len, 12, "the hole's loop");
+        assert!(!m.chords.cornerless(lid, l));
+        assert!(m.chord_split(lid).is_none());
+        assert!(m.chords.cornerless(lid, l), "remembered");
+        assert!(m.chord_split(lid).is_none());
+        // One of its edges filed anew: the loop may have changed.
+        let s = l.head;
+        let node = m.front.node(s);
+        m.front.refile_edges_at(s, node, &m.mesh.nodes);
+        let changed = m.front.loops[lid as usize];
+        assert_ne!(changed.version, l.version);
+        assert!(!m.chords.cornerless(lid, changed));
+        assert!(m.chord_split(lid).is_none());
+        assert!(m.chords.cornerless(lid, changed));
     }
 }
