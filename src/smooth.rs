@@ -536,6 +536,11 @@ fn node_quality(
     for &k in quads {
         let p = corners_with(mesh, &mesh.quads[k as usize], moving);
         let q = Shape::of(p);
+        // Either measure is at most the scaled Jacobian: a quad under
+        // `beat` by it is refused before the floor is looked at.
+        if q.scaled_jacobian < beat {
+            return None;
+        }
         let f = &floor[k as usize];
         if (f.convex && !q.convexity(p).1)
             || q.area < f.area
