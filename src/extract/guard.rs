@@ -160,15 +160,18 @@ pub fn check(
     // Corner limits and what the front keeps.
     let mut front_factor: f64 = 1.0;
     for k in 0..4 {
-        let corner = ccw_angle(p[k], p[(k + 1) % 4], p[(k + 3) % 4]);
+        // A corner the quad takes whole is the front's own: not measured.
+        let corner = || ccw_angle(p[k], p[(k + 1) % 4], p[(k + 3) % 4]);
         match corners[k] {
             Corner::Full(_) => {}
             Corner::New(_) => {
+                let corner = corner();
                 if corner < limits.min_corner || corner > limits.max_corner {
                     return None;
                 }
             }
             Corner::Partial(s) => {
+                let corner = corner();
                 if corner < limits.min_corner || corner > limits.max_corner {
                     return None;
                 }
@@ -276,8 +279,11 @@ impl Mesher {
         // The element at a sharp corner of the front has that corner's
         // angle; the corner opposite may open as far as a kite with right
         // angles beside the tip needs.
-        let tip = self.front.angle(p0, &self.mesh.nodes);
-        let limits = if tip < self.params.reference_angle[0].to_radians() {
+        let limits = if self
+            .front
+            .angle_below(p0, &self.mesh.nodes, &self.angles.sharp)
+        {
+            let tip = self.front.angle(p0, &self.mesh.nodes);
             Limits {
                 max_corner: limits
                     .max_corner
