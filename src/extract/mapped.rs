@@ -35,8 +35,6 @@ pub const CORNER_MAX: f64 = 150.0;
 /// A node on a side may turn the side by at most this (degrees) either way.
 pub const SIDE_TURN: f64 = 35.0;
 
-/// A structured grid over a logical rectangle: `m × n` quads, the nodes
-/// `(i, j)` for `0 ≤ i ≤ m`, `0 ≤ j ≤ n`, row by row.
 /// The mapped rungs' state: per loop, the
 /// [`crate::front::FrontLoop::version`] last looked at for a mapped grid
 /// (`mapped`) and for a strip's best grid (`strip`); 0: never.
@@ -45,6 +43,19 @@ pub(super) struct GridsSeen {
     mapped: Vec<u32>,
     strip: Vec<u32>,
 }
+
+impl GridsSeen {
+    /// The front was built anew: its loop ids and versions mean nothing
+    /// now (a new loop may carry an old one's id and version), so every
+    /// loop is looked at again.
+    pub(super) fn front_rebuilt(&mut self) {
+        self.mapped.clear();
+        self.strip.clear();
+    }
+}
+
+/// A structured grid over a logical rectangle: `m × n` quads, the nodes
+/// `(i, j)` for `0 ≤ i ≤ m`, `0 ≤ j ≤ n`, row by row.
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Grid {
@@ -451,6 +462,25 @@ mod tests {
             p.push(Point::new(0.0, h * (n - j) as f64 / n as f64));
         }
         p
+    }
+
+    /// A loop looked at for a grid is not looked at again until it
+    /// changes, or until the front is built anew (after a rip-up, when its
+    /// id may be another loop's).
+    #[test]
+    fn a_loop_looked_at_for_a_grid_is_looked_at_again_on_a_new_front() {
+        let ring: Vec<Point> = (0..12)
+            .map(|k| {
+                let t = k as f64 * std::f64::consts::TAU / 12.0;
+                Point::new(t.cos(), t.sin())
+            })
+            .collect();
+        let mut m = Mesher::of_loop(ring);
+        assert!(m.grid_unseen(0));
+        assert!(m.close_mapped(0).is_none(), "a ring has no corners");
+        assert!(!m.grid_unseen(0));
+        m.grids.front_rebuilt();
+        assert!(m.grid_unseen(0));
     }
 
     #[test]

@@ -174,6 +174,7 @@ impl Mesher {
         self.rows.front_rebuilt(live);
         self.bands.front_rebuilt();
         self.chords = ChordsSeen::default();
+        self.grids.front_rebuilt();
         // A corner or a short edge of the given boundary the removal put
         // back on the front is looked at for its fan or notch again.
         self.fans = super::fan::Fans::of(self);
