@@ -56,7 +56,6 @@ impl GridsSeen {
 
 /// A structured grid over a logical rectangle: `m × n` quads, the nodes
 /// `(i, j)` for `0 ≤ i ≤ m`, `0 ≤ j ≤ n`, row by row.
-
 #[derive(Clone, Debug, PartialEq)]
 pub struct Grid {
     pub m: usize,
