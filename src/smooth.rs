@@ -830,18 +830,42 @@ pub const POLISH_AREA_RATIO: f64 = 0.7;
 /// if it is lower already.
 pub const UNTAPER_FLOOR: f64 = 0.5;
 
+/// [`untaper`] goes over the quads still past the bound at most this
+/// many times: a move that only lowers a quad's excess leaves the rest to
+/// its other corners, some of which come before it in the pass; a pass
+/// that keeps no move ends it sooner.
+pub const UNTAPER_PASSES: usize = 10;
+
 /// Brings quads whose longest side is over [`GOOD_RATIO`] times their
-/// shortest (the thesis's aspect and taper bound, §1.2) under it where one
-/// interior corner's move can: each interior corner of such a quad is
-/// moved, by pattern search, to where its quads' side ratios exceed the
+/// shortest (the thesis's aspect and taper bound, §1.2) under it where
+/// their interior corners' moves can: each interior corner of such a quad
+/// is moved, by pattern search, to where its quads' side ratios exceed the
 /// bound least, then where the worst of their scaled Jacobians is best;
 /// no quad may stop being measurably convex, shrink under
 /// [`MIN_AREA_RATIO`] of its area or fall under [`UNTAPER_FLOOR`] (or its
-/// own scaled Jacobian, if lower). A move is kept only when all of the
-/// node's quads end within the bound, so quads the boundary forces past
-/// it (a slit between long walls) are left as they are. Returns the
-/// number of nodes moved.
+/// own scaled Jacobian, if lower). A move is kept when all of the node's
+/// quads end within the bound, or when it lowers the excess of those with
+/// no corner on the boundary and leaves that of the others no higher: a
+/// quad whose two short sides are both too short needs two of its corners
+/// moved, one pass after the other, while quads the boundary forces past
+/// the bound (a slit between long walls) are not pulled about for a share
+/// of their excess. The quads still past it are gone over again,
+/// [`UNTAPER_PASSES`] times at most. Returns the number of moves kept.
 pub fn untaper(mesh: &mut QuadMesh) -> usize {
+    let mut moved = 0;
+    for _ in 0..UNTAPER_PASSES {
+        let pass = untaper_pass(mesh);
+        moved += pass;
+        if pass == 0 {
+            break;
+        }
+    }
+    moved
+}
+
+/// One pass of [`untaper`] over the interior corners of the quads past
+/// the bound.
+fn untaper_pass(mesh: &mut QuadMesh) -> usize {
     let over = |m: &QuadMesh, q: &[u32; 4]| Shape::of(m.corners(q)).side_ratio() > GOOD_RATIO;
     let mut mark = vec![false; mesh.nodes.len()];
     let mut any = false;
@@ -857,6 +881,10 @@ pub fn untaper(mesh: &mut QuadMesh) -> usize {
         return 0;
     }
     on_nodes(mesh, Some(&mark), |mesh, adj, nodes| {
+        let mut works = vec![false; mesh.nodes.len()];
+        for &v in nodes {
+            works[v] = true;
+        }
         let mut moved = 0;
         for &v in nodes {
             let quads = adj.quads_at(v);
@@ -890,10 +918,30 @@ pub fn untaper(mesh: &mut QuadMesh) -> usize {
             let Some(start) = quality(mesh, f64::NEG_INFINITY) else {
                 continue;
             };
+            // The excess of the quads here away from the boundary (every
+            // corner of one is worked on: boundary nodes never are) and of
+            // the others. A move that lowers the first without ending it
+            // is worth keeping only if it leaves the second no higher.
+            let split = |m: &QuadMesh| {
+                quads.iter().fold((0.0, 0.0), |(inside, other), &k| {
+                    let q = &m.quads[k as usize];
+                    let e = (Shape::of(m.corners(q)).side_ratio() - GOOD_RATIO).max(0.0);
+                    if q.iter().all(|&u| works[u as usize]) {
+                        (inside + e, other)
+                    } else {
+                        (inside, other + e)
+                    }
+                })
+            };
+            let before = split(mesh);
             let old = mesh.nodes[v];
             let nbs = adj.nbs_at(v);
             pattern_search(mesh, v, nbs, start, quality);
-            if quality(mesh, f64::NEG_INFINITY).is_some_and(|q| q.0 == 0.0) {
+            let partial = || {
+                let after = split(mesh);
+                after.0 < before.0 && after.1 <= before.1
+            };
+            if quality(mesh, f64::NEG_INFINITY).is_some_and(|q| q.0 == 0.0 || partial()) {
                 moved += 1;
             } else {
                 mesh.nodes[v] = old;

@@ -347,3 +347,28 @@ fn real_like_families_draw_what_they_say() {
         }
     }
 }
+
+/// A zig-zag outline with slits (the real-like suite of seed 5, `117`):
+/// cleanup left a quad two units long between sides of 0.17 and 0.18 away
+/// from the boundary, a stretch no single corner's move brings within
+/// 10:1. Untapering moves its corners one pass after the other; no quad
+/// without a corner on the boundary (where only the boundary can force a
+/// stretch) is left past the bound.
+#[test]
+fn a_quad_away_from_the_boundary_is_not_left_stretched_past_ten() {
+    use quadex::domains::{generate, Family};
+    use quadex::quality::{Shape, GOOD_RATIO};
+    let d = generate(Family::Zigzag, 0xda75d895f2226e9c);
+    let model = Arc::new(quadex::model::default_model().expect("the shipped model loads"));
+    let (mesh, _) = quadex::mesh_boundary(&d.boundary, model, &quadex::Params::DEFAULT, |_| {})
+        .expect("meshes");
+    let inside: Vec<f64> = mesh
+        .quads
+        .iter()
+        .filter(|q| !q.iter().any(|&v| mesh.is_boundary(v)))
+        .map(|q| Shape::of(mesh.corners(q)).side_ratio())
+        .collect();
+    assert!(inside.len() > 100, "{} quads inside", inside.len());
+    let worst = inside.iter().copied().fold(0.0, f64::max);
+    assert!(worst <= GOOD_RATIO, "a quad inside stretched {worst:.2}:1");
+}
