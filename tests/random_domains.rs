@@ -349,7 +349,7 @@ fn real_like_families_draw_what_they_say() {
 }
 
 /// A zig-zag outline with slits (the real-like suite of seed 5, `117`):
-/// cleanup left a quad two units long between sides of 0.17 and 0.18 away
+/// finishing left a quad two units long between sides of 0.17 and 0.18 away
 /// from the boundary, a stretch no single corner's move brings within
 /// 10:1. Untapering moves its corners one pass after the other; no quad
 /// without a corner on the boundary (where only the boundary can force a
