@@ -37,6 +37,7 @@ fn kinds_of(rung: Rung) -> &'static [StepKind] {
         Rung::Relax => &[Relax],
         Rung::Bridge => &[Bridge],
         Rung::RipUp => &[RipUp, Split],
+        Rung::Refan => &[Refan],
         Rung::User => &[Correction],
     }
 }

@@ -372,3 +372,72 @@ fn a_quad_away_from_the_boundary_is_not_left_stretched_past_ten() {
     let worst = inside.iter().copied().fold(0.0, f64::max);
     assert!(worst <= GOOD_RATIO, "a quad inside stretched {worst:.2}:1");
 }
+
+/// A graded side (real-like family, seed 2's `207`) with a 45° corner
+/// between segments about 130 times apart. The corner's fan, its far
+/// corners where its quads are squarest, leaves kites: the front leaves
+/// the long segment's end by an edge a tenth of the one beside it, the
+/// rows from there knot, and the run needs the region fill (a quad of
+/// scaled Jacobian 0.003 and taper 367 after finishing). Before that fill
+/// the run is made again with balanced fans and finishes by extraction
+/// alone, every quad within 10:1.
+#[test]
+fn a_graded_side_whose_squarest_fans_need_the_fill_finishes_with_balanced_ones() {
+    use quadex::domains::{generate, Family};
+    use quadex::quality::{Shape, GOOD_RATIO};
+    let d = generate(Family::GradedSide, 0xb11b8e4816ee8538);
+    let model: Arc<dyn quadex::model::Model> =
+        Arc::new(quadex::model::default_model().expect("the shipped model loads"));
+    let mut once = quadex::Params::DEFAULT;
+    once.extract.tuning.fill.refan = false;
+    let (_, stats) = quadex::mesh_boundary(&d.boundary, model.clone(), &once, |_| {})
+        .expect("meshes with the fill");
+    assert!(stats.count(StepKind::Fan) > 0);
+    assert!(stats.count(StepKind::Fill) > 0, "{stats:?}");
+    assert!(!stats.refanned);
+
+    let (mesh, stats) =
+        quadex::mesh_boundary(&d.boundary, model.clone(), &quadex::Params::DEFAULT, |_| {})
+            .expect("meshes");
+    assert!(stats.refanned);
+    assert!(stats.count(StepKind::Fan) > 0);
+    assert_eq!(stats.count(StepKind::Fill), 0, "{stats:?}");
+    let shapes: Vec<Shape> = mesh
+        .quads
+        .iter()
+        .map(|q| Shape::of(mesh.corners(q)))
+        .collect();
+    let stretch = shapes.iter().map(|s| s.side_ratio()).fold(0.0, f64::max);
+    let sj = shapes.iter().map(|s| s.scaled_jacobian).fold(1.0, f64::min);
+    assert!(stretch <= GOOD_RATIO, "a quad stretched {stretch:.2}:1");
+    assert!(sj > 0.15, "scaled Jacobian {sj:.3}");
+}
+
+/// The run made again with balanced fans is the run from then on: its
+/// history replays to the same mesh, so undoing its last step and taking
+/// it again gives the same quads.
+#[test]
+fn a_run_made_again_with_balanced_fans_undoes_and_redoes_its_steps() {
+    use quadex::domains::{generate, Family};
+    use quadex::extract::{Mesher, Rung, StepOutcome};
+    let d = generate(Family::GradedSide, 0xb11b8e4816ee8538);
+    let model = Arc::new(quadex::model::default_model().expect("the shipped model loads"));
+    let (local, origin) = d.boundary.to_local();
+    let mut m = Mesher::new(local, model, quadex::Params::DEFAULT.extract.moved(origin));
+    let mut last = None;
+    while let StepOutcome::Stepped(r) = m.step().expect("steps") {
+        last = Some(r);
+    }
+    let last = last.expect("a step");
+    assert_eq!((last.rung, last.kind), (Rung::Refan, StepKind::Refan));
+    assert_eq!(last.quads.len(), m.mesh().quads.len());
+    assert!(last.removed > 0);
+    assert!(m.stats().refanned && m.is_done());
+    let done = m.mesh().quads.clone();
+    assert!(m.undo());
+    assert!(!m.is_done());
+    assert!(m.mesh().quads.len() < done.len());
+    assert!(matches!(m.step().expect("steps"), StepOutcome::Stepped(_)));
+    assert!(m.is_done());
+    assert_eq!(m.mesh().quads, done);
+}

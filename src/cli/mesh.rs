@@ -350,7 +350,7 @@ pub(super) fn run(a: MeshArgs) -> Result<()> {
     }
     io::write_atomic_all(&files)?;
     let made_by = match stats.count(StepKind::Fill) {
-        0 => format!("{} extraction steps", stats.steps),
+        0 => format!("{} extraction steps{}", stats.steps, refanned(&stats)),
         _ => format!(
             "{} extraction steps and a region fill ({} of the {} quads before finishing)",
             stats.steps - stats.count(StepKind::Fill),
@@ -509,7 +509,7 @@ fn mesh_graph(a: MeshGraph) -> Result<()> {
         q.interior_nodes,
         steps.steps - fills,
         match fills {
-            0 => String::new(),
+            0 => refanned(&steps).to_string(),
             1 => " and a region fill".to_string(),
             _ => format!(" and {fills} region fills"),
         },
@@ -593,6 +593,16 @@ fn resample_hint(b: &quadex::Boundary) -> Option<String> {
              and its nodes are kept as given: `--resample {narrowest:.3}` adds nodes along them"
         )
     })
+}
+
+/// What the summary line says of a run made again with balanced corner
+/// fans before its fill ([`quadex::extract::Rung::Refan`]).
+fn refanned(stats: &StepStats) -> &'static str {
+    if stats.refanned {
+        " (made again with balanced corner fans, no fill)"
+    } else {
+        ""
+    }
 }
 
 #[cfg(test)]

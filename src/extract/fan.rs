@@ -11,7 +11,9 @@
 //! ratio over `k` spokes instead: spoke `i` leaves the corner at `i / k`
 //! of its angle, `a·gⁱ` long, where `a` is the short segment, `b` the long
 //! one and `g = (b / a)^(1/k)`; the quad between two spokes has its far
-//! corner where its three corners other than the fan's are squarest. `k`
+//! corner where its three corners other than the fan's are squarest, or
+//! with [`FarCorner::Balanced`] where its two outer sides are also alike
+//! ([`far_corner`]). `k`
 //! is the fewest quads that keep `g` within [`FanTuning::growth`], but no
 //! more than leave each quad [`FanTuning::min_angle`] of the corner; fewer
 //! than two is no fan. The
@@ -25,7 +27,7 @@
 
 use super::report::{StepKind, StepReport};
 use super::session::Mesher;
-use super::tuning::FanTuning;
+use super::tuning::{FanTuning, FarCorner};
 use crate::front::SlotId;
 use crate::geom::{corner_sines, is_measurably_convex, weighted_points, Point};
 use crate::quality::Shape;
@@ -122,9 +124,11 @@ fn spokes_of(c: Point, prev: Point, next: Point, k: usize) -> Spokes {
 /// The far corner of the fan quad `c, p, m, q` between the spoke ends `p`
 /// and `q`: `m = c + α (p − c) + γ (q − c)`, with `α` and `γ` each one of
 /// [`FAR_STEPS`] values from [`FAR_RANGE`] (1 and 1: the parallelogram),
-/// where the quad's three corners other than `c` are squarest. `None` if
-/// no such quad is measurably convex.
-fn far_corner(c: Point, p: Point, q: Point) -> Option<Point> {
+/// where the worst sine of the quad's three corners other than `c` is
+/// highest ([`FarCorner::Squarest`]), or that sine times the ratio of its
+/// outer sides `p m` and `m q`, the shorter over the longer
+/// ([`FarCorner::Balanced`]). `None` if no such quad is measurably convex.
+fn far_corner(c: Point, p: Point, q: Point, rule: FarCorner) -> Option<Point> {
     let mut best: Option<(f64, Point)> = None;
     for m in weighted_points(c, p - c, q - c, FAR_RANGE, FAR_STEPS) {
         let quad = [c, p, m, q];
@@ -135,8 +139,15 @@ fn far_corner(c: Point, p: Point, q: Point) -> Option<Point> {
             .iter()
             .copied()
             .fold(f64::INFINITY, f64::min);
-        if best.is_none_or(|(b, _)| worst > b) {
-            best = Some((worst, m));
+        let score = match rule {
+            FarCorner::Squarest => worst,
+            FarCorner::Balanced => {
+                let (a, b) = ((m - p).length(), (q - m).length());
+                worst * a.min(b) / a.max(b)
+            }
+        };
+        if best.is_none_or(|(b, _)| score > b) {
+            best = Some((score, m));
         }
     }
     best.map(|(_, m)| m)
@@ -146,8 +157,14 @@ fn far_corner(c: Point, p: Point, q: Point) -> Option<Point> {
 /// the far corners, in front order from the previous node's side) and the
 /// quads as indices into `[c, prev, next, new...]`, counter-clockwise;
 /// `None` if a quad is not measurably convex with a scaled Jacobian of at
-/// least `min_sj`.
-pub fn fan_quads(sp: &Spokes, prev: Point, next: Point, min_sj: f64) -> Option<FanQuads> {
+/// least `min_sj`. The far corners follow `far` ([`far_corner`]).
+pub fn fan_quads(
+    sp: &Spokes,
+    prev: Point,
+    next: Point,
+    min_sj: f64,
+    far: FarCorner,
+) -> Option<FanQuads> {
     let k = sp.dirs.len() - 1;
     // Spoke ends, from `next` (spoke 0) to `prev` (spoke k).
     let ends: Vec<Point> = (0..=k)
@@ -159,7 +176,7 @@ pub fn fan_quads(sp: &Spokes, prev: Point, next: Point, min_sj: f64) -> Option<F
         .collect();
     let mut fars = Vec::with_capacity(k);
     for i in 0..k {
-        fars.push(far_corner(sp.c, ends[i], ends[i + 1])?);
+        fars.push(far_corner(sp.c, ends[i], ends[i + 1], far)?);
     }
     // Indices: 0 the corner, 1 prev, 2 next, then the new points in front
     // order from prev: far k-1, end k-1, far k-2, ..., end 1, far 0.
@@ -223,19 +240,25 @@ fn spokes_at(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<(Spokes, Point, Poi
 /// [`fitting_fan`]).
 fn plan(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<FanQuads> {
     let (sp, prev, next) = spokes_at(m, s, t)?;
-    fitting_fan(&sp, prev, next, t.min_sj)
+    fitting_fan(&sp, prev, next, t.min_sj, t.far_corner)
 }
 
 /// The quads of the fan `sp` ([`fan_quads`]), or if they do not fit, of
 /// the same corner's fan with one quad fewer ([`spokes_of`]), down to
 /// two: a far corner that cannot be squared among narrow spokes may be
 /// among wider ones.
-fn fitting_fan(sp: &Spokes, prev: Point, next: Point, min_sj: f64) -> Option<FanQuads> {
+fn fitting_fan(
+    sp: &Spokes,
+    prev: Point,
+    next: Point,
+    min_sj: f64,
+    far: FarCorner,
+) -> Option<FanQuads> {
     let k = sp.dirs.len() - 1;
-    fan_quads(sp, prev, next, min_sj).or_else(|| {
+    fan_quads(sp, prev, next, min_sj, far).or_else(|| {
         (2..k)
             .rev()
-            .find_map(|j| fan_quads(&spokes_of(sp.c, prev, next, j), prev, next, min_sj))
+            .find_map(|j| fan_quads(&spokes_of(sp.c, prev, next, j), prev, next, min_sj, far))
     })
 }
 
@@ -304,7 +327,7 @@ mod tests {
             assert!((w[1] / w[0] - 100f64.powf(1.0 / 6.0)).abs() < 1e-9);
         }
         assert!((sp.lengths[6] - 1.0).abs() < 1e-12);
-        let fan = fan_quads(&sp, prev, next, t.min_sj).expect("quads");
+        let fan = fan_quads(&sp, prev, next, t.min_sj, t.far_corner).expect("quads");
         assert_eq!(fan.quads.len(), 6);
         assert_eq!(fan.points.len(), 11);
         let all = |j: usize| match j {
@@ -333,21 +356,77 @@ mod tests {
     }
 
     #[test]
+    fn a_sharp_corners_balanced_fan_keeps_the_outer_sides_of_its_quads_alike() {
+        // A 47.8° corner between segments of 0.015 and 1.856 (a side
+        // graded to a sharp corner): 10° a quad allows four.
+        let t = FanTuning::DEFAULT;
+        let a = 47.8f64.to_radians();
+        let (c, next) = (Point::ZERO, Point::new(0.015, 0.0));
+        let prev = Point::new(a.cos(), a.sin()) * 1.856;
+        let sp = fan_spokes(c, prev, next, &t).expect("fan");
+        let outer = |fan: &FanQuads| {
+            let all = |j: usize| match j {
+                0 => c,
+                1 => prev,
+                2 => next,
+                _ => fan.points[j - 3],
+            };
+            fan.quads
+                .iter()
+                .map(|q| {
+                    let p = q.map(all);
+                    let (pm, mq) = ((p[2] - p[1]).length(), (p[3] - p[2]).length());
+                    (Shape::of(p), pm.min(mq) / pm.max(mq))
+                })
+                .collect::<Vec<_>>()
+        };
+        // The squarest far corners: kites whose outer side at the longer
+        // spoke is a tenth of the other or less, and the front's first
+        // edge from the long segment's end a sixteenth of that segment.
+        let square = fan_quads(&sp, prev, next, t.min_sj, FarCorner::Squarest).expect("quads");
+        assert_eq!(square.quads.len(), 4);
+        assert!(outer(&square).iter().any(|(_, r)| *r < 0.1));
+        assert!((square.points[0] - prev).length() < 0.1 * 1.856);
+        // The balanced ones: outer sides within 2.5:1, side ratios under
+        // 5, and the scaled Jacobian still what the corner's share bounds
+        // it to (sin 11.95°).
+        let even = fan_quads(&sp, prev, next, t.min_sj, FarCorner::Balanced).expect("quads");
+        assert_eq!(even.quads.len(), 4);
+        for (shape, r) in outer(&even) {
+            assert!(r > 0.4, "outer sides {r:.3}");
+            assert!(shape.side_ratio() < 5.0, "{}", shape.side_ratio());
+            assert!(
+                shape.scaled_jacobian > 0.207 - 1e-3,
+                "{}",
+                shape.scaled_jacobian
+            );
+        }
+        assert!((even.points[0] - prev).length() > 0.2 * 1.856);
+    }
+
+    #[test]
     fn a_fan_whose_quads_do_not_fit_takes_one_fewer() {
         let (c, prev, next) = corner(0.01, 1.0);
         // Six quads of 15° at the corner are under a bar of 0.3 (sin 15° =
         // 0.26); five of 18° are over it (0.31).
         let sp = fan_spokes(c, prev, next, &FanTuning::DEFAULT).expect("fan");
         assert_eq!(sp.dirs.len(), 7);
-        assert!(fan_quads(&sp, prev, next, 0.3).is_none());
-        let fan = fitting_fan(&sp, prev, next, 0.3).expect("a fan of five");
+        assert!(fan_quads(&sp, prev, next, 0.3, FarCorner::Squarest).is_none());
+        let fan = fitting_fan(&sp, prev, next, 0.3, FarCorner::Squarest).expect("a fan of five");
         assert_eq!(fan.quads.len(), 5);
         assert_eq!(
             Some(&fan),
-            fan_quads(&spokes_of(c, prev, next, 5), prev, next, 0.3).as_ref()
+            fan_quads(
+                &spokes_of(c, prev, next, 5),
+                prev,
+                next,
+                0.3,
+                FarCorner::Squarest
+            )
+            .as_ref()
         );
         // Nothing fits a bar over sin 45°: no fan, not even of two.
-        assert!(fitting_fan(&sp, prev, next, 0.75).is_none());
+        assert!(fitting_fan(&sp, prev, next, 0.75, FarCorner::Squarest).is_none());
     }
 
     #[test]

@@ -3,12 +3,16 @@
 //! reduces the front, the region left is filled
 //! ([`super::fill::fill_region`]); when extraction has led the front into
 //! a state no fill can take, the run goes back to an earlier step and
-//! fills there.
+//! fills there. A run that placed corner fans is first made again with
+//! balanced ones, and taken if it needs no fill ([`Mesher::refan`]).
 
 use super::fill;
+use super::ladder::Rung;
 use super::report::{Action, StepKind, StepReport};
 use super::session::Mesher;
+use super::tuning::FarCorner;
 use crate::geom::Point;
+use std::ops::ControlFlow;
 
 /// The fill's budget: the steps after which the region left is filled,
 /// and the step before which no fill is tried again (set after a fill
@@ -32,6 +36,60 @@ impl FillBudget {
 }
 
 impl Mesher {
+    /// Before the region fill: the run, if it placed corner fans with
+    /// [`FarCorner::Squarest`], made again from the start with
+    /// [`FarCorner::Balanced`] ([`FillTuning::refan`](super::tuning::FillTuning::refan)). That run
+    /// replaces this one if it finishes by extraction alone, without a
+    /// fill; the step's report ([`StepKind::Refan`]) has all of that
+    /// run's quads and none of this one's. The history
+    /// is then that run's, whose parameters carry the balanced fans, so
+    /// undo replays it. Tried once per run, never while replaying, and not
+    /// on a run the user steered (a correction, or a model set during the
+    /// run): the steps before the first fan do not depend on the far
+    /// corners, but the user's would not be made again.
+    pub(super) fn refan(&mut self) -> Option<StepReport> {
+        let t = &self.params.tuning;
+        if !t.fill.refan
+            || t.fan.far_corner != FarCorner::Squarest
+            || self.record.refan_tried
+            || self.record.replaying
+            || self.record.rewound
+            || self.record.stats.count(StepKind::Fan) == 0
+            || !self.record.model_changes.is_empty()
+            || self.record.history.iter().any(|a| *a != Action::Auto)
+        {
+            return None;
+        }
+        self.record.refan_tried = true;
+        let mut params = self.params.clone();
+        params.tuning.fan.far_corner = FarCorner::Balanced;
+        let mut fresh = Mesher::with_size(
+            self.boundary.clone(),
+            self.record.initial_model.clone(),
+            params,
+            self.size.clone(),
+        );
+        let done = fresh
+            .run_with(|r, _| match r.kind {
+                StepKind::Fill => ControlFlow::Break(()),
+                _ => ControlFlow::Continue(()),
+            })
+            .ok()?;
+        if !done || fresh.record.stats.count(StepKind::Fill) > 0 {
+            return None;
+        }
+        let last = fresh.record.history.len().saturating_sub(1);
+        let mut r = StepReport::new(last, StepKind::Refan);
+        r.rung = Rung::Refan;
+        r.quads = fresh.mesh.quads.clone();
+        r.new_nodes = (fresh.mesh.n_boundary() as u32..fresh.mesh.nodes.len() as u32).collect();
+        r.removed = self.mesh.quads.len();
+        fresh.record.refan_tried = true;
+        fresh.record.stats.refanned = true;
+        *self = fresh;
+        Some(r)
+    }
+
     /// When extraction has led the front into a state no fill can take, the
     /// run goes back to an earlier step (3/4, 1/2, 1/4, 1/8, 1/16 and 1/32
     /// of the way, then the start) and fills the region left there: a fill

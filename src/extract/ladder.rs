@@ -171,6 +171,10 @@ pub enum Rung {
     /// Not a rung of the ladder: after a failed step, the run went back
     /// to an earlier step and filled the region left there.
     Rewind,
+    /// Not a rung of the ladder: before its region fill, the run was made
+    /// again with balanced corner fans and finished by extraction alone
+    /// (the report is that run's last step).
+    Refan,
     /// Not a rung of the ladder: an element given by the user.
     #[default]
     User,
@@ -232,6 +236,7 @@ impl Rung {
             Rung::RipUp => "rip-up",
             Rung::Fill => "fill",
             Rung::Rewind => "rewind",
+            Rung::Refan => "refan",
             Rung::User => "user",
         }
     }
@@ -330,7 +335,7 @@ impl Mesher {
                 let loops = self.loops_smallest_first(climb);
                 loops.first().and_then(|&lid| self.rip_up_rung(lid))
             }
-            Rung::Rewind | Rung::User => None,
+            Rung::Rewind | Rung::Refan | Rung::User => None,
         })
     }
 

@@ -93,6 +93,10 @@ pub enum StepKind {
     RipUp,
     /// The region left was filled by a ring and a split triangulation.
     Fill,
+    /// Before its region fill, the run was made again from the start with
+    /// balanced corner fans and finished by extraction alone: every quad
+    /// is new ([`super::Rung::Refan`]).
+    Refan,
     /// An element given by the user.
     Correction,
 }
@@ -186,6 +190,10 @@ pub struct StepStats {
     /// Steps by the rung of the step ladder that took them.
     #[serde(default)]
     pub by_rung: BTreeMap<Rung, usize>,
+    /// The run was made again with balanced corner fans before its region
+    /// fill, and these are that run's counts ([`super::Rung::Refan`]).
+    #[serde(default)]
+    pub refanned: bool,
 }
 
 impl StepStats {
@@ -231,6 +239,7 @@ impl StepStats {
         }
         self.skipped_references += o.skipped_references;
         self.rejected_predictions += o.rejected_predictions;
+        self.refanned |= o.refanned;
     }
 
     /// Counts step `r`, after which the mesh holds `standing` quads.

@@ -8,7 +8,7 @@ use super::candidate::Cand;
 use super::candidate::Rejections;
 use super::fill_step::FillBudget;
 use super::guard::{Limits, Scratch};
-use super::ladder::{Repairs, RowStarts, SmallLoops, WatchedLoops};
+use super::ladder::{Repairs, RowStarts, Rung, SmallLoops, WatchedLoops};
 use super::mapped::GridsSeen;
 use super::memo::EvalMemo;
 use super::params::MeshParams;
@@ -138,6 +138,9 @@ pub(super) struct Record {
     pub(super) replaying: bool,
     /// A rewind has been tried.
     pub(super) rewound: bool,
+    /// The run has been made again with balanced fans
+    /// ([`Mesher::refan`]), or that was tried.
+    pub(super) refan_tried: bool,
     pub(super) stats: StepStats,
     pub(super) step_limit: usize,
 }
@@ -229,6 +232,7 @@ impl Mesher {
                 checkpoint: None,
                 replaying: false,
                 rewound: false,
+                refan_tried: false,
                 stats: StepStats::default(),
                 step_limit,
             },
@@ -383,6 +387,9 @@ impl Mesher {
             Ok(r) => r,
             Err(e) => {
                 if self.params.fill && !self.record.replaying {
+                    if let Some(r) = self.refan() {
+                        return Ok(StepOutcome::Stepped(Box::new(r)));
+                    }
                     if let Some(r) = self.rewind_and_fill() {
                         self.forget(None);
                         return Ok(StepOutcome::Stepped(Box::new(r)));
@@ -391,6 +398,11 @@ impl Mesher {
                 return Err(e);
             }
         };
+        if r.kind == StepKind::Fill && r.rung != Rung::FillLayers {
+            if let Some(r) = self.refan() {
+                return Ok(StepOutcome::Stepped(Box::new(r)));
+            }
+        }
         // The memory forgets what the step may have changed: the box of
         // the quads it made (an element, a transition, a small loop or a
         // narrow rectangle closed, a row's first square), the region a
@@ -593,6 +605,7 @@ impl Mesher {
         let keep_at = (!near && n > CHECKPOINT_BEHIND).then(|| n - CHECKPOINT_BEHIND);
         let mut fresh = self.replayed_keeping(&self.record.history, keep_at);
         fresh.record.rewound = self.record.rewound;
+        fresh.record.refan_tried = self.record.refan_tried;
         fresh.record.undone = std::mem::take(&mut self.record.undone);
         fresh.record.undone.push(a);
         *self = fresh;

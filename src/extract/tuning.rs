@@ -545,6 +545,29 @@ pub struct FanTuning {
     /// The worst quad a fan may have (scaled Jacobian); a fan with a worse
     /// one is tried with one quad fewer, down to two.
     pub min_sj: f64,
+    /// Where each fan quad's far corner goes. A run that placed fans the
+    /// squarest way and still needs the region fill is made again with
+    /// the balanced ones ([`FillTuning::refan`]).
+    pub far_corner: FarCorner,
+}
+
+/// Where a fan quad's far corner goes, among the points its two spokes
+/// span ([`super::fan`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FarCorner {
+    /// Where the quad's three corners other than the fan's are squarest:
+    /// the best scaled Jacobian for each quad, but at a sharp corner
+    /// between very unequal segments a kite whose outer side at the
+    /// longer spoke is a tenth of the other, so the front leaves the long
+    /// segment's end by an edge that short.
+    #[default]
+    Squarest,
+    /// Where the worst sine of those three corners times the ratio of the
+    /// quad's two outer sides (the shorter over the longer) is highest:
+    /// outer sides alike, the front graded evenly from the fan, at some
+    /// cost in the fan quads' own scaled Jacobian.
+    Balanced,
 }
 
 impl FanTuning {
@@ -555,6 +578,7 @@ impl FanTuning {
         min_angle: 10.0,
         max_angle: 150.0,
         min_sj: 0.16,
+        far_corner: FarCorner::Squarest,
     };
 }
 
@@ -684,6 +708,17 @@ pub struct FillTuning {
     pub retry_share: usize,
     /// See [`FillTuning::retry_share`].
     pub retry_min: usize,
+    /// Before its region fill, a run that placed corner fans with
+    /// [`FarCorner::Squarest`] is made again from the start with
+    /// [`FarCorner::Balanced`], and that run is taken if it finishes by
+    /// extraction alone ([`Mesher::refan`]). The squarest far corners give
+    /// the fan quads their best shape but leave kites at sharp corners
+    /// between very unequal segments, and the rows from there can knot;
+    /// the balanced ones give some quads of the fans a lower scaled
+    /// Jacobian, so they are the second choice, not the first. A run the
+    /// user steered (a correction, or a model set during it) is not made
+    /// again.
+    pub refan: bool,
 }
 
 impl FillTuning {
@@ -698,6 +733,7 @@ impl FillTuning {
         rewind_to: [(3, 4), (1, 2), (1, 4), (1, 8), (1, 16), (1, 32), (0, 1)],
         retry_share: 4,
         retry_min: 50,
+        refan: true,
     };
 }
 

@@ -181,6 +181,7 @@ pub fn kind_name(k: StepKind) -> &'static str {
         StepKind::Bridge => "bridge across a gap",
         StepKind::RipUp => "rip-up",
         StepKind::Fill => "fill of the region left",
+        StepKind::Refan => "run made again with balanced corner fans",
         StepKind::Correction => "correction",
     }
 }
