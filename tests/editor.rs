@@ -302,6 +302,44 @@ fn the_step_panel_names_the_region_fill_and_its_quads() {
     ));
 }
 
+/// A run that reached the fill with the squarest corner fans and was made
+/// again with balanced ones (a real-like graded side) says so in the step
+/// panel: the last step is that run, and no fill is named.
+#[test]
+fn the_step_panel_names_a_run_made_again_with_balanced_fans() {
+    use quadex::domains::{generate, Family};
+    let d = generate(Family::GradedSide, 0xb11b8e4816ee8538);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("graded_side.poly");
+    std::fs::write(&path, quadex::io::poly::write_poly(&d.boundary)).unwrap();
+    let mut h = harness(open(&path));
+    h.run();
+    h.state_mut().apply(Command::RunToEnd);
+    h.step();
+    settle(&mut h);
+    assert!(h.state().doc().is_done());
+    let stats = h.state().doc().mesher().unwrap().stats().clone();
+    assert!(stats.refanned);
+    assert_eq!(stats.count(StepKind::Fill), 0);
+    let last = h.state().doc().last().cloned().unwrap();
+    assert_eq!(last.kind, StepKind::Refan);
+    h.get_by_label("made again with balanced corner fans: no fill");
+    h.get_by_label_contains("(run made again with balanced corner fans)");
+    assert!(h
+        .query_by_label_contains("the region fill (not extraction) made")
+        .is_none());
+    let steps = h.state().doc().steps();
+    assert!(status(&h).ends_with("(the run made again with balanced corner fans)"));
+    // Undo takes back the steps of the run made again, one by one.
+    h.state_mut().apply(Command::Undo);
+    assert_eq!(h.state().doc().steps(), steps - 1);
+    assert!(
+        status(&h).starts_with(&format!("undone: step ({} steps left", steps - 1)),
+        "{}",
+        status(&h)
+    );
+}
+
 /// 10a'. The side panels keep their width while stepping, correcting and
 ///       refitting: a new table row (the last step's) does not widen a
 ///       panel and shift the canvas under the pointer.

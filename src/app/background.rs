@@ -9,6 +9,7 @@ use super::job::{Job, JobDone, Record, Work};
 use super::text::plural;
 use super::tools::Tool;
 use super::{document, App, Finished};
+use crate::extract::Rung;
 use crate::mesh::QuadMesh;
 use std::sync::Arc;
 
@@ -184,15 +185,23 @@ impl App {
             return;
         };
         if job.is_run() {
+            let mut remade = false;
             if done.steps > 0 {
+                // The steps undo can take back one by one: those the
+                // mesher's history gained. A rewind or a run made again
+                // with balanced fans replaces steps, so the history may
+                // hold fewer than were taken.
+                let mut gained = done.steps;
                 if let Some(m) = self.document.doc.meshing.as_mut() {
+                    gained = done.mesher.steps().saturating_sub(m.mesher.steps());
                     m.mesher = done.mesher;
                     if done.last.is_some() {
                         m.last = done.last;
                     }
+                    remade = m.last.as_ref().is_some_and(|r| r.rung == Rung::Refan);
                 }
                 if job.record == Record::Steps {
-                    self.document.history.steps(done.steps);
+                    self.document.history.steps(gained);
                 }
                 self.changed(true);
             }
@@ -230,7 +239,7 @@ impl App {
                 None => {
                     let all = self.document.doc.steps();
                     format!(
-                        "{what}{} taken{}{}{worse}",
+                        "{what}{} taken{}{}{}{worse}",
                         plural(done.steps, "step"),
                         if all > done.steps {
                             format!(" ({all} in all)")
@@ -239,6 +248,11 @@ impl App {
                         },
                         if self.document.doc.is_done() {
                             ", mesh complete"
+                        } else {
+                            ""
+                        },
+                        if remade {
+                            " (the run made again with balanced corner fans)"
                         } else {
                             ""
                         }

@@ -124,10 +124,12 @@ impl History {
                     self.undo.push(Entry::Steps(n - 1));
                 }
                 if !doc.undo_step() {
-                    // A document of regions undoes steps within the face
-                    // being meshed only: the steps of finished faces are
-                    // dropped, and undo goes on to the edit before them.
-                    if doc.regions.is_some() {
+                    // Steps the mesher no longer has are dropped, and undo
+                    // goes on to the edit before them: a document of
+                    // regions undoes steps within the face being meshed
+                    // only, and a rewind or a run made again with balanced
+                    // fans replaces steps with fewer.
+                    if doc.regions.is_some() || doc.meshing.is_some() {
                         if n > 1 {
                             self.undo.pop();
                         }

@@ -304,6 +304,10 @@ impl super::View for StepPanel {
             )
             .on_hover_text("Extraction could not reduce the front any further; the region left was meshed by a split triangulation, as the last resort");
         }
+        if stats.refanned {
+            ui.label("made again with balanced corner fans: no fill")
+                .on_hover_text("The run reached the region fill with fans whose quads are squarest; it was made again from the start with fans whose outer sides are alike, and that run finished by extraction (docs/engine.md, Corner fans)");
+        }
         if doc.settings.pure_model {
             let (ok, all) = stats.model_valid();
             ui.label(format!("model predictions valid: {ok} of {all}"));

@@ -138,6 +138,12 @@ impl App {
         let before = (n == 1)
             .then(|| self.document.doc.mesher().cloned())
             .flatten();
+        let history = |app: &App| {
+            (app.document.doc.regions.is_none())
+                .then(|| app.document.doc.mesher().map(|m| m.steps()))
+                .flatten()
+        };
+        let h0 = history(self);
         let mut k = 0;
         let res = loop {
             if k == n {
@@ -149,7 +155,14 @@ impl App {
                 Err(e) => break Err(e),
             }
         };
-        self.document.history.steps(k);
+        // A run made again with balanced fans may leave the mesher's
+        // history longer than the steps taken: each of its steps undoes
+        // one by one (steps it no longer has are dropped on undo).
+        let gained = match (h0, history(self)) {
+            (Some(a), Some(b)) => b.saturating_sub(a),
+            _ => 0,
+        };
+        self.document.history.steps(k.max(gained));
         if k > 0 {
             self.changed(true);
             if let (1, Some(b)) = (k, before) {
