@@ -844,7 +844,9 @@ pub const UNTAPER_PASSES: usize = 10;
 /// no quad may stop being measurably convex, shrink under
 /// [`MIN_AREA_RATIO`] of its area or fall under [`UNTAPER_FLOOR`] (or its
 /// own scaled Jacobian, if lower). A move is kept when all of the node's
-/// quads end within the bound, or when it lowers the excess of those with
+/// quads end within the bound, when it takes one of them within the bound
+/// and leaves none more stretched than it was (or than the bound), or
+/// when it lowers the excess of those with
 /// no corner on the boundary and leaves that of the others no higher: a
 /// quad whose two short sides are both too short needs two of its corners
 /// moved, one pass after the other, while quads the boundary forces past
@@ -933,7 +935,19 @@ fn untaper_pass(mesh: &mut QuadMesh) -> usize {
                     }
                 })
             };
+            // Each quad's side ratio, to tell a move that takes one quad
+            // within the bound and leaves every other as stretched as it
+            // was or less (beside a quad the boundary forces far past the
+            // bound, such as a slit's mouth, whose own excess no move
+            // lowers).
+            let ratios = |m: &QuadMesh| -> Vec<f64> {
+                quads
+                    .iter()
+                    .map(|&k| Shape::of(m.corners(&m.quads[k as usize])).side_ratio())
+                    .collect()
+            };
             let before = split(mesh);
+            let ratios_before = ratios(mesh);
             let old = mesh.nodes[v];
             let nbs = adj.nbs_at(v);
             pattern_search(mesh, v, nbs, start, quality);
@@ -941,7 +955,18 @@ fn untaper_pass(mesh: &mut QuadMesh) -> usize {
                 let after = split(mesh);
                 after.0 < before.0 && after.1 <= before.1
             };
-            if quality(mesh, f64::NEG_INFINITY).is_some_and(|q| q.0 == 0.0 || partial()) {
+            let one_within = || {
+                let after = ratios(mesh);
+                let over = |r: &[f64]| r.iter().filter(|&&x| x > GOOD_RATIO).count();
+                over(&after) < over(&ratios_before)
+                    && after
+                        .iter()
+                        .zip(&ratios_before)
+                        .all(|(&a, &b)| a <= b.max(GOOD_RATIO))
+            };
+            if quality(mesh, f64::NEG_INFINITY)
+                .is_some_and(|q| q.0 == 0.0 || partial() || one_within())
+            {
                 moved += 1;
             } else {
                 mesh.nodes[v] = old;
@@ -1331,6 +1356,52 @@ mod tests {
         }
         // Nothing over the bound: nothing to do.
         assert_eq!(untaper(&mut m), 0);
+    }
+
+    #[test]
+    fn untapering_brings_a_quad_within_the_bound_beside_one_the_boundary_forces() {
+        // The four quads round an interior node 0.017 from a corner of a
+        // zig-zag outline (a real-like domain, seed 6's `297`): two of them
+        // touch a slit's mouth 0.0034 wide beside walls of 0.27 (77 and
+        // 78:1, forced), and the one on the corner's other side is 12:1
+        // only because the node sits that close to the corner. No move of
+        // the node brings the first two within the bound, so none ends all
+        // four within it, and the third has a corner on the boundary; yet
+        // moving it takes the third within the bound and stretches none of
+        // them more.
+        let pts = vec![
+            Point::new(-0.030665, -0.044052),
+            Point::new(-0.030665, -0.310598),
+            Point::new(-0.028975, -0.313526),
+            Point::new(-0.027285, -0.316453),
+            Point::new(0.110939, -0.175460),
+            Point::new(0.177851, -0.038475),
+            Point::new(0.029990, 0.057700),
+            Point::new(-0.106717, 0.147085),
+            Point::new(-0.016514, -0.053309),
+        ];
+        let quads = vec![[0, 1, 2, 8], [4, 8, 2, 3], [6, 8, 4, 5], [7, 0, 8, 6]];
+        let start = QuadMesh::from_quads(pts, quads).unwrap();
+        assert_eq!(start.nodes.len() - start.n_boundary(), 1);
+        let ratios = |m: &QuadMesh| -> Vec<f64> {
+            m.quads
+                .iter()
+                .map(|q| Shape::of(m.corners(q)).side_ratio())
+                .collect()
+        };
+        let before = ratios(&start);
+        assert_eq!(before.iter().filter(|&&r| r > GOOD_RATIO).count(), 3);
+        assert!(before[3] > 12.0 && before[3] < 12.5, "{before:?}");
+        let mut m = start.clone();
+        assert!(untaper(&mut m) > 0);
+        let after = ratios(&m);
+        assert_eq!(after.iter().filter(|&&r| r > GOOD_RATIO).count(), 2);
+        assert!(after[3] <= GOOD_RATIO, "{after:?}");
+        for (k, (a, b)) in after.iter().zip(&before).enumerate() {
+            assert!(*a <= b.max(GOOD_RATIO), "quad {k}: {b} -> {a}");
+            let (sj0, sj1) = (quad_sj(&start, &m.quads[k]), quad_sj(&m, &m.quads[k]));
+            assert!(sj1 >= sj0.min(UNTAPER_FLOOR), "quad {k}: SJ {sj0} -> {sj1}");
+        }
     }
 
     #[test]
