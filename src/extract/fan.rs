@@ -157,14 +157,9 @@ fn far_corner(c: Point, p: Point, q: Point, rule: FarCorner) -> Option<Point> {
 /// the far corners, in front order from the previous node's side) and the
 /// quads as indices into `[c, prev, next, new...]`, counter-clockwise;
 /// `None` if a quad is not measurably convex with a scaled Jacobian of at
-/// least `min_sj`. The far corners follow `far` ([`far_corner`]).
-pub fn fan_quads(
-    sp: &Spokes,
-    prev: Point,
-    next: Point,
-    min_sj: f64,
-    far: FarCorner,
-) -> Option<FanQuads> {
+/// least [`FanTuning::min_sj`]. The far corners follow
+/// [`FanTuning::far_corner`] ([`far_corner`]).
+pub fn fan_quads(sp: &Spokes, prev: Point, next: Point, t: &FanTuning) -> Option<FanQuads> {
     let k = sp.dirs.len() - 1;
     // Spoke ends, from `next` (spoke 0) to `prev` (spoke k).
     let ends: Vec<Point> = (0..=k)
@@ -176,7 +171,7 @@ pub fn fan_quads(
         .collect();
     let mut fars = Vec::with_capacity(k);
     for i in 0..k {
-        fars.push(far_corner(sp.c, ends[i], ends[i + 1], far)?);
+        fars.push(far_corner(sp.c, ends[i], ends[i + 1], t.far_corner)?);
     }
     // Indices: 0 the corner, 1 prev, 2 next, then the new points in front
     // order from prev: far k-1, end k-1, far k-2, ..., end 1, far 0.
@@ -203,7 +198,7 @@ pub fn fan_quads(
     for i in 0..k {
         let q = [0, end_at[i], far_at[i], end_at[i + 1]];
         let p = q.map(all);
-        if !is_measurably_convex(p) || Shape::of(p).scaled_jacobian < min_sj {
+        if !is_measurably_convex(p) || Shape::of(p).scaled_jacobian < t.min_sj {
             return None;
         }
         quads.push(q);
@@ -240,25 +235,19 @@ fn spokes_at(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<(Spokes, Point, Poi
 /// [`fitting_fan`]).
 fn plan(m: &Mesher, s: SlotId, t: &FanTuning) -> Option<FanQuads> {
     let (sp, prev, next) = spokes_at(m, s, t)?;
-    fitting_fan(&sp, prev, next, t.min_sj, t.far_corner)
+    fitting_fan(&sp, prev, next, t)
 }
 
 /// The quads of the fan `sp` ([`fan_quads`]), or if they do not fit, of
 /// the same corner's fan with one quad fewer ([`spokes_of`]), down to
 /// two: a far corner that cannot be squared among narrow spokes may be
 /// among wider ones.
-fn fitting_fan(
-    sp: &Spokes,
-    prev: Point,
-    next: Point,
-    min_sj: f64,
-    far: FarCorner,
-) -> Option<FanQuads> {
+fn fitting_fan(sp: &Spokes, prev: Point, next: Point, t: &FanTuning) -> Option<FanQuads> {
     let k = sp.dirs.len() - 1;
-    fan_quads(sp, prev, next, min_sj, far).or_else(|| {
+    fan_quads(sp, prev, next, t).or_else(|| {
         (2..k)
             .rev()
-            .find_map(|j| fan_quads(&spokes_of(sp.c, prev, next, j), prev, next, min_sj, far))
+            .find_map(|j| fan_quads(&spokes_of(sp.c, prev, next, j), prev, next, t))
     })
 }
 
@@ -309,6 +298,14 @@ mod tests {
     use super::*;
     use crate::geom::polygon_area;
 
+    /// The default fan tuning with a bar of `min_sj` for its worst quad.
+    fn at(min_sj: f64) -> FanTuning {
+        FanTuning {
+            min_sj,
+            ..FanTuning::DEFAULT
+        }
+    }
+
     /// A right-angled corner at the origin, its next node `a` along x and
     /// its previous node `b` up y (the domain in the first quadrant).
     fn corner(a: f64, b: f64) -> (Point, Point, Point) {
@@ -327,7 +324,7 @@ mod tests {
             assert!((w[1] / w[0] - 100f64.powf(1.0 / 6.0)).abs() < 1e-9);
         }
         assert!((sp.lengths[6] - 1.0).abs() < 1e-12);
-        let fan = fan_quads(&sp, prev, next, t.min_sj, t.far_corner).expect("quads");
+        let fan = fan_quads(&sp, prev, next, &t).expect("quads");
         assert_eq!(fan.quads.len(), 6);
         assert_eq!(fan.points.len(), 11);
         let all = |j: usize| match j {
@@ -383,14 +380,18 @@ mod tests {
         // The squarest far corners: kites whose outer side at the longer
         // spoke is a tenth of the other or less, and the front's first
         // edge from the long segment's end a sixteenth of that segment.
-        let square = fan_quads(&sp, prev, next, t.min_sj, FarCorner::Squarest).expect("quads");
+        let square = fan_quads(&sp, prev, next, &t).expect("quads");
         assert_eq!(square.quads.len(), 4);
         assert!(outer(&square).iter().any(|(_, r)| *r < 0.1));
         assert!((square.points[0] - prev).length() < 0.1 * 1.856);
         // The balanced ones: outer sides within 2.5:1, side ratios under
         // 5, and the scaled Jacobian still what the corner's share bounds
         // it to (sin 11.95°).
-        let even = fan_quads(&sp, prev, next, t.min_sj, FarCorner::Balanced).expect("quads");
+        let balanced = FanTuning {
+            far_corner: FarCorner::Balanced,
+            ..t
+        };
+        let even = fan_quads(&sp, prev, next, &balanced).expect("quads");
         assert_eq!(even.quads.len(), 4);
         for (shape, r) in outer(&even) {
             assert!(r > 0.4, "outer sides {r:.3}");
@@ -411,22 +412,15 @@ mod tests {
         // 0.26); five of 18° are over it (0.31).
         let sp = fan_spokes(c, prev, next, &FanTuning::DEFAULT).expect("fan");
         assert_eq!(sp.dirs.len(), 7);
-        assert!(fan_quads(&sp, prev, next, 0.3, FarCorner::Squarest).is_none());
-        let fan = fitting_fan(&sp, prev, next, 0.3, FarCorner::Squarest).expect("a fan of five");
+        assert!(fan_quads(&sp, prev, next, &at(0.3)).is_none());
+        let fan = fitting_fan(&sp, prev, next, &at(0.3)).expect("a fan of five");
         assert_eq!(fan.quads.len(), 5);
         assert_eq!(
             Some(&fan),
-            fan_quads(
-                &spokes_of(c, prev, next, 5),
-                prev,
-                next,
-                0.3,
-                FarCorner::Squarest
-            )
-            .as_ref()
+            fan_quads(&spokes_of(c, prev, next, 5), prev, next, &at(0.3)).as_ref()
         );
         // Nothing fits a bar over sin 45°: no fan, not even of two.
-        assert!(fitting_fan(&sp, prev, next, 0.75, FarCorner::Squarest).is_none());
+        assert!(fitting_fan(&sp, prev, next, &at(0.75)).is_none());
     }
 
     #[test]
