@@ -920,52 +920,25 @@ fn untaper_pass(mesh: &mut QuadMesh) -> usize {
             let Some(start) = quality(mesh, f64::NEG_INFINITY) else {
                 continue;
             };
-            // The excess of the quads here away from the boundary (every
-            // corner of one is worked on: boundary nodes never are) and of
-            // the others. A move that lowers the first without ending it
-            // is worth keeping only if it leaves the second no higher.
-            let split = |m: &QuadMesh| {
-                quads.iter().fold((0.0, 0.0), |(inside, other), &k| {
-                    let q = &m.quads[k as usize];
-                    let e = (Shape::of(m.corners(q)).side_ratio() - GOOD_RATIO).max(0.0);
-                    if q.iter().all(|&u| works[u as usize]) {
-                        (inside + e, other)
-                    } else {
-                        (inside, other + e)
-                    }
-                })
-            };
-            // Each quad's side ratio, to tell a move that takes one quad
-            // within the bound and leaves every other as stretched as it
-            // was or less (beside a quad the boundary forces far past the
-            // bound, such as a slit's mouth, whose own excess no move
-            // lowers).
+            // Whether each quad is away from the boundary (every corner of
+            // one is worked on: boundary nodes never are), and the quads'
+            // side ratios before and after the move ([`untaper_keeps`]).
+            let inside: Vec<bool> = quads
+                .iter()
+                .map(|&k| mesh.quads[k as usize].iter().all(|&u| works[u as usize]))
+                .collect();
             let ratios = |m: &QuadMesh| -> Vec<f64> {
                 quads
                     .iter()
                     .map(|&k| Shape::of(m.corners(&m.quads[k as usize])).side_ratio())
                     .collect()
             };
-            let before = split(mesh);
-            let ratios_before = ratios(mesh);
+            let before = ratios(mesh);
             let old = mesh.nodes[v];
             let nbs = adj.nbs_at(v);
             pattern_search(mesh, v, nbs, start, quality);
-            let partial = || {
-                let after = split(mesh);
-                after.0 < before.0 && after.1 <= before.1
-            };
-            let one_within = || {
-                let after = ratios(mesh);
-                let over = |r: &[f64]| r.iter().filter(|&&x| x > GOOD_RATIO).count();
-                over(&after) < over(&ratios_before)
-                    && after
-                        .iter()
-                        .zip(&ratios_before)
-                        .all(|(&a, &b)| a <= b.max(GOOD_RATIO))
-            };
-            if quality(mesh, f64::NEG_INFINITY)
-                .is_some_and(|q| q.0 == 0.0 || partial() || one_within())
+            if quality(mesh, f64::NEG_INFINITY).is_some()
+                && untaper_keeps(&before, &ratios(mesh), &inside)
             {
                 moved += 1;
             } else {
@@ -974,6 +947,39 @@ fn untaper_pass(mesh: &mut QuadMesh) -> usize {
         }
         moved
     })
+}
+
+/// Whether [`untaper`] keeps a move that takes the side ratios of a
+/// node's quads from `before` to `after` (`inside[i]`: quad `i` has no
+/// corner on the boundary): when all of them end within [`GOOD_RATIO`];
+/// when it takes one of them within the bound and leaves none more
+/// stretched than it was or than the bound (beside a quad the boundary
+/// forces far past it, such as a slit's mouth, whose own excess no move
+/// lowers); or when it lowers the excess of the quads inside without
+/// ending it and leaves that of the others no higher (a quad whose two
+/// short sides are both too short needs two corners moved).
+fn untaper_keeps(before: &[f64], after: &[f64], inside: &[bool]) -> bool {
+    let over = |r: &[f64]| r.iter().filter(|&&x| x > GOOD_RATIO).count();
+    let excess = |r: &[f64]| {
+        r.iter()
+            .zip(inside)
+            .fold((0.0, 0.0), |(ins, other), (&x, &is_inside)| {
+                let e = (x - GOOD_RATIO).max(0.0);
+                if is_inside {
+                    (ins + e, other)
+                } else {
+                    (ins, other + e)
+                }
+            })
+    };
+    let (b, a) = (excess(before), excess(after));
+    over(after) == 0
+        || (over(after) < over(before)
+            && after
+                .iter()
+                .zip(before)
+                .all(|(&x, &y)| x <= y.max(GOOD_RATIO)))
+        || (a.0 < b.0 && a.1 <= b.1)
 }
 
 fn optimize_with(

@@ -173,7 +173,8 @@ pub enum Rung {
     Rewind,
     /// Not a rung of the ladder: before its region fill, the run was made
     /// again with balanced corner fans and finished by extraction alone
-    /// (the report is that run's last step).
+    /// (the report, of kind [`super::StepKind::Refan`], holds all of that
+    /// run's quads).
     Refan,
     /// Not a rung of the ladder: an element given by the user.
     #[default]

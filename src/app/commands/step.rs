@@ -155,14 +155,15 @@ impl App {
                 Err(e) => break Err(e),
             }
         };
-        // A run made again with balanced fans may leave the mesher's
-        // history longer than the steps taken: each of its steps undoes
-        // one by one (steps it no longer has are dropped on undo).
+        // The steps undo can take back one by one: those the mesher's
+        // history gained, as for a run in the background (a rewind or a run
+        // made again with balanced fans replaces steps; steps the mesher no
+        // longer has are dropped on undo).
         let gained = match (h0, history(self)) {
             (Some(a), Some(b)) => b.saturating_sub(a),
-            _ => 0,
+            _ => k,
         };
-        self.document.history.steps(k.max(gained));
+        self.document.history.steps(gained);
         if k > 0 {
             self.changed(true);
             if let (1, Some(b)) = (k, before) {
