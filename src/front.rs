@@ -223,6 +223,11 @@ pub struct Front {
     /// repeats: what lets a step look at the loops that changed rather
     /// than at every loop. A new front lists all its loops.
     changed: Vec<u32>,
+    /// The loops relinks formed (a split's two, a join's one) since the
+    /// last [`Front::take_relinked`]: their slots' loop, length and the
+    /// parts a chord between two of them would cut changed, wherever the
+    /// slots are.
+    relinked: Vec<u32>,
 }
 
 impl Front {
@@ -246,6 +251,7 @@ impl Front {
             alive: 0,
             live: (0..loops.len() as u32).collect(),
             changed: Vec::new(),
+            relinked: Vec::new(),
         };
         for l in loops {
             let first = f.slots.len() as SlotId;
@@ -420,6 +426,15 @@ impl Front {
         out.dedup();
     }
 
+    /// Puts into `out` the loops relinks formed since the last call
+    /// (sorted, each once; live or not by now) and forgets them.
+    pub fn take_relinked(&mut self, out: &mut Vec<u32>) {
+        out.clear();
+        out.append(&mut self.relinked);
+        out.sort_unstable();
+        out.dedup();
+    }
+
     /// Type 0: the node at slot `s` is replaced by `node` (same loop).
     pub fn replace_node(&mut self, s: SlotId, node: u32, layer: u32, nodes: &[Point]) {
         let p = self.prev(s);
@@ -520,6 +535,38 @@ impl Front {
         l.alive = false;
     }
 
+    /// Adds a loop through `nodes` (in order, the region on the left), its
+    /// slots on layer 0, and returns its id.
+    pub fn add_loop(&mut self, loop_nodes: &[u32], nodes: &[Point]) -> u32 {
+        let first = self.slots.len() as SlotId;
+        let n = loop_nodes.len() as SlotId;
+        let lid = self.loops.len() as u32;
+        for (k, &node) in loop_nodes.iter().enumerate() {
+            let k = k as SlotId;
+            self.slots.push(Slot {
+                node,
+                next: first + (k + 1) % n,
+                prev: first + (k + n - 1) % n,
+                loop_id: lid,
+                layer: 0,
+                alive: true,
+            });
+        }
+        self.loops.push(FrontLoop {
+            head: first,
+            len: loop_nodes.len(),
+            alive: true,
+            version: 1,
+        });
+        self.live.insert(lid);
+        self.alive += loop_nodes.len();
+        for s in first..first + n {
+            self.grid_insert(s, nodes);
+        }
+        self.changed.push(lid);
+        lid
+    }
+
     /// Re-links two slots of the same node `a` and `b` so that `a` takes
     /// `b`'s successor and `b` takes `a`'s: one loop through both becomes
     /// two loops; two loops become one. Edges are unchanged in geometry.
@@ -579,6 +626,7 @@ impl Front {
             }
             let keep = if short == a { b } else { a };
             self.changed.extend([la, new_id]);
+            self.relinked.extend([la, new_id]);
             self.loops[la as usize].len = total - short_len;
             self.loops[la as usize].head = keep;
             (self.slot(a).loop_id, self.slot(b).loop_id)
@@ -603,6 +651,7 @@ impl Front {
             }
             self.loops[keep as usize].len = total;
             self.changed.extend([keep, gone]);
+            self.relinked.push(keep);
             self.live.remove(&gone);
             self.loops[gone as usize] = FrontLoop {
                 head: NONE,

@@ -760,8 +760,8 @@ pub fn ring_band(
 
 /// The band rung's state: per loop, whether it was looked at as a band;
 /// the first loop id not yet walked past (every loop below it was looked
-/// at, or had died: loops are only ever added, and a dead one stays dead
-/// until the front is built anew); the pair of loops last looked at as a
+/// at, or had died: loops are only ever added, and a dead one stays
+/// dead); the pair of loops last looked at as a
 /// ring, and the front's loop count and live loop count when the live
 /// loops were last listed for it.
 #[derive(Clone, Debug, Default)]
@@ -770,15 +770,6 @@ pub(super) struct BandsSeen {
     next: u32,
     ring: Option<(u32, u32)>,
     ring_listed: Option<(usize, usize)>,
-}
-
-impl BandsSeen {
-    /// The front was built anew: its loop ids are walked again (those
-    /// looked at before are still skipped).
-    pub(super) fn front_rebuilt(&mut self) {
-        self.next = 0;
-        self.ring_listed = None;
-    }
 }
 
 impl Mesher {

@@ -41,8 +41,8 @@ const FAR_RANGE: (f64, f64) = (0.5, 2.0);
 const FAR_STEPS: usize = 31;
 
 /// The boundary corners still to be tried for a fan, in front order (the
-/// next one last): those of the initial front, and those of the front a
-/// rip-up rebuilds (which may have taken a fan away).
+/// next one last): those of the initial front, and those of the front
+/// after a rip-up (which may have taken a fan away).
 #[derive(Clone, Debug, Default)]
 pub(super) struct Fans {
     pending: Vec<SlotId>,

@@ -52,14 +52,6 @@ impl RowStarts {
     pub(super) fn check_loops(&mut self, live: Vec<u32>) {
         self.loops = live;
     }
-
-    /// The front was built anew (loop and slot ids from before mean
-    /// nothing now): every loop of `live` is checked for a first row, and
-    /// no front edge waits for one.
-    pub(super) fn front_rebuilt(&mut self, live: Vec<u32>) {
-        self.loops = live;
-        self.edges.clear();
-    }
 }
 
 /// The small-loop rung's state: per loop id, the

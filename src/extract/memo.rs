@@ -58,10 +58,11 @@ pub(super) struct EvalMemo {
     /// The box of the front the last [`super::session::Mesher::evaluate`]
     /// read: what [`EvalMemo::put`] is given for it.
     pub(super) read_box: (Point, Point),
-    /// The box of the front the last seam changed (its corner, the edges
-    /// beside it and the mesh edges at the merged node), forgotten after
-    /// the step.
-    pub(super) seam_box: Option<crate::geom::Aabb>,
+    /// The box of the front the step changed where it is not the box of
+    /// the quads it made: a seam's corner, the edges beside it and the mesh
+    /// edges at the merged node; a chord split's chord; the nodes a
+    /// relaxed loop moved; the region a removal took. Taken after the step.
+    pub(super) changed_box: Option<crate::geom::Aabb>,
     /// The slots whose queue evaluation was forgotten since this was last
     /// emptied ([`super::session::Mesher::forget`] hands their parked
     /// reference points back to the queue).
@@ -120,6 +121,44 @@ impl EvalMemo {
         }
     }
 
+    /// Widens [`EvalMemo::changed_box`] to take in `bb`.
+    pub(super) fn widen_changed(&mut self, bb: Option<crate::geom::Aabb>) {
+        self.changed_box = match (self.changed_box, bb) {
+            (Some(a), Some(b)) => Some(crate::geom::Aabb {
+                min: a.min.min(b.min),
+                max: a.max.max(b.max),
+            }),
+            (a, b) => a.or(b),
+        };
+    }
+
+    /// Forgets the entries at the slots `on` marks (by slot id).
+    pub(super) fn forget_slots(&mut self, on: impl Fn(SlotId) -> bool) {
+        let mut i = 0;
+        while i < self.keyed.len() {
+            let e = self.keyed[i];
+            if !on(e.slot) {
+                i += 1;
+                continue;
+            }
+            self.remove(i);
+        }
+    }
+
+    /// Removes entry `i` (the last takes its place).
+    fn remove(&mut self, i: usize) {
+        let e = self.keyed[i];
+        self.at[e.eval as usize][e.slot as usize] = NONE;
+        if e.eval == Eval::Queue {
+            self.forgotten.push(e.slot);
+        }
+        self.keyed.swap_remove(i);
+        self.stored.swap_remove(i);
+        if let Some(moved) = self.keyed.get(i) {
+            self.at[moved.eval as usize][moved.slot as usize] = i as u32;
+        }
+    }
+
     /// Forgets the entries whose box meets the box `lo..hi`.
     pub(super) fn changed(&mut self, lo: Point, hi: Point) {
         let mut i = 0;
@@ -129,16 +168,14 @@ impl EvalMemo {
                 i += 1;
                 continue;
             }
-            self.at[e.eval as usize][e.slot as usize] = NONE;
-            if e.eval == Eval::Queue {
-                self.forgotten.push(e.slot);
-            }
-            self.keyed.swap_remove(i);
-            self.stored.swap_remove(i);
-            if let Some(moved) = self.keyed.get(i) {
-                self.at[moved.eval as usize][moved.slot as usize] = i as u32;
-            }
+            self.remove(i);
         }
+    }
+
+    /// Number of evaluations remembered.
+    #[cfg(test)]
+    pub(super) fn len(&self) -> usize {
+        self.keyed.len()
     }
 
     /// Forgets everything.

@@ -55,7 +55,7 @@ pub(super) struct Notches {
 impl Notches {
     /// Every slot of the initial front is looked at once; the notches'
     /// own front edges are looked at again as they are made, and every
-    /// slot again when a rip-up rebuilds the front.
+    /// slot again when a rip-up replaces loops.
     pub(super) fn of(m: &Mesher) -> Notches {
         if m.params.tuning.notch.min_ratio <= 0.0 {
             return Notches::default();
@@ -73,7 +73,8 @@ impl Notches {
     }
 
     /// The slots of `m`'s front that have a notch's shape, in front order
-    /// (the next one last): what a rebuilt front is looked at for again.
+    /// (the next one last): what the front is looked at for again after a
+    /// rip-up.
     pub(super) fn listed(&self, m: &Mesher) -> Vec<SlotId> {
         if self.succ.is_empty() {
             return Vec::new();
@@ -81,8 +82,7 @@ impl Notches {
         m.initial_slots(|s| self.shape_at(m, s).is_some())
     }
 
-    /// The front was rebuilt (slot ids from before mean nothing now):
-    /// `pending` is its slots to look at.
+    /// A rip-up replaced loops: `pending` is the front's slots to look at.
     pub(super) fn front_rebuilt(&mut self, pending: Vec<SlotId>) {
         self.pending = pending;
     }

@@ -30,6 +30,15 @@ use crate::front::SlotId;
 use std::cmp::Reverse;
 use std::collections::BTreeMap;
 
+/// A relink that leaves a loop of at most this many slots makes the
+/// memory forget the evaluations at its slots wherever they are: the guard
+/// and the candidates read a loop's length where it is short (a four-node
+/// loop, a loop too short for a type-1 or 2 element, a snap that would
+/// leave a part under four nodes), and a short loop's slots all read it.
+/// On a longer loop only the box of the relink is forgotten, as for an
+/// element: a remembered element is checked again before it is taken.
+const SHORT_LOOP: usize = 16;
+
 /// The queue itself: its entries by group, each slot's current version
 /// (an entry of an older version is stale) and the push counter.
 ///
@@ -236,13 +245,6 @@ impl RefQueue {
         }
         self.parked_at.clear();
     }
-
-    /// Empties the queue.
-    pub(super) fn clear(&mut self) {
-        self.groups.clear();
-        self.version.clear();
-        self.parked_at.clear();
-    }
 }
 
 impl Mesher {
@@ -385,11 +387,29 @@ impl Mesher {
     }
 
     /// The memory forgets its evaluations whose box meets `within`, or
-    /// all of them for `None`; the parked entries of the slots forgotten
-    /// go back on the stacks.
+    /// all of them for `None`, and those at the slots of the loops relinks
+    /// formed since it last looked (a loop's length, and whether a chord
+    /// from one of its slots splits it, changed all along it); the parked
+    /// entries of the slots forgotten go back on the stacks.
     pub(super) fn forget(&mut self, within: Option<crate::geom::Aabb>) {
+        let mut relinked = Vec::new();
+        self.front.take_relinked(&mut relinked);
+        relinked.retain(|&l| {
+            let l = &self.front.loops[l as usize];
+            l.alive && l.len <= SHORT_LOOP
+        });
         match within {
-            Some(bb) => self.memo.changed(bb.min, bb.max),
+            Some(bb) => {
+                self.memo.changed(bb.min, bb.max);
+                if !relinked.is_empty() {
+                    let front = &self.front;
+                    self.memo.forget_slots(|s| {
+                        front.slots.get(s as usize).is_some_and(|slot| {
+                            slot.alive && relinked.binary_search(&slot.loop_id).is_ok()
+                        })
+                    });
+                }
+            }
             None => self.memo.clear(),
         }
         self.queue.release(&self.memo.forgotten);

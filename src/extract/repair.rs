@@ -52,8 +52,7 @@ fn toggle_edge(edges: &mut std::collections::BTreeSet<(u32, u32)>, (a, b): (u32,
 /// ([`RepairTuning::chord_min_part`](super::tuning::RepairTuning::chord_min_part));
 /// version 0: never. That test reads the loop's own nodes alone (which
 /// slots are paired follows from its length and head), so while the loop
-/// keeps its version and head no chord is found on it. A front built anew
-/// forgets them all (loop ids then mean nothing).
+/// keeps its version and head no chord is found on it.
 #[derive(Clone, Debug, Default)]
 pub(super) struct ChordsSeen {
     cornerless: Vec<(u32, SlotId)>,
@@ -74,8 +73,8 @@ impl ChordsSeen {
 }
 
 impl Mesher {
-    /// Removes every quad within `rings` element rings of loop `lid` and
-    /// rebuilds the front around the enlarged hole in the mesh.
+    /// Removes every quad within `rings` element rings of loop `lid`
+    /// ([`Mesher::remove_around`]) and splits the enlarged loop.
     pub(super) fn rip_up(&mut self, lid: u32, rings: usize) -> StepReport {
         let mut r = self.report(StepKind::RipUp);
         r.reference = Some(self.front.node(self.front.loops[lid as usize].head));
@@ -101,10 +100,10 @@ impl Mesher {
     }
 
     /// Removes every quad within `rings` element rings of the loops `lids`
-    /// and rebuilds the front around the enlarged holes in the mesh (every
-    /// loop then waits for a row start, and no front edge for one): the
-    /// quads removed, and a mark on every node of the removed quads and of
-    /// the loops.
+    /// and replaces the loops the removal reached by the loops around the
+    /// enlarged holes in the mesh ([`Mesher::replace_loops`]; each new loop
+    /// waits for a row start): the quads removed, and a mark on every node
+    /// of the removed quads and of the loops.
     pub(super) fn remove_around(
         &mut self,
         lids: &[u32],
@@ -154,33 +153,71 @@ impl Mesher {
         let Removal {
             removed,
             mark,
+            marked,
             edges,
-            ..
         } = region;
         let count = self.remove_quads(&removed);
         let loops = Front::link_loops(edges.into_iter().collect(), &self.mesh.nodes);
-        self.front = Front::new(
-            &loops,
-            &self.mesh.nodes,
-            super::session::grid_cell(&self.size),
-        );
-        self.queue.clear();
-        for s in 0..self.front.slots.len() as SlotId {
-            self.push(s);
+        // The memory forgets what the region read, where the quads went
+        // and the loops they bordered ran.
+        self.memo.widen_changed(crate::geom::Aabb::of(
+            marked.iter().map(|&v| self.mesh.nodes[v as usize]),
+        ));
+        for lid in self.replace_loops(&loops, &mark) {
+            // The new loops' slots are reference points to look at, and
+            // each loop is checked for a first row.
+            for s in self.front.loop_slots(lid) {
+                self.push(s);
+            }
+            self.rows.check_loop(lid);
         }
-        // The front was built anew: loop and slot ids from before mean
-        // nothing now.
-        let live: Vec<u32> = self.front.live_loops().collect();
-        self.rows.front_rebuilt(live);
-        self.bands.front_rebuilt();
-        self.chords = ChordsSeen::default();
-        self.grids.front_rebuilt();
+        // Loop ids are never taken again, so what the band, grid and chord
+        // rungs remember per loop (by id and version) still holds.
         // A corner or a short edge of the given boundary the removal put
         // back on the front is looked at for its fan or notch again.
         self.fans = super::fan::Fans::of(self);
         let notches = self.notches.listed(self);
         self.notches.front_rebuilt(notches);
         (count, mark)
+    }
+
+    /// Makes the front's loops `loops` (node sequences, as
+    /// [`Front::link_loops`] gives them): a live loop with no node `mark`
+    /// marks that is among them stays as it is, with its slots, their
+    /// layers and queue entries; the other live loops go, and the loops
+    /// left are added (their slots on layer 0). Returns the ids of the
+    /// loops added, in the order of `loops`. The work is along the loops,
+    /// not a new front: a rip-up among a thousand holes leaves the others'
+    /// rows where they were.
+    fn replace_loops(&mut self, loops: &[Vec<u32>], mark: &[bool]) -> Vec<u32> {
+        let mut stays: std::collections::HashMap<Vec<u32>, u32> = Default::default();
+        let mut going: Vec<u32> = Vec::new();
+        for lid in self.front.live_loops() {
+            let nodes = self.front.loop_nodes(lid);
+            if nodes.iter().any(|&v| mark[v as usize]) {
+                going.push(lid);
+            } else {
+                stays.insert(cyclic_key(&nodes), lid);
+            }
+        }
+        let mut added = Vec::new();
+        let mut new_loops: Vec<&Vec<u32>> = Vec::new();
+        for l in loops {
+            if stays.remove(&cyclic_key(l)).is_none() {
+                new_loops.push(l);
+            }
+        }
+        // Loops not found again (a cancelled chord joined them to one
+        // the region reached) go too.
+        going.extend(stays.into_values());
+        going.sort_unstable();
+        for lid in going {
+            self.front.remove_loop(lid);
+        }
+        for l in new_loops {
+            added.push(self.front.add_loop(l, &self.mesh.nodes));
+        }
+        added
     }
 
     /// Adds to `region` every quad at one of `nodes` it does not hold yet
@@ -372,10 +409,10 @@ impl Mesher {
         }
         let mut rep = self.report(StepKind::Seam);
         rep.reference = Some(self.front.node(s));
-        self.memo.seam_box = crate::geom::Aabb::of(
+        self.memo.widen_changed(crate::geom::Aabb::of(
             cut.into_iter()
                 .chain(ends.iter().map(|&w| self.mesh.nodes[w as usize])),
-        );
+        ));
         self.front.remove_pair(s, &self.mesh.nodes);
         self.front.unfile_edges_at(l);
         self.mesh.nodes[keep as usize] = pos;
@@ -400,17 +437,11 @@ impl Mesher {
     pub(super) fn relax_loop(&mut self, lid: u32) -> Option<StepReport> {
         let nb = self.boundary_nodes as u32;
         let slots = self.front.loop_slots(lid);
-        let mut count: std::collections::BTreeMap<u32, usize> = Default::default();
-        for l in self.front.live_loops() {
-            for t in self.front.loop_slots(l) {
-                *count.entry(self.front.node(t)).or_default() += 1;
-            }
-        }
         let area = self.front.loop_area(lid, &self.mesh.nodes);
         let mut moved: Vec<(SlotId, u32, Point)> = Vec::new();
         for &s in &slots {
             let v = self.front.node(s);
-            if v < nb || count[&v] > 1 {
+            if v < nb || self.on_front_again(s) {
                 continue;
             }
             let (pp, pn) = (
@@ -478,6 +509,11 @@ impl Mesher {
         if moved.is_empty() {
             return None;
         }
+        self.memo.widen_changed(crate::geom::Aabb::of(
+            moved
+                .iter()
+                .flat_map(|&(_, v, old)| [old, self.mesh.nodes[v as usize]]),
+        ));
         for &s in &slots {
             self.push(s);
         }
@@ -701,6 +737,7 @@ impl Mesher {
             .map(|t| self.add_node(pa.lerp(pb, t as f64 / (k + 1) as f64)))
             .collect();
         r.new_nodes = chord.clone();
+        self.memo.widen_changed(crate::geom::Aabb::of([pa, pb]));
         let mut seq = chord.clone();
         seq.push(nb);
         seq.extend(chord.iter().rev());
@@ -771,6 +808,19 @@ impl Mesher {
 
     /// True when segment `pa–pb` meets a front edge that has none of the
     /// nodes `skip` as an end.
+    /// Whether the node at slot `s` is at another front slot too (the
+    /// front passes it twice): the front edges from the node's slots are
+    /// the ones near it that start there.
+    fn on_front_again(&mut self, s: SlotId) -> bool {
+        let v = self.front.node(s);
+        let p = self.mesh.nodes[v as usize];
+        self.front.edges_near(p, p, &mut self.scratch.near);
+        self.scratch
+            .near
+            .iter()
+            .any(|&t| t != s && self.front.node(t) == v)
+    }
+
     pub(super) fn crosses_front(&mut self, pa: Point, pb: Point, skip: &[u32]) -> bool {
         self.front
             .edges_near(pa.min(pb), pa.max(pb), &mut self.scratch.near);
@@ -786,6 +836,17 @@ impl Mesher {
                 )
         })
     }
+}
+
+/// A loop's node sequence from its least rotation: two sequences are the
+/// same loop exactly when their keys are equal.
+fn cyclic_key(nodes: &[u32]) -> Vec<u32> {
+    let n = nodes.len();
+    let rotated = |i: usize| nodes[i..].iter().chain(&nodes[..i]);
+    let first = (0..n)
+        .min_by(|&i, &j| rotated(i).cmp(rotated(j)))
+        .unwrap_or(0);
+    rotated(first).copied().collect()
 }
 
 #[cfg(test)]
@@ -856,5 +917,128 @@ mod tests {
         assert!(!m.chords.cornerless(lid, changed));
         assert!(m.chord_split(lid).is_none());
         assert!(m.chords.cornerless(lid, changed));
+    }
+
+    /// A rip-up among many holes replaces only the loops it reached: the
+    /// other holes keep their loop ids, slots and layers (their rows and
+    /// queue entries stay where they were), the step ladder's memory
+    /// keeps what it read away from the removal, and the plate still meshes
+    /// with its invariants after every step.
+    #[test]
+    fn a_rip_up_replaces_only_the_loops_it_reached() {
+        let b = crate::domains::perforated_plate(6);
+        let model = std::sync::Arc::new(crate::model::default_model().expect("the shipped model"));
+        let mut m = Mesher::new(b, model, crate::extract::MeshParams::DEFAULT);
+        for _ in 0..300 {
+            m.step().expect("a step");
+        }
+        // Each live loop and its slots' ids, nodes and layers.
+        type Seen = (u32, Vec<(crate::front::SlotId, u32, u32)>);
+        let before: Vec<Seen> = m
+            .front
+            .live_loops()
+            .map(|l| {
+                let slots = m.front.loop_slots(l);
+                let seen = slots
+                    .iter()
+                    .map(|&s| (s, m.front.node(s), m.front.slot(s).layer))
+                    .collect();
+                (l, seen)
+            })
+            .collect();
+        // The loop with quads at it nearest the plate's centre, not the
+        // outer one.
+        let centre = Point::new(3.0, 3.0);
+        let hole = before
+            .iter()
+            .filter(|(_, slots)| {
+                slots.len() < 40
+                    && slots
+                        .iter()
+                        .any(|&(_, v, _)| !m.incident[v as usize].is_empty())
+            })
+            .min_by(|a, b| {
+                let d = |l: &Seen| m.mesh.nodes[l.1[0].1 as usize].distance(centre);
+                d(a).total_cmp(&d(b))
+            })
+            .map(|(l, _)| *l)
+            .expect("a hole with a row around it");
+        let entries = m.memo.len();
+        assert!(entries > 0, "the memory holds evaluations");
+        let r = m.rip_up(hole, 1);
+        assert!(r.removed > 0, "quads around the hole were removed");
+        assert!(!m.front.loops[hole as usize].alive);
+        let kept = before
+            .iter()
+            .filter(|(l, slots)| {
+                m.front.loops[*l as usize].alive
+                    && m.front.loop_slots(*l).len() == slots.len()
+                    && slots.iter().all(|&(s, node, layer)| {
+                        let now = m.front.slot(s);
+                        now.alive && now.node == node && now.layer == layer && now.loop_id == *l
+                    })
+            })
+            .count();
+        assert!(
+            kept + 4 >= before.len(),
+            "{kept} of {} loops kept",
+            before.len()
+        );
+        m.check_invariants()
+            .expect("the invariants after the rip-up");
+        // The step's forgetting: the removal's box, not everything.
+        let bb = m.memo.changed_box.take();
+        assert!(bb.is_some(), "the removal's box");
+        m.forget(bb);
+        assert!(
+            m.memo.len() > entries / 2,
+            "{} of {entries} evaluations kept",
+            m.memo.len()
+        );
+        m.run_checked();
+        assert!(m.mesh.check_finished().is_ok());
+    }
+
+    /// A chord split relinks one loop: the memory forgets the chord's box
+    /// (and the slots of a short loop it leaves), not every evaluation.
+    #[test]
+    fn a_chord_split_forgets_only_around_its_chord() {
+        let b = crate::domains::perforated_plate(6);
+        let model = std::sync::Arc::new(crate::model::default_model().expect("the shipped model"));
+        let mut m = Mesher::new(b, model, crate::extract::MeshParams::DEFAULT);
+        for _ in 0..300 {
+            m.step().expect("a step");
+        }
+        let entries = m.memo.len();
+        let longest = m
+            .front
+            .live_loops()
+            .max_by_key(|&l| (m.front.loops[l as usize].len, std::cmp::Reverse(l)))
+            .expect("a live loop");
+        let r = m
+            .chord_split(longest)
+            .expect("a chord across the longest loop");
+        assert!(!r.new_nodes.is_empty() || r.reference.is_some());
+        let bb = m.memo.changed_box.take();
+        assert!(bb.is_some(), "the chord's box");
+        m.forget(bb);
+        m.check_invariants()
+            .expect("the invariants after the split");
+        assert!(
+            m.memo.len() > entries / 2,
+            "{} of {entries} evaluations kept",
+            m.memo.len()
+        );
+    }
+
+    /// Loops are the same exactly when their node sequences are rotations
+    /// of each other.
+    #[test]
+    fn a_loop_is_known_from_any_node_it_starts_at() {
+        use super::cyclic_key;
+        assert_eq!(cyclic_key(&[5, 2, 9, 2, 7]), cyclic_key(&[2, 7, 5, 2, 9]));
+        assert_eq!(cyclic_key(&[5, 2, 9, 2, 7]), vec![2, 7, 5, 2, 9]);
+        assert_ne!(cyclic_key(&[1, 2, 3, 4]), cyclic_key(&[1, 4, 3, 2]));
+        assert_eq!(cyclic_key(&[]), Vec::<u32>::new());
     }
 }

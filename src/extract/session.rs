@@ -404,13 +404,18 @@ impl Mesher {
             }
         }
         // The memory forgets what the step may have changed: the box of
-        // the quads it made (an element, a transition, a small loop or a
-        // narrow rectangle closed, a row's first square), the region a
-        // seam gave up, or everything after any other step.
-        let seam_box = self.memo.seam_box.take();
+        // the quads it made (an element, a bridge, a transition, a small
+        // loop or a narrow rectangle closed, a row's first square), the
+        // region a seam gave up, a chord split's chord, the nodes a loop's
+        // relaxing moved (where they were and are), the region a rip-up
+        // took, or everything after any other step; and the slots of the
+        // short loops it relinked (`SHORT_LOOP`).
+        let changed_box = self.memo.changed_box.take();
         let local = match r.kind {
+            StepKind::RipUp => changed_box,
             _ if r.removed > 0 => None,
             StepKind::Element
+            | StepKind::Bridge
             | StepKind::Transition
             | StepKind::Close4
             | StepKind::Close6
@@ -422,7 +427,7 @@ impl Mesher {
                     .flatten()
                     .map(|&v| self.mesh.nodes[v as usize]),
             ),
-            StepKind::Seam => seam_box,
+            StepKind::Seam | StepKind::Split | StepKind::Relax => changed_box,
             _ => None,
         };
         self.forget(local);
