@@ -249,35 +249,12 @@ impl Front {
             loops: Vec::new(),
             grid: EdgeGrid::new(bb, cell, max_cells),
             alive: 0,
-            live: (0..loops.len() as u32).collect(),
+            live: BTreeSet::new(),
             changed: Vec::new(),
             relinked: Vec::new(),
         };
         for l in loops {
-            let first = f.slots.len() as SlotId;
-            let n = l.len() as SlotId;
-            let lid = f.loops.len() as u32;
-            for (k, &node) in l.iter().enumerate() {
-                let k = k as SlotId;
-                f.slots.push(Slot {
-                    node,
-                    next: first + (k + 1) % n,
-                    prev: first + (k + n - 1) % n,
-                    loop_id: lid,
-                    layer: 0,
-                    alive: true,
-                });
-            }
-            f.loops.push(FrontLoop {
-                head: first,
-                len: l.len(),
-                alive: true,
-                version: 1,
-            });
-            f.alive += l.len();
-        }
-        for s in 0..f.slots.len() as SlotId {
-            f.grid_insert(s, nodes);
+            f.add_loop(l, nodes);
         }
         f
     }

@@ -2,9 +2,15 @@
 //! back (method §2.5, "the next reference point"): a point whose element
 //! was refused or too poor is met again at the next step, and nothing near
 //! it has changed in most cases. Each entry keeps the box of the front its
-//! evaluation read; an element committed elsewhere leaves it standing, one
-//! that overlaps the box forgets it, and any other change to the mesh or
-//! the front forgets everything. Results are the same as without it.
+//! evaluation read; a step that changes the front elsewhere leaves it
+//! standing, one that changes it inside the box forgets it (the box of the
+//! quads a step made, or [`EvalMemo::changed_box`] for a seam, a chord
+//! split, a relaxation or a rip-up), a relink that leaves a short loop
+//! forgets that loop's entries, and a fill forgets everything. An entry
+//! can outlive a change to its loop's parity far away (a snap across the
+//! loop reads the odd holes it takes in): what it refused may have become
+//! possible, and a remembered element is checked again before it is
+//! taken.
 //!
 //! The ladder's relaxed rung (a rule-based element anywhere) evaluates
 //! every convex front node when nothing else moves the front; its results

@@ -387,10 +387,10 @@ impl Mesher {
     }
 
     /// The memory forgets its evaluations whose box meets `within`, or
-    /// all of them for `None`, and those at the slots of the loops relinks
-    /// formed since it last looked (a loop's length, and whether a chord
-    /// from one of its slots splits it, changed all along it); the parked
-    /// entries of the slots forgotten go back on the stacks.
+    /// all of them for `None`, and those at the slots of the short loops
+    /// ([`SHORT_LOOP`]) relinks formed since it last looked (such a loop's
+    /// length changed all along it); the parked entries of the slots
+    /// forgotten go back on the stacks.
     pub(super) fn forget(&mut self, within: Option<crate::geom::Aabb>) {
         let mut relinked = Vec::new();
         self.front.take_relinked(&mut relinked);

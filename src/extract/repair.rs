@@ -919,6 +919,17 @@ mod tests {
         assert!(m.chords.cornerless(lid, changed));
     }
 
+    /// A 36-hole perforated plate after `steps` steps of extraction.
+    fn plate_stepped(steps: usize) -> Mesher {
+        let b = crate::domains::perforated_plate(6);
+        let model = std::sync::Arc::new(crate::model::default_model().expect("the shipped model"));
+        let mut m = Mesher::new(b, model, crate::extract::MeshParams::DEFAULT);
+        for _ in 0..steps {
+            m.step().expect("a step");
+        }
+        m
+    }
+
     /// A rip-up among many holes replaces only the loops it reached: the
     /// other holes keep their loop ids, slots and layers (their rows and
     /// queue entries stay where they were), the step ladder's memory
@@ -926,12 +937,7 @@ mod tests {
     /// with its invariants after every step.
     #[test]
     fn a_rip_up_replaces_only_the_loops_it_reached() {
-        let b = crate::domains::perforated_plate(6);
-        let model = std::sync::Arc::new(crate::model::default_model().expect("the shipped model"));
-        let mut m = Mesher::new(b, model, crate::extract::MeshParams::DEFAULT);
-        for _ in 0..300 {
-            m.step().expect("a step");
-        }
+        let mut m = plate_stepped(300);
         // Each live loop and its slots' ids, nodes and layers.
         type Seen = (u32, Vec<(crate::front::SlotId, u32, u32)>);
         let before: Vec<Seen> = m
@@ -1003,12 +1009,7 @@ mod tests {
     /// (and the slots of a short loop it leaves), not every evaluation.
     #[test]
     fn a_chord_split_forgets_only_around_its_chord() {
-        let b = crate::domains::perforated_plate(6);
-        let model = std::sync::Arc::new(crate::model::default_model().expect("the shipped model"));
-        let mut m = Mesher::new(b, model, crate::extract::MeshParams::DEFAULT);
-        for _ in 0..300 {
-            m.step().expect("a step");
-        }
+        let mut m = plate_stepped(300);
         let entries = m.memo.len();
         let longest = m
             .front
