@@ -129,25 +129,24 @@ impl EvalMemo {
 
     /// Widens [`EvalMemo::changed_box`] to take in `bb`.
     pub(super) fn widen_changed(&mut self, bb: Option<crate::geom::Aabb>) {
-        self.changed_box = match (self.changed_box, bb) {
-            (Some(a), Some(b)) => Some(crate::geom::Aabb {
-                min: a.min.min(b.min),
-                max: a.max.max(b.max),
-            }),
-            (a, b) => a.or(b),
-        };
+        let corners = self.changed_box.into_iter().chain(bb);
+        self.changed_box = crate::geom::Aabb::of(corners.flat_map(|b| [b.min, b.max]));
     }
 
     /// Forgets the entries at the slots `on` marks (by slot id).
     pub(super) fn forget_slots(&mut self, on: impl Fn(SlotId) -> bool) {
+        self.forget_where(|e| on(e.slot));
+    }
+
+    /// Forgets the entries `gone` picks.
+    fn forget_where(&mut self, gone: impl Fn(&Keyed) -> bool) {
         let mut i = 0;
         while i < self.keyed.len() {
-            let e = self.keyed[i];
-            if !on(e.slot) {
+            if gone(&self.keyed[i]) {
+                self.remove(i);
+            } else {
                 i += 1;
-                continue;
             }
-            self.remove(i);
         }
     }
 
@@ -167,15 +166,7 @@ impl EvalMemo {
 
     /// Forgets the entries whose box meets the box `lo..hi`.
     pub(super) fn changed(&mut self, lo: Point, hi: Point) {
-        let mut i = 0;
-        while i < self.keyed.len() {
-            let e = self.keyed[i];
-            if e.hi.x < lo.x || e.lo.x > hi.x || e.hi.y < lo.y || e.lo.y > hi.y {
-                i += 1;
-                continue;
-            }
-            self.remove(i);
-        }
+        self.forget_where(|e| !(e.hi.x < lo.x || e.lo.x > hi.x || e.hi.y < lo.y || e.lo.y > hi.y));
     }
 
     /// Number of evaluations remembered.
