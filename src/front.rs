@@ -233,9 +233,10 @@ pub struct Front {
 impl Front {
     /// The initial front: one loop per boundary loop. `nodes` are the
     /// positions; the grid's cells are about `cell` wide and cover the
-    /// loops' nodes (a front only moves into the region its loops bound;
-    /// a front rebuilt around a small hole in a large mesh gets a grid of
-    /// that hole's extent, not of the mesh's).
+    /// loops' nodes (a front only moves into the region its loops bound,
+    /// so the loops a rip-up adds later lie within the grid too; a front
+    /// over a small cavity of a large mesh gets a grid of the cavity's
+    /// extent, not of the mesh's).
     pub fn new(loops: &[Vec<u32>], nodes: &[Point], cell: f64) -> Front {
         let on_loops = loops.iter().flatten().map(|&v| nodes[v as usize]);
         let bb = Aabb::of(on_loops).unwrap_or(Aabb {
@@ -537,10 +538,10 @@ impl Front {
         });
         self.live.insert(lid);
         self.alive += loop_nodes.len();
+        // Filing each edge lists the loop as changed.
         for s in first..first + n {
             self.grid_insert(s, nodes);
         }
-        self.changed.push(lid);
         lid
     }
 

@@ -83,7 +83,7 @@ impl Notches {
     }
 
     /// A rip-up replaced loops: `pending` is the front's slots to look at.
-    pub(super) fn front_rebuilt(&mut self, pending: Vec<SlotId>) {
+    pub(super) fn look_again(&mut self, pending: Vec<SlotId>) {
         self.pending = pending;
     }
 

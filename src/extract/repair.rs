@@ -177,7 +177,7 @@ impl Mesher {
         // back on the front is looked at for its fan or notch again.
         self.fans = super::fan::Fans::of(self);
         let notches = self.notches.listed(self);
-        self.notches.front_rebuilt(notches);
+        self.notches.look_again(notches);
         (count, mark)
     }
 
