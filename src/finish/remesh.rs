@@ -428,7 +428,8 @@ impl Work<'_> {
     }
 
     /// Bad quad `k` and the live bad quads after it in `bad` (at most
-    /// [`AHEAD`] per thread, from the next [`AHEAD_SCAN`]) whose largest
+    /// [`AHEAD`] per thread, from the next [`AHEAD_SCAN`], and no more
+    /// than `left` in all: the regions still to be tried) whose largest
     /// cavities share no node with each other's, leaving out those whose
     /// region worked out ahead still holds (`holds`): the regions worked
     /// out together.
@@ -436,7 +437,7 @@ impl Work<'_> {
         &self,
         k: u32,
         bad: &[(Priority, u32)],
-        rings: usize,
+        (rings, left): (usize, usize),
         holds: impl Fn(u32) -> bool,
     ) -> Vec<u32> {
         let threads = rayon::current_num_threads();
@@ -444,7 +445,7 @@ impl Work<'_> {
         if threads <= 1 {
             return batch;
         }
-        let want = AHEAD * threads;
+        let want = (AHEAD * threads).min(left);
         let mut taken: std::collections::BTreeSet<u32> = std::collections::BTreeSet::new();
         let mut disjoint = |j: u32| {
             let nodes: Vec<u32> = self
@@ -604,7 +605,10 @@ pub fn remesh_bad(
         let region = match ahead.remove(&k) {
             Some(r) if r.still_holds(&touched, replaced, work) => r,
             _ => {
-                let batch = w.batch(k, &bad, ctx.rings, |j| {
+                // Regions past the last to be tried would be worked out
+                // for nothing.
+                let left = rp.max_regions - tried + 1;
+                let batch = w.batch(k, &bad, (ctx.rings, left), |j| {
                     ahead
                         .get(&j)
                         .is_some_and(|r| r.still_holds(&touched, replaced, work))
