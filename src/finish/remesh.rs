@@ -854,6 +854,72 @@ mod tests {
         }
     }
 
+    /// No more regions are worked out together than are still to be
+    /// tried, and a cap met while regions were worked out ahead leaves the
+    /// mesh one thread gives.
+    #[test]
+    fn regions_worked_out_ahead_stop_at_the_cap() {
+        let mut m = grid(24);
+        for (x, y) in [
+            (4.0, 4.0),
+            (12.0, 4.0),
+            (20.0, 4.0),
+            (4.0, 14.0),
+            (20.0, 20.0),
+        ] {
+            let v = node_at(&m, x, y);
+            m.nodes[v] = Point::new(x + 0.45, y + 0.45);
+        }
+        let bound = FinishParams::DEFAULT.remesh.below;
+        let pool = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+        };
+        let batch = |left: usize| {
+            let mut mesh = m.clone();
+            let alive = vec![true; mesh.quads.len()];
+            let inc = mesh.node_quads();
+            let w = Work {
+                mesh: &mut mesh,
+                alive,
+                inc,
+            };
+            let mut bad: Vec<(Priority, u32)> = (0..w.mesh.quads.len() as u32)
+                .map(|k| (priority(w.mesh, &w.mesh.quads[k as usize], bound), k))
+                .filter(|&(p, _)| p.fitness < bound)
+                .collect();
+            bad.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
+            let (_, k) = bad.remove(0);
+            pool(3).install(|| w.batch(k, &bad, (3, left), |_| false).len())
+        };
+        // The five needles are far apart: all are worked out together
+        // unless fewer are still to be tried.
+        assert_eq!(batch(100), 5);
+        assert_eq!(batch(2), 2);
+        assert_eq!(batch(1), 1);
+        let capped = FinishParams {
+            remesh: RemeshParams {
+                max_regions: 2,
+                ..FinishParams::DEFAULT.remesh
+            },
+            ..FinishParams::DEFAULT
+        };
+        let on = |threads: usize| {
+            let mut mesh = m.clone();
+            let n = pool(threads)
+                .install(|| remesh_bad(&mut mesh, &model(), &MeshParams::DEFAULT, &capped));
+            (n, mesh)
+        };
+        let (n1, one) = on(1);
+        assert_eq!(n1, 2);
+        one.check_finished().unwrap();
+        for threads in [2, 3] {
+            assert_eq!(on(threads), (n1, one.clone()), "{threads} threads");
+        }
+    }
+
     #[test]
     fn irregular_nodes_are_counted_as_a_patch_would_leave_them() {
         let mut m = grid(4);
