@@ -547,6 +547,17 @@ fn cavity_loops(nodes: &[Point], quads: &[[u32; 4]]) -> Option<Vec<Vec<u32>>> {
     )
 }
 
+/// The quads of `mesh` whose [`fitness_of`] is under `bound`, in the order
+/// they are taken ([`Priority`], then quad order).
+fn bad_quads(mesh: &QuadMesh, bound: f64) -> Vec<(Priority, u32)> {
+    let mut bad: Vec<(Priority, u32)> = (0..mesh.quads.len() as u32)
+        .map(|k| (priority(mesh, &mesh.quads[k as usize], bound), k))
+        .filter(|&(p, _)| p.fitness < bound)
+        .collect();
+    bad.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
+    bad
+}
+
 /// Remeshes the regions around quads below `finish.remesh.below` (see the
 /// module documentation) in a complete mesh, extracting with `model` and
 /// `params`, and drops the nodes it removed. A patch is cleaned up (with
@@ -581,11 +592,7 @@ pub fn remesh_bad(
     let mut replaced = 0;
     let mut tried = 0;
     let mut work = WORK_PER_QUAD * old + WORK_BASE;
-    let mut bad: Vec<(Priority, u32)> = (0..w.mesh.quads.len() as u32)
-        .map(|k| (priority(w.mesh, &w.mesh.quads[k as usize], bound), k))
-        .filter(|&(p, _)| p.fitness < bound)
-        .collect();
-    bad.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut bad = bad_quads(w.mesh, bound);
     // Regions worked out ahead, on both cores, for the bad quads next in
     // line: each is used only if nothing it read has changed since.
     let mut ahead: BTreeMap<u32, Region> = BTreeMap::new();
@@ -807,10 +814,37 @@ mod tests {
     /// thread gives, byte for byte: a 24 × 24 grid with needles far apart
     /// (worked out together) and two side by side (the second worked out
     /// again after the first is patched).
+    /// A 24 × 24 grid with a needle at each of `at`: the node there moved
+    /// almost onto its diagonal neighbour.
+    fn needled_grid(at: &[(f64, f64)]) -> QuadMesh {
+        let mut m = grid(24);
+        for &(x, y) in at {
+            let v = node_at(&m, x, y);
+            m.nodes[v] = Point::new(x + 0.45, y + 0.45);
+        }
+        m.check_invariants(true).unwrap();
+        m
+    }
+
+    fn pool(threads: usize) -> rayon::ThreadPool {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    }
+
+    /// [`remesh_bad`] on a copy of `m` with `finish`, on `threads`
+    /// threads: the regions patched and the mesh.
+    fn remesh_on(m: &QuadMesh, threads: usize, finish: &FinishParams) -> (usize, QuadMesh) {
+        let mut mesh = m.clone();
+        let n =
+            pool(threads).install(|| remesh_bad(&mut mesh, &model(), &MeshParams::DEFAULT, finish));
+        (n, mesh)
+    }
+
     #[test]
     fn the_same_mesh_on_one_thread_and_on_several() {
-        let mut m = grid(24);
-        for (x, y) in [
+        let m = needled_grid(&[
             (4.0, 4.0),
             (12.0, 4.0),
             (20.0, 4.0),
@@ -818,27 +852,8 @@ mod tests {
             (12.0, 14.0),
             (13.0, 14.0),
             (20.0, 20.0),
-        ] {
-            let v = node_at(&m, x, y);
-            m.nodes[v] = Point::new(x + 0.45, y + 0.45);
-        }
-        m.check_invariants(true).unwrap();
-        let on = |threads: usize| {
-            let mut mesh = m.clone();
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            let n = pool.install(|| {
-                remesh_bad(
-                    &mut mesh,
-                    &model(),
-                    &MeshParams::DEFAULT,
-                    &FinishParams::DEFAULT,
-                )
-            });
-            (n, mesh)
-        };
+        ]);
+        let on = |threads: usize| remesh_on(&m, threads, &FinishParams::DEFAULT);
         let (n1, one) = on(1);
         assert!(n1 >= 6, "{n1} regions");
         one.check_finished().unwrap();
@@ -859,24 +874,13 @@ mod tests {
     /// mesh one thread gives.
     #[test]
     fn regions_worked_out_ahead_stop_at_the_cap() {
-        let mut m = grid(24);
-        for (x, y) in [
+        let m = needled_grid(&[
             (4.0, 4.0),
             (12.0, 4.0),
             (20.0, 4.0),
             (4.0, 14.0),
             (20.0, 20.0),
-        ] {
-            let v = node_at(&m, x, y);
-            m.nodes[v] = Point::new(x + 0.45, y + 0.45);
-        }
-        let bound = FinishParams::DEFAULT.remesh.below;
-        let pool = |threads: usize| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-        };
+        ]);
         let batch = |left: usize| {
             let mut mesh = m.clone();
             let alive = vec![true; mesh.quads.len()];
@@ -886,11 +890,7 @@ mod tests {
                 alive,
                 inc,
             };
-            let mut bad: Vec<(Priority, u32)> = (0..w.mesh.quads.len() as u32)
-                .map(|k| (priority(w.mesh, &w.mesh.quads[k as usize], bound), k))
-                .filter(|&(p, _)| p.fitness < bound)
-                .collect();
-            bad.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
+            let mut bad = bad_quads(w.mesh, FinishParams::DEFAULT.remesh.below);
             let (_, k) = bad.remove(0);
             pool(3).install(|| w.batch(k, &bad, (3, left), |_| false).len())
         };
@@ -906,17 +906,15 @@ mod tests {
             },
             ..FinishParams::DEFAULT
         };
-        let on = |threads: usize| {
-            let mut mesh = m.clone();
-            let n = pool(threads)
-                .install(|| remesh_bad(&mut mesh, &model(), &MeshParams::DEFAULT, &capped));
-            (n, mesh)
-        };
-        let (n1, one) = on(1);
+        let (n1, one) = remesh_on(&m, 1, &capped);
         assert_eq!(n1, 2);
         one.check_finished().unwrap();
         for threads in [2, 3] {
-            assert_eq!(on(threads), (n1, one.clone()), "{threads} threads");
+            assert_eq!(
+                remesh_on(&m, threads, &capped),
+                (n1, one.clone()),
+                "{threads} threads"
+            );
         }
     }
 
