@@ -12,6 +12,7 @@ use crate::mesh::{NodeQuads, QuadMesh};
 use crate::quality::{QuadQuality, Shape, GOOD_RATIO};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::cell::Cell;
 
 /// Smoothing parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -523,6 +524,13 @@ const MIN_AREA_RATIO: f64 = 0.3;
 /// It is `None` as well as soon as one quad is under `beat`: the node's
 /// quality would then not improve on a best whose worst is `beat`
 /// ([`improves`]), and the other quads need not be looked at.
+///
+/// `failed` is the index in `quads` of the quad that refused the last
+/// position tried: it is looked at first, for the positions of a search
+/// lie close together and the same quad tends to refuse them. Any refusal
+/// gives `None` whichever quad is looked at first, and the figures of a
+/// position none refuses are summed in `quads`' order, so the result is
+/// the same as without it.
 fn node_quality(
     mesh: &QuadMesh,
     quads: &[u32],
@@ -530,10 +538,10 @@ fn node_quality(
     (clip, measure): (f64, Measure),
     beat: f64,
     moving: (u32, Point),
+    failed: &Cell<usize>,
 ) -> Option<(f64, f64)> {
-    let mut min = f64::INFINITY;
-    let mut sum = 0.0;
-    for &k in quads {
+    // The quad's measure, or `None` if it refuses the position.
+    let quality = |k: u32| {
         let p = corners_with(mesh, &mesh.quads[k as usize], moving);
         let q = Shape::of(p);
         // Either measure is at most the scaled Jacobian: a quad under
@@ -550,9 +558,21 @@ fn node_quality(
             return None;
         }
         let sj = measure.of(&q);
-        if sj < beat {
+        (sj >= beat).then_some(sj)
+    };
+    let first = failed.get();
+    let measured = match quads.get(first) {
+        Some(&k) => Some(quality(k)?),
+        None => None,
+    };
+    let mut min = f64::INFINITY;
+    let mut sum = 0.0;
+    for (i, &k) in quads.iter().enumerate() {
+        let sj = if i == first { measured } else { quality(k) };
+        let Some(sj) = sj else {
+            failed.set(i);
             return None;
-        }
+        };
         min = min.min(sj);
         sum += sj;
     }
@@ -1157,6 +1177,7 @@ fn visit(
 ) -> Option<Point> {
     let quads = adj.quads_at(v);
     let start = mesh.nodes[v];
+    let failed = Cell::new(0);
     let quality = |at: Point, beat: f64| {
         node_quality(
             mesh,
@@ -1165,6 +1186,7 @@ fn visit(
             (clip, pass.measure),
             beat,
             (v as u32, at),
+            &failed,
         )
     };
     let best = quality(start, f64::NEG_INFINITY)?;
@@ -1458,6 +1480,68 @@ mod tests {
             };
             Point::new(i as f64 + d, j as f64 - d)
         })
+    }
+
+    #[test]
+    fn the_quad_that_refused_last_is_looked_at_first_and_changes_nothing() {
+        // A node of a jittered grid tried at positions all around it, with
+        // floors of its quads as they stand and a `beat` that refuses
+        // some: carrying the refusing quad from one position to the next
+        // gives each position the figures a fresh look does.
+        let mesh = jittered_grid(4);
+        let v = 6; // node (1, 1)
+        let adj = Adjacency::new(&mesh);
+        let quads = adj.quads_at(v);
+        let mut floor = vec![Floor::NONE; mesh.quads.len()];
+        for &k in quads {
+            let p = mesh.corners(&mesh.quads[k as usize]);
+            let s = Shape::of(p);
+            floor[k as usize] = Floor {
+                area: MIN_AREA_RATIO * s.area,
+                rs: s.rs.min(QuadQuality::THIN_RS),
+                convex: is_measurably_convex(p),
+                stretch: s.side_ratio().max(MAX_STRETCH),
+            };
+        }
+        let carried = Cell::new(0);
+        let (mut refused, mut kept, mut hinted) = (0, 0, 0);
+        for step in 0..200 {
+            let a = step as f64 * 0.37;
+            let r = 0.05 + 1.1 * ((step * 13) % 17) as f64 / 17.0;
+            let at = mesh.nodes[v] + Point::new(a.cos(), a.sin()) * r;
+            for beat in [f64::NEG_INFINITY, 0.5, 0.8] {
+                let q = |failed: &Cell<usize>| {
+                    node_quality(
+                        &mesh,
+                        quads,
+                        &floor,
+                        (f64::INFINITY, Measure::Jacobian),
+                        beat,
+                        (v as u32, at),
+                        failed,
+                    )
+                };
+                let fresh = q(&Cell::new(0));
+                if carried.get() > 0 {
+                    hinted += 1;
+                }
+                let with = q(&carried);
+                assert_eq!(
+                    fresh.map(|(a, b)| (a.to_bits(), b.to_bits())),
+                    with.map(|(a, b)| (a.to_bits(), b.to_bits())),
+                    "position {step}, beat {beat}"
+                );
+                match fresh {
+                    Some(_) => kept += 1,
+                    None => refused += 1,
+                }
+            }
+        }
+        assert!(refused > 50 && kept > 50, "{refused} refused, {kept} kept");
+        assert!(
+            hinted > 50,
+            "{hinted} looks began at another quad than the first"
+        );
     }
 
     #[test]
