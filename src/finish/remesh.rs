@@ -278,6 +278,11 @@ impl Work<'_> {
         let max_stretch = old.worst_stretch.max(MAX_STRETCH);
         let boundary = Boundary::new(points, sub_loops, None).ok()?;
         let mut best: Option<Patch> = None;
+        // The meshes the settings gave before cleanup and smoothing: one
+        // that gives the same as an earlier setting is not finished again
+        // (it would come out the same, and what was taken or refused then
+        // would be again).
+        let mut made: Vec<QuadMesh> = Vec::new();
         // Every setting meshes the same cavity: one size field serves all.
         let size = Arc::new(SizeField::of_boundary(&boundary));
         // A patch of many more quads than the cavity is not wanted, and an
@@ -307,6 +312,10 @@ impl Work<'_> {
             }
             let mut sub = mesher.mesh().clone();
             sub.compact();
+            if made.contains(&sub) {
+                continue;
+            }
+            made.push(sub.clone());
             improve(&mut sub, true, &finish.cleanup, &finish.smooth);
             unflatten(&mut sub);
             if sub.check_finished().is_err() {
