@@ -57,16 +57,16 @@ pub fn closure_quality(pts: &[Point]) -> f64 {
         4 => Shape::of([pts[0], pts[1], pts[2], pts[3]]).scaled_jacobian,
         6 => {
             let p6: [Point; 6] = std::array::from_fn(|k| pts[k]);
-            patterns(&p6)
-                .into_iter()
-                .map(|(_, interior, quads)| {
-                    let at = |i: usize| if i >= 6 { interior[i - 6] } else { p6[i] };
-                    quads
-                        .iter()
-                        .map(|q| Shape::of(q.map(at)).scaled_jacobian)
-                        .fold(f64::INFINITY, f64::min)
-                })
-                .fold(f64::NEG_INFINITY, f64::max)
+            let mut best = f64::NEG_INFINITY;
+            each_pattern(&p6, |_, interior, quads| {
+                let at = |i: usize| if i >= 6 { interior[i - 6] } else { p6[i] };
+                let worst = quads
+                    .iter()
+                    .map(|q| Shape::of(q.map(at)).scaled_jacobian)
+                    .fold(f64::INFINITY, f64::min);
+                best = best.max(worst);
+            });
+            best
         }
         _ => f64::NEG_INFINITY,
     }
@@ -79,33 +79,43 @@ type Pattern = (char, Vec<Point>, Vec<[usize; 4]>);
 /// Every pattern of Figure 20 over every rotation of a 6-node loop.
 fn patterns(pts: &[Point; 6]) -> Vec<Pattern> {
     let mut out = Vec::with_capacity(18);
+    each_pattern(pts, |letter, interior, quads| {
+        out.push((letter, interior.to_vec(), quads.to_vec()))
+    });
+    out
+}
+
+/// Gives `visit` every pattern of Figure 20 over every rotation of a
+/// 6-node loop, in [`patterns`]' order: its letter, interior nodes and
+/// quads, on the stack (a loop's closure is weighed this way at every
+/// position of a node being settled).
+fn each_pattern(pts: &[Point; 6], mut visit: impl FnMut(char, &[Point], &[[usize; 4]])) {
     for r in 0..6 {
         let i = |k: usize| (k - 1 + r) % 6; // 1-based pattern index → loop index
-        out.push((
+        visit(
             'a',
-            vec![(pts[i(2)] + pts[i(4)] + pts[i(6)]) / 3.0],
-            vec![
+            &[(pts[i(2)] + pts[i(4)] + pts[i(6)]) / 3.0],
+            &[
                 [i(1), i(2), 6, i(6)],
                 [i(2), i(3), i(4), 6],
                 [i(4), i(5), i(6), 6],
             ],
-        ));
-        out.push((
+        );
+        visit(
             'b',
-            vec![(3.0 * pts[i(3)] + 3.0 * pts[i(5)] + pts[i(2)] + pts[i(6)]) / 8.0],
-            vec![
+            &[(3.0 * pts[i(3)] + 3.0 * pts[i(5)] + pts[i(2)] + pts[i(6)]) / 8.0],
+            &[
                 [i(1), i(2), i(3), 6],
                 [i(3), i(4), i(5), 6],
                 [i(5), i(6), i(1), 6],
             ],
-        ));
-        out.push((
+        );
+        visit(
             'c',
-            Vec::new(),
-            vec![[i(1), i(2), i(3), i(6)], [i(3), i(4), i(5), i(6)]],
-        ));
+            &[],
+            &[[i(1), i(2), i(3), i(6)], [i(3), i(4), i(5), i(6)]],
+        );
     }
-    out
 }
 
 /// Pattern (d) over every rotation, for when no pattern of Figure 20 gives
@@ -300,10 +310,10 @@ impl Mesher {
                         .min(self.params.tuning.closure.settle_floor)
                 })
                 .collect();
+            // The quads are measured first: a position one of them refuses
+            // needs no closure weighed.
             let quality = |m: &QuadMesh| {
-                let pts: Vec<Point> = nodes.iter().map(|&u| m.nodes[u as usize]).collect();
-                let mut worst = closure_quality(&pts);
-                let mut sum = worst;
+                let mut sjs = Vec::with_capacity(quads.len());
                 for (&q, &floor) in quads.iter().zip(&floors) {
                     let c = m.corners(&m.quads[q as usize]);
                     if !is_measurably_convex(c) {
@@ -313,6 +323,12 @@ impl Mesher {
                     if sj < floor {
                         return None;
                     }
+                    sjs.push(sj);
+                }
+                let pts: Vec<Point> = nodes.iter().map(|&u| m.nodes[u as usize]).collect();
+                let mut worst = closure_quality(&pts);
+                let mut sum = worst;
+                for sj in sjs {
                     worst = worst.min(sj);
                     sum += sj;
                 }
