@@ -819,10 +819,6 @@ mod tests {
         );
     }
 
-    /// Regions worked out ahead on several threads give the mesh one
-    /// thread gives, byte for byte: a 24 × 24 grid with needles far apart
-    /// (worked out together) and two side by side (the second worked out
-    /// again after the first is patched).
     /// A 24 × 24 grid with a needle at each of `at`: the node there moved
     /// almost onto its diagonal neighbour.
     fn needled_grid(at: &[(f64, f64)]) -> QuadMesh {
@@ -851,6 +847,10 @@ mod tests {
         (n, mesh)
     }
 
+    /// Regions worked out ahead on several threads give the mesh one
+    /// thread gives, byte for byte: a 24 × 24 grid with needles far apart
+    /// (worked out together) and two side by side (the second worked out
+    /// again after the first is patched).
     #[test]
     fn the_same_mesh_on_one_thread_and_on_several() {
         let m = needled_grid(&[
