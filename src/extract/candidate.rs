@@ -106,7 +106,7 @@ pub(super) struct Chosen {
 /// Scores closer than this are a tie, which the first candidate wins: a
 /// model whose outputs differ in the last digits (a refit, another
 /// machine's rounding) then makes the same choices.
-const SCORE_TIE: f64 = 1e-6;
+pub(super) const SCORE_TIE: f64 = 1e-6;
 
 /// True when score `a` is better than `b` by more than a tie.
 pub(super) fn beats(a: f64, b: f64) -> bool {

@@ -115,6 +115,32 @@ pub fn check(
     size: f64,
     scratch: &mut Scratch,
 ) -> Option<Passed> {
+    check_above(
+        front,
+        nodes,
+        corners,
+        consumed,
+        (limits, f64::NEG_INFINITY),
+        size,
+        scratch,
+    )
+}
+
+/// [`check`], refusing as well a candidate whose score could not be over
+/// `bar`: the score is at most the least of the quad's scaled Jacobian,
+/// its softened aspect and the front factor, times the size fit, all
+/// known before the front near the quad is looked at (the room to the
+/// front only lowers it). A candidate refused for `bar` would have scored
+/// at most `bar`.
+pub fn check_above(
+    front: &Front,
+    nodes: &[Point],
+    corners: [Corner; 4],
+    consumed: &[SlotId],
+    (limits, bar): (Limits, f64),
+    size: f64,
+    scratch: &mut Scratch,
+) -> Option<Passed> {
     let pos = |c: Corner| match c {
         Corner::Full(s) | Corner::Partial(s) => nodes[front.node(s) as usize],
         Corner::New(p) => p,
@@ -184,6 +210,20 @@ pub fn check(
             }
         }
     }
+    let new_sides = || (0..4).filter(|&k| !is_consumed(k));
+    let stretch = (1.0 / q.aspect()).sqrt();
+    // New sides far from the local size cost a little: a tie-breaker
+    // between otherwise good elements, not a limit.
+    let mut fit: f64 = 1.0;
+    for k in new_sides() {
+        let len = p[k].distance(p[(k + 1) % 4]);
+        fit = fit.min((1.0 - SIZE_FIT_SLOPE * (len / size).ln().abs()).clamp(SIZE_FIT_FLOOR, 1.0));
+    }
+    // The score before the room to the front, which can only lower it.
+    let bound = q.scaled_jacobian.min(stretch).min(front_factor) * fit;
+    if bound.partial_cmp(&bar) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
     // Front edges near the quad: within the room that counts as enough, so
     // the same query finds what crosses the quad and what comes close.
     let reach = Point::splat(CLEAR_GOOD * size);
@@ -193,7 +233,6 @@ pub fn check(
         .fold(Point::splat(f64::NEG_INFINITY), |a, &b| a.max(b))
         + reach;
     front.edges_near(lo, hi, &mut scratch.near);
-    let new_sides = || (0..4).filter(|&k| !is_consumed(k));
     // Each corner's front neighbours: their room to the sides at that
     // corner is the front angle left there, judged above.
     let neighbours = corners.map(|c| match c {
@@ -251,15 +290,7 @@ pub fn check(
             }
         }
     }
-    let stretch = (1.0 / q.aspect()).sqrt();
     let room = ((clearance / size - CLEAR_NONE) / (CLEAR_GOOD - CLEAR_NONE)).clamp(0.0, 1.0);
-    // New sides far from the local size cost a little: a tie-breaker
-    // between otherwise good elements, not a limit.
-    let mut fit: f64 = 1.0;
-    for k in new_sides() {
-        let len = p[k].distance(p[(k + 1) % 4]);
-        fit = fit.min((1.0 - SIZE_FIT_SLOPE * (len / size).ln().abs()).clamp(SIZE_FIT_FLOOR, 1.0));
-    }
     Some(Passed {
         corners: p,
         score: q.scaled_jacobian.min(stretch).min(front_factor).min(room) * fit,
@@ -275,6 +306,13 @@ fn touches(ids: &[Option<u32>; 4], c: u32, d: u32) -> bool {
 impl Mesher {
     /// The guard on one candidate: its score when it passes.
     pub(super) fn check(&mut self, c: Cand, limits: Limits) -> Option<f64> {
+        self.check_above(c, limits, f64::NEG_INFINITY)
+    }
+
+    /// [`Mesher::check`], refusing as well a candidate that could not
+    /// score over `bar` ([`check_above`]; what is weighed after the guard
+    /// only lowers the score).
+    pub(super) fn check_above(&mut self, c: Cand, limits: Limits, bar: f64) -> Option<f64> {
         let p0 = c.slot();
         // The element at a sharp corner of the front has that corner's
         // angle; the corner opposite may open as far as a kite with right
@@ -377,12 +415,12 @@ impl Mesher {
                 )
             }
         };
-        let passed = check(
+        let passed = check_above(
             f,
             &self.mesh.nodes,
             corners,
             &consumed[..taken],
-            limits,
+            (limits, bar),
             size,
             &mut self.scratch,
         )?;
