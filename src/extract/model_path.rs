@@ -44,12 +44,13 @@ impl Mesher {
         // (`evaluated`) is worked out where the evaluation ends: of the
         // model's element alone when it returns early, else of all the
         // candidates.
+        // The model's element as guarded here, not guarded again below.
+        let mut guarded: Option<(Cand, Option<f64>)> = None;
         if !self.params.pure_model || rules {
             let (c, _) = self.model_candidate(s, pred, &frame);
-            if let Some(score) = self
-                .check(c, limits)
-                .filter(|&v| v >= self.params.tuning.choice.excellent)
-            {
+            let checked = self.check(c, limits);
+            guarded = Some((c, checked));
+            if let Some(score) = checked.filter(|&v| v >= self.params.tuning.choice.excellent) {
                 self.memo.read_box = self.extent(s, &[c]);
                 return Ok(Some(Chosen {
                     cand: c,
@@ -88,7 +89,12 @@ impl Mesher {
                 Some(b) if !pure => b.score + SCORE_TIE,
                 _ => f64::NEG_INFINITY,
             };
-            let Some(score) = self.check_above(c, limits, bar) else {
+            let checked = match guarded.take() {
+                // The model's element, first (with no best yet to beat).
+                Some((g, score)) if g == c && remedy == Remedy::None => score,
+                _ => self.check_above(c, limits, bar),
+            };
+            let Some(score) = checked else {
                 if self.params.pure_model && !rules {
                     self.rejections.reject(&leading);
                     return Ok(None);
