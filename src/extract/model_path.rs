@@ -39,14 +39,16 @@ impl Mesher {
     ) -> Result<Option<Chosen>, MeshError> {
         let (slots, frame, pred) = self.predict_at(s, rules);
         let leading: Vec<u32> = slots.iter().map(|&t| self.front.node(t)).collect();
+        // Pure, the model's element alone is weighed and its refusal counts.
+        let pure = self.params.pure_model && !rules;
+        // The model's element as guarded here, not guarded again below.
+        let mut guarded: Option<(Cand, Option<f64>)> = None;
         // The model's element comes first among the candidates: when it is
         // excellent the others need not be built. The box read
         // (`evaluated`) is worked out where the evaluation ends: of the
         // model's element alone when it returns early, else of all the
         // candidates.
-        // The model's element as guarded here, not guarded again below.
-        let mut guarded: Option<(Cand, Option<f64>)> = None;
-        if !self.params.pure_model || rules {
+        if !pure {
             let (c, _) = self.model_candidate(s, pred, &frame);
             let checked = self.check(c, limits);
             guarded = Some((c, checked));
@@ -80,10 +82,8 @@ impl Mesher {
         let cands = self.candidates(s, pred, &frame);
         let all: Vec<Cand> = cands.iter().map(|&(c, _)| c).collect();
         self.memo.read_box = self.extent(s, &all);
-        // Pure, every candidate's refusal counts; else a candidate that
-        // could not beat the best so far ([`Chosen::keep_if_best`]) need
-        // not be weighed whole.
-        let pure = self.params.pure_model && !rules;
+        // Unless pure, a candidate that could not beat the best so far
+        // ([`Chosen::keep_if_best`]) need not be weighed whole.
         for (c, remedy) in cands {
             let bar = match &best {
                 Some(b) if !pure => b.score + SCORE_TIE,
@@ -95,7 +95,7 @@ impl Mesher {
                 _ => self.check_above(c, limits, bar),
             };
             let Some(score) = checked else {
-                if self.params.pure_model && !rules {
+                if pure {
                     self.rejections.reject(&leading);
                     return Ok(None);
                 }
