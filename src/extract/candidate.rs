@@ -106,7 +106,7 @@ pub(super) struct Chosen {
 /// Scores closer than this are a tie, which the first candidate wins: a
 /// model whose outputs differ in the last digits (a refit, another
 /// machine's rounding) then makes the same choices.
-pub(super) const SCORE_TIE: f64 = 1e-6;
+const SCORE_TIE: f64 = 1e-6;
 
 /// True when score `a` is better than `b` by more than a tie.
 pub(super) fn beats(a: f64, b: f64) -> bool {
@@ -118,6 +118,13 @@ impl Chosen {
     /// ([`Chosen::keep_if_best`]).
     pub(super) fn would_keep(score: f64, best: &Option<Chosen>) -> bool {
         best.as_ref().is_none_or(|b| beats(score, b.score))
+    }
+
+    /// The score an element must be over to be kept in `best`
+    /// ([`Chosen::would_keep`]; any, with none kept yet).
+    pub(super) fn to_beat(best: &Option<Chosen>) -> f64 {
+        best.as_ref()
+            .map_or(f64::NEG_INFINITY, |b| b.score + SCORE_TIE)
     }
 
     /// Keeps `self` in `best` if it scores higher (the first wins ties).

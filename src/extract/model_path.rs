@@ -17,7 +17,7 @@
 //! [`Mesher::explain`] shows every candidate of a node as the next step
 //! would see it.
 
-use super::candidate::{Cand, CandidateReport, Chosen, SCORE_TIE};
+use super::candidate::{Cand, CandidateReport, Chosen};
 use super::guard::Limits;
 use super::report::{MeshError, Remedy};
 use super::session::Mesher;
@@ -85,9 +85,10 @@ impl Mesher {
         // Unless pure, a candidate that could not beat the best so far
         // ([`Chosen::keep_if_best`]) need not be weighed whole.
         for (c, remedy) in cands {
-            let bar = match &best {
-                Some(b) if !pure => b.score + SCORE_TIE,
-                _ => f64::NEG_INFINITY,
+            let bar = if pure {
+                f64::NEG_INFINITY
+            } else {
+                Chosen::to_beat(&best)
             };
             let checked = match guarded.take() {
                 // The model's element, first (with no best yet to beat).
