@@ -109,10 +109,13 @@ impl QuadMesh {
         (node as usize) < self.n_boundary()
     }
 
-    /// Positions of a quad's corners.
+    /// Positions of a quad's corners. Written out rather than through
+    /// `array::map`, whose inlining into the quality measures' inner loops
+    /// is left to how the crate happens to be split for compiling.
     #[inline]
     pub fn corners(&self, q: &[u32; 4]) -> [Point; 4] {
-        q.map(|i| self.nodes[i as usize])
+        let at = |k: usize| self.nodes[q[k] as usize];
+        [at(0), at(1), at(2), at(3)]
     }
 
     /// Area of the domain the boundary loops enclose.

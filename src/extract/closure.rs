@@ -60,9 +60,10 @@ pub fn closure_quality(pts: &[Point]) -> f64 {
             let mut best = f64::NEG_INFINITY;
             each_pattern(&p6, |_, interior, quads| {
                 let at = |i: usize| if i >= 6 { interior[i - 6] } else { p6[i] };
+                // Corners written out, as in `QuadMesh::corners`.
                 let worst = quads
                     .iter()
-                    .map(|q| Shape::of(q.map(at)).scaled_jacobian)
+                    .map(|q| Shape::of([at(q[0]), at(q[1]), at(q[2]), at(q[3])]).scaled_jacobian)
                     .fold(f64::INFINITY, f64::min);
                 best = best.max(worst);
             });
