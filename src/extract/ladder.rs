@@ -204,6 +204,20 @@ pub const LADDER: [Rung; 21] = [
 ];
 
 impl Rung {
+    /// Whether a step this rung takes is the same whatever the run's
+    /// [`super::Strategy`] and [`super::MeshParams::fill_after_layers`]:
+    /// the rung reads neither, and it comes in [`LADDER`] before the first
+    /// rung that does (the row start reads strategy B's queue; the fill of
+    /// the first layers and the queue read both), so the rungs tried before
+    /// it in a step read neither either. A run whose every step such a rung
+    /// took would be made again step for step under the other settings.
+    pub fn ignores_strategy(self) -> bool {
+        matches!(
+            self,
+            Rung::Notch | Rung::Band | Rung::MappedGrid | Rung::Fan
+        )
+    }
+
     /// The rung's name as reports and tables print it.
     pub fn name(self) -> &'static str {
         match self {

@@ -205,6 +205,16 @@ impl StepStats {
         (ok, ok + self.rejected_predictions)
     }
 
+    /// Whether a run with these counts would be made again step for step
+    /// under another [`super::Strategy`] or
+    /// [`super::MeshParams::fill_after_layers`]: every step was taken by a
+    /// rung that reads neither ([`Rung::ignores_strategy`]), and the run
+    /// was not made again with balanced corner fans (the first try, which
+    /// the counts leave out, may have read them).
+    pub fn ignore_strategy(&self) -> bool {
+        !self.refanned && self.by_rung.keys().all(|r| r.ignores_strategy())
+    }
+
     /// Element steps with remedy `r`.
     pub fn remedies(&self, r: Remedy) -> usize {
         self.by_remedy.get(&r).copied().unwrap_or(0)

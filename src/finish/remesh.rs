@@ -288,6 +288,12 @@ impl Work<'_> {
         // A patch of many more quads than the cavity is not wanted, and an
         // extraction that would make one is cut short.
         let limit = MAX_QUADS * cavity.len() + 16;
+        // The cost of a run the settings after it would make again step for
+        // step (every step by a rung that reads no setting, such as a band
+        // closed by rows): they are not run, as the mesh they would give
+        // would not be finished again, but the work budget is charged as
+        // if they were.
+        let mut repeated: Option<usize> = None;
         for params in candidates {
             let params = MeshParams {
                 max_steps: Some(limit),
@@ -295,6 +301,10 @@ impl Work<'_> {
             };
             if *work == 0 {
                 break;
+            }
+            if let Some(cost) = repeated {
+                *work = work.saturating_sub(cost);
+                continue;
             }
             let mut mesher =
                 Mesher::with_size(boundary.clone(), model.clone(), params, size.clone());
@@ -307,6 +317,9 @@ impl Work<'_> {
                 limit
             };
             *work = work.saturating_sub(cost.max(1));
+            if run.is_ok() && mesher.stats().ignore_strategy() {
+                repeated = Some(cost.max(1));
+            }
             if run.is_err() || mesher.mesh().quads.len() > MAX_QUADS * cavity.len() {
                 continue;
             }
@@ -702,6 +715,60 @@ mod tests {
 
     fn model() -> Arc<dyn Model> {
         Arc::new(RulesModel::DEFAULT)
+    }
+
+    /// The meshes of `boundary` under each remeshing setting, and whether
+    /// each run's counts say the others would make it again.
+    fn under_each_setting(boundary: &Boundary) -> Vec<(QuadMesh, bool)> {
+        candidates(&MeshParams::DEFAULT)
+            .into_iter()
+            .map(|params| {
+                let mut m = Mesher::new(boundary.clone(), model(), params);
+                m.run(|_| {}).expect("finishes");
+                m.check_invariants().expect("invariants");
+                (m.mesh().clone(), m.stats().ignore_strategy())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_band_closed_by_rows_is_the_same_under_every_setting() {
+        // A thin ring, 60 nodes outside and 70 on the hole, closed by the
+        // band rung in one step: the settings a cavity is tried with
+        // cannot change it, so remeshing runs it once.
+        let circle = |n: usize, r: f64| -> Vec<Point> {
+            (0..n)
+                .map(|k| {
+                    let t = std::f64::consts::TAU * k as f64 / n as f64;
+                    Point::new(r * t.cos(), r * t.sin())
+                })
+                .collect()
+        };
+        let mut pts = circle(60, 1.1);
+        pts.extend(circle(70, 1.0).into_iter().rev());
+        let ring =
+            Boundary::new(pts, vec![(0..60).collect(), (60..130).collect()], None).expect("a ring");
+        let runs = under_each_setting(&ring);
+        assert_eq!(runs.len(), 3);
+        for (mesh, blind) in &runs {
+            assert!(*blind);
+            assert_eq!(mesh, &runs[0].0);
+            assert!(!mesh.quads.is_empty());
+        }
+        // A square of 8 × 8 segments is meshed by the queue, which reads
+        // the strategy: its runs are not taken as repeats.
+        let mut square = Vec::new();
+        for k in 0..32 {
+            let t = (k % 8) as f64 / 8.0;
+            square.push(match k / 8 {
+                0 => Point::new(t, 0.0),
+                1 => Point::new(1.0, t),
+                2 => Point::new(1.0 - t, 1.0),
+                _ => Point::new(0.0, 1.0 - t),
+            });
+        }
+        let square = Boundary::new(square, vec![(0..32).collect()], None).expect("a square");
+        assert!(under_each_setting(&square).iter().all(|(_, blind)| !blind));
     }
 
     #[test]
