@@ -211,7 +211,7 @@ impl StepStats {
     /// rung that reads neither ([`Rung::ignores_strategy`]), and the run
     /// was not made again with balanced corner fans (the first try, which
     /// the counts leave out, may have read them).
-    pub fn ignore_strategy(&self) -> bool {
+    pub fn ignores_strategy(&self) -> bool {
         !self.refanned && self.by_rung.keys().all(|r| r.ignores_strategy())
     }
 

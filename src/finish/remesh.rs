@@ -317,7 +317,7 @@ impl Work<'_> {
                 limit
             };
             *work = work.saturating_sub(cost.max(1));
-            if run.is_ok() && mesher.stats().ignore_strategy() {
+            if run.is_ok() && mesher.stats().ignores_strategy() {
                 repeated = Some(cost.max(1));
             }
             if run.is_err() || mesher.mesh().quads.len() > MAX_QUADS * cavity.len() {
@@ -726,7 +726,7 @@ mod tests {
                 let mut m = Mesher::new(boundary.clone(), model(), params);
                 m.run(|_| {}).expect("finishes");
                 m.check_invariants().expect("invariants");
-                (m.mesh().clone(), m.stats().ignore_strategy())
+                (m.mesh().clone(), m.stats().ignores_strategy())
             })
             .collect()
     }
