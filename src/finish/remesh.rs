@@ -724,8 +724,10 @@ mod tests {
             .into_iter()
             .map(|params| {
                 let mut m = Mesher::new(boundary.clone(), model(), params);
-                m.run(|_| {}).expect("finishes");
-                m.check_invariants().expect("invariants");
+                while let crate::extract::StepOutcome::Stepped(_) = m.step().expect("a step") {
+                    m.check_invariants().expect("invariants after every step");
+                }
+                assert!(m.is_done());
                 (m.mesh().clone(), m.stats().ignores_strategy())
             })
             .collect()
