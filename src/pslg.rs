@@ -98,12 +98,25 @@ pub enum PslgError {
     Dangling { node: i64 },
     #[error("the segment from node {a} to node {b} is given twice")]
     Repeated { a: i64, b: i64 },
-    #[error("the segment from node {a} to node {b} crosses the segment from node {c} to node {d}")]
-    Crossing { a: i64, b: i64, c: i64, d: i64 },
-    #[error("node {node} lies on the segment from node {a} to node {b} (split that segment at the node)")]
-    NodeOnSegment { node: i64, a: i64, b: i64 },
-    #[error("node {a} and node {b} are at the same position (up to rounding)")]
-    Coincident { a: i64, b: i64 },
+    #[error("the segment from node {a} to node {b} crosses the segment from node {c} to node {d} at about ({x}, {y})")]
+    Crossing {
+        a: i64,
+        b: i64,
+        c: i64,
+        d: i64,
+        x: f64,
+        y: f64,
+    },
+    #[error("node {node} at ({x}, {y}) lies on the segment from node {a} to node {b} (split that segment at the node)")]
+    NodeOnSegment {
+        node: i64,
+        a: i64,
+        b: i64,
+        x: f64,
+        y: f64,
+    },
+    #[error("node {a} and node {b} are at the same position, ({x}, {y}) up to rounding")]
+    Coincident { a: i64, b: i64, x: f64, y: f64 },
     #[error("the segment from node {a} to node {b} has the same face on both sides (a slit): faces must be bounded by closed loops")]
     Slit { a: i64, b: i64 },
     #[error("region {region} has {count} boundary nodes, an odd number: an all-quad mesh needs an even count (add or remove a node on one of its curves)")]
@@ -125,6 +138,22 @@ pub enum PslgError {
         #[source]
         source: BoundaryError,
     },
+}
+
+/// Where segments `a`–`b` and `c`–`d`, known to meet, cross: the point
+/// of their lines' intersection, or for segments along one line the end
+/// of one that lies on the other (what an error names to the user).
+fn crossing_point(a: Point, b: Point, c: Point, d: Point) -> Point {
+    let (r, s) = (b - a, d - c);
+    let den = r.perp_dot(s);
+    if den != 0.0 {
+        let t = (c - a).perp_dot(s) / den;
+        return a + r * t.clamp(0.0, 1.0);
+    }
+    [c, d, a]
+        .into_iter()
+        .find(|&p| crate::geom::point_segment_distance(p, a, b) == 0.0)
+        .unwrap_or(b)
 }
 
 /// A boundary cycle found by the walk: directed segments (node pairs) and
@@ -288,12 +317,16 @@ impl Pslg {
                             return Err(PslgError::Coincident {
                                 a: self.lab(v.min(other)),
                                 b: self.lab(v.max(other)),
+                                x: p.x,
+                                y: p.y,
                             });
                         }
                         return Err(PslgError::NodeOnSegment {
                             node: self.lab(v),
                             a: self.lab(s.a),
                             b: self.lab(s.b),
+                            x: p.x,
+                            y: p.y,
                         });
                     }
                 }
@@ -323,6 +356,8 @@ impl Pslg {
                                 node: self.lab(node),
                                 a: self.lab(a),
                                 b: self.lab(b),
+                                x: self.points[node].x,
+                                y: self.points[node].y,
                             });
                         }
                         continue;
@@ -334,11 +369,14 @@ impl Pslg {
                         self.points[t.b],
                     );
                     if segments_intersect(a, b, c, d) {
+                        let at = crossing_point(a, b, c, d);
                         return Err(PslgError::Crossing {
                             a: self.lab(s.a),
                             b: self.lab(s.b),
                             c: self.lab(t.a),
                             d: self.lab(t.b),
+                            x: at.x,
+                            y: at.y,
                         });
                     }
                 }
@@ -674,7 +712,14 @@ mod tests {
             b: 2,
             marker: 0,
         });
-        assert!(matches!(g.faces(), Err(PslgError::Crossing { .. })));
+        // The error says where: (0.5, 0)–(1, 1) and (0.5, 1)–(1, 0) cross
+        // at (0.75, 0.5).
+        let err = g.faces().unwrap_err();
+        assert!(
+            matches!(err, PslgError::Crossing { x, y, .. } if (x - 0.75).abs() < 1e-12 && (y - 0.5).abs() < 1e-12),
+            "{err}"
+        );
+        assert!(err.to_string().ends_with("at about (0.75, 0.5)"), "{err}");
         let mut g = split_square();
         g.points.push(Point::new(0.5, 0.5));
         g.labels.push(7);

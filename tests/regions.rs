@@ -324,11 +324,11 @@ fn broken_graphs_are_refused_with_one_line() {
         ("dangling_segment.poly", "node 7 ends a dangling segment"),
         (
             "crossing_segments.poly",
-            "the segment from node 1 to node 5 crosses the segment from node 2 to node 6",
+            "the segment from node 1 to node 5 crosses the segment from node 2 to node 6 at about (0.5, 0.5)",
         ),
         (
             "node_on_segment.poly",
-            "node 7 lies on the segment from node 2 to node 5",
+            "node 7 at (1, 0.5) lies on the segment from node 2 to node 5",
         ),
         (
             "odd_region.poly",
