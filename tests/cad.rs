@@ -1046,3 +1046,34 @@ fn second_order_keeps_the_loops_groups_of_a_boundary_file() {
         .sum();
     assert_eq!(lines, b.node_count());
 }
+
+/// An `.svg` draws corners only: `--order 2` with one is refused, with
+/// the formats that hold 9-node quads named. A point size at a negative
+/// coordinate is read as the option's value, not as another option.
+#[test]
+fn an_svg_at_second_order_is_refused_and_a_negative_point_is_read() {
+    let part = data("tests/data/cad/part.dxf");
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = |out: &std::path::Path, args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
+            .arg("mesh")
+            .arg(&part)
+            .arg("-o")
+            .arg(out)
+            .args(["--size", "4"])
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let svg = dir.path().join("p2.svg");
+    let o = mesh(&svg, &["--order", "2"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("--order 2 needs .msh"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(!svg.exists());
+    let msh = dir.path().join("neg.msh");
+    let o = mesh(&msh, &["--size-at", "-1000,0,0.5"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(msh.exists());
+}

@@ -109,7 +109,7 @@ pub(super) struct MeshArgs {
     size: Option<f64>,
     /// A local size at a point of a drawing, X,Y,H (repeatable): the
     /// size there is H, growing at the gradation away from it.
-    #[arg(long, value_name = "X,Y,H", value_parser = parse_size_at)]
+    #[arg(long, value_name = "X,Y,H", value_parser = parse_size_at, allow_hyphen_values = true)]
     size_at: Vec<(f64, f64, f64)>,
     /// A local size on a drawing's layer, LAYER=H (repeatable): its
     /// curves are cut at H, and the size grows at the gradation away
@@ -191,6 +191,13 @@ pub(super) fn run(a: MeshArgs) -> Result<()> {
     if serendipity && order != 2 {
         return Err(InputError(anyhow!(
             "--serendipity asks for 8-node quads: add --order 2"
+        ))
+        .into());
+    }
+    if order == 2 && fmt == MeshFormat::Svg {
+        return Err(InputError(anyhow!(
+            "{}: an .svg draws the quads' corners only; --order 2 needs .msh, .msh22, .vtk, .vtu or .inp",
+            output.display()
         ))
         .into());
     }
@@ -350,10 +357,14 @@ pub(super) fn run(a: MeshArgs) -> Result<()> {
     }
     io::write_atomic_all(&files)?;
     let made_by = match stats.count(StepKind::Fill) {
-        0 => format!("{} extraction steps{}", stats.steps, refanned(&stats)),
+        0 => format!(
+            "{}{}",
+            plural(stats.steps, "extraction step"),
+            refanned(&stats)
+        ),
         _ => format!(
-            "{} extraction steps and a region fill ({} of the {} quads before finishing)",
-            stats.steps - stats.count(StepKind::Fill),
+            "{} and a region fill ({} of the {} quads before finishing)",
+            plural(stats.steps - stats.count(StepKind::Fill), "extraction step"),
             stats.quads_made(StepKind::Fill),
             stats.standing
         ),
@@ -494,7 +505,7 @@ fn mesh_graph(a: MeshGraph) -> Result<()> {
     io::write_atomic_all(&files)?;
     let fills = steps.count(StepKind::Fill);
     outln!(
-        "{}: {} quads in {} ({}), {}, sj min {:.3} mean {:.3}, {:.1}% in [45,135], taper max {:.2}, aspect max {:.2}, {} irregular of {} interior, {} extraction steps{}, {:.3} s",
+        "{}: {} quads in {} ({}), {}, sj min {:.3} mean {:.3}, {:.1}% in [45,135], taper max {:.2}, aspect max {:.2}, {} irregular of {} interior, {}{}, {:.3} s",
         a.output.display(),
         q.quads,
         plural(m.regions.len(), "region"),
@@ -507,7 +518,7 @@ fn mesh_graph(a: MeshGraph) -> Result<()> {
         q.aspect_max,
         q.irregular_interior,
         q.interior_nodes,
-        steps.steps - fills,
+        plural(steps.steps - fills, "extraction step"),
         match fills {
             0 => refanned(&steps).to_string(),
             1 => " and a region fill".to_string(),
