@@ -159,13 +159,22 @@ impl super::View for ComparePanel {
             .cloned()
             .collect();
         ui.horizontal(|ui| {
-            let can = doc.boundary().is_some() && !chosen.is_empty() && scene.comparing.is_none();
+            // Why the button is off, the first reason that holds.
+            let why_not = if doc.regions.is_some() {
+                Some("Compares one boundary: a drawing or a file of several regions has several faces (quadex compare takes one boundary too)")
+            } else if doc.boundary().is_none() {
+                Some("Needs a valid boundary")
+            } else if chosen.is_empty() {
+                Some("Tick a model")
+            } else if scene.comparing.is_some() {
+                Some("A comparison is running")
+            } else {
+                None
+            };
             if ui
-                .add_enabled(can, egui::Button::new("Compare models"))
+                .add_enabled(why_not.is_none(), egui::Button::new("Compare models"))
                 .on_hover_text("Mesh the boundary with each model ticked, in the background")
-                .on_disabled_hover_text(
-                    "Needs a valid boundary, a model ticked and no comparison running",
-                )
+                .on_disabled_hover_text(why_not.unwrap_or_default())
                 .clicked()
             {
                 out.push(Command::Compare(chosen.clone()));
