@@ -494,3 +494,36 @@ fn a_geometry_file_opens_as_a_drawing_with_its_splines_and_ellipses() {
         cli_mesh("cli3.msh", &["--size", "3"])
     );
 }
+
+#[test]
+fn undoing_an_open_brings_the_document_back_in_view() {
+    let mut h = harness(example());
+    h.run();
+    let name = h.state().doc().name.clone();
+    let (center, zoom) = (h.state().view.canvas.center, h.state().view.canvas.zoom);
+    h.state_mut().apply(Command::OpenExample("naca0012.poly"));
+    h.run();
+    assert_eq!(h.state().doc().name, "naca0012.poly");
+    // The airfoil is fitted: another centre and zoom than the annulus's.
+    assert_ne!(
+        (h.state().view.canvas.center, h.state().view.canvas.zoom),
+        (center, zoom)
+    );
+    h.state_mut().apply(Command::Undo);
+    h.run();
+    assert_eq!(h.state().doc().name, name, "{}", status(&h));
+    assert_eq!(status(&h), "undone: open");
+    // Fitted again, as when it was first opened, not left at the
+    // airfoil's view (where the annulus would be off the canvas).
+    assert_eq!(
+        (h.state().view.canvas.center, h.state().view.canvas.zoom),
+        (center, zoom)
+    );
+    h.state_mut().apply(Command::Redo);
+    h.run();
+    assert_eq!(h.state().doc().name, "naca0012.poly");
+    assert_ne!(
+        (h.state().view.canvas.center, h.state().view.canvas.zoom),
+        (center, zoom)
+    );
+}

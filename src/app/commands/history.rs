@@ -1,6 +1,7 @@
 //! Undo, redo and reset.
 
 use crate::app::error::EditorError;
+use crate::app::history::Undone;
 use crate::app::{same_mesh, App};
 
 impl App {
@@ -15,6 +16,7 @@ impl App {
         if what.is_some() {
             self.changed(mesh);
         }
+        self.fit_if_replaced(what);
         let left = self.document.doc.steps();
         Ok(match what {
             None if self.document.doc.regions.is_some() => "nothing to undo in this face (undo goes back within the face being meshed; Reset starts every face again)".into(),
@@ -39,7 +41,17 @@ impl App {
         if what.is_some() {
             self.changed(mesh);
         }
+        self.fit_if_replaced(what);
         Ok(what.map_or("nothing to redo".into(), |w| format!("redone: {}", w.name)))
+    }
+
+    /// After undoing or redoing `what`: an edit that replaced the whole
+    /// document (New, Open) brings another boundary back, which the view
+    /// is fitted to, as it was when the document was opened.
+    fn fit_if_replaced(&mut self, what: Option<Undone>) {
+        if what.is_some_and(|w| matches!(w.name, "open" | "new")) {
+            self.view.canvas.fit_pending = true;
+        }
     }
 
     /// Reset: the mesh starts again (one undo brings it back).
