@@ -345,9 +345,13 @@ fn a_new_document_proposes_no_path_from_the_last_file_opened() {
     h.run();
     // An export: the next new document proposes its folder.
     let mine = tempfile::tempdir().unwrap();
-    h.state_mut()
-        .apply(Command::Export(mine.path().join("square.msh")));
+    let typed = mine.path().join("my_square.inp");
+    h.state_mut().apply(Command::Export(typed.clone()));
     settle(&mut h);
+    assert!(typed.exists());
+    // The box keeps the path written to, though the export's folder is
+    // now where a document of no file would be exported by default.
+    assert_eq!(PathBuf::from(&h.state().panels.export_path), typed);
     h.state_mut().apply(Command::New);
     h.run();
     assert_eq!(

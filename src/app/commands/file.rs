@@ -96,6 +96,17 @@ impl App {
         }
     }
 
+    /// After an export to `path`: the Export box writes there again. The
+    /// export's folder becomes the default one (the next document's box
+    /// starts there), and that change of default is not taken for another
+    /// document, which would put the default back in the box.
+    fn exported_to(&mut self, path: &Path) {
+        self.window.recent.push(path);
+        self.note_export(path);
+        self.panels.export_path = path.display().to_string();
+        self.panels.export_default = Some(self.default_export_path());
+    }
+
     /// Exports the finished mesh; while the finishing pass runs, the export
     /// waits for it.
     pub(in crate::app) fn export(&mut self, path: PathBuf) -> Result<String, EditorError> {
@@ -105,9 +116,7 @@ impl App {
             // curves (or the format's sets and arrays).
             let m = r.mesh.clone().ok_or(EditorError::NotFinished)?;
             crate::io::write_atomic(&path, format.render_regions(&m).as_bytes())?;
-            self.window.recent.push(&path);
-            self.note_export(&path);
-            self.panels.export_path = path.display().to_string();
+            self.exported_to(&path);
             return Ok(format!(
                 "wrote {} ({}, {}, {})",
                 path.display(),
@@ -130,10 +139,7 @@ impl App {
         }
         let mesh = self.finished_mesh()?;
         crate::io::write_mesh(&mesh, &path)?;
-        self.window.recent.push(&path);
-        self.note_export(&path);
-        // The Export box writes there again.
-        self.panels.export_path = path.display().to_string();
+        self.exported_to(&path);
         Ok(format!(
             "wrote {} ({})",
             path.display(),
