@@ -428,6 +428,20 @@ impl DirectedEdges {
     }
 }
 
+/// The nodes on an edge of only one of `quads` (a mesh's boundary, and a
+/// mesh still being made its front as well), each once, in id order.
+pub fn open_edge_nodes(quads: &[[u32; 4]]) -> Vec<u32> {
+    let directed = DirectedEdges::new(quads);
+    let mut nodes: Vec<u32> = directed
+        .iter()
+        .filter(|&((a, b), _)| !directed.contains(b, a))
+        .flat_map(|((a, b), _)| [a, b])
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
+}
+
 /// The boundary loops of counter-clockwise `quads` over `points`: chains of
 /// the directed edges that have no reverse twin, the loop of largest area
 /// first. A node with two such edges out of it is [`InvariantError::Pinched`].

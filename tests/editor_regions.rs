@@ -395,3 +395,20 @@ fn a_graph_that_cannot_be_meshed_opens_with_its_problem_named() {
         status(&h)
     );
 }
+
+#[test]
+fn a_face_being_stepped_has_no_front_node_counted_as_interior() {
+    let mut h = harness(example_named("machine.json"));
+    h.run();
+    for _ in 0..3 {
+        h.get_by_label_contains("(Space)").click();
+        h.run();
+    }
+    assert_eq!(h.state().doc().steps(), 3);
+    h.get_by_label("Quality").click();
+    h.run();
+    h.get_by_label("irregular interior nodes");
+    // Three quads cut off the first face's boundary: every corner is on
+    // that boundary or on the front, none is closed in by quads yet.
+    h.get_by_label("0 of 0");
+}

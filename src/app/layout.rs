@@ -187,10 +187,16 @@ impl App {
             } = &mut self.view;
             let s = shown_of(&self.document, finished, empty);
             // The stepped mesh's front nodes are not interior nodes yet.
+            // The faces of a drawing or a file of regions are shown side by
+            // side, each with its own copy of the nodes it shares: a node on
+            // an edge of one quad only is on a face's boundary or front.
             let open: Vec<u32> = match (s.kind, self.document.doc.mesher()) {
                 (MeshKind::Stepped, Some(m)) => {
                     let f = m.front();
                     f.live_loops().flat_map(|l| f.loop_nodes(l)).collect()
+                }
+                (MeshKind::Stepped, None) if self.document.doc.regions.is_some() => {
+                    crate::mesh::open_edge_nodes(&s.mesh.quads)
                 }
                 _ => Vec::new(),
             };
