@@ -531,3 +531,27 @@ fn undoing_an_open_brings_the_document_back_in_view() {
         (center, zoom)
     );
 }
+
+/// The shipped drawing opens from File ▸ Open an example, cut at the
+/// editor's size for it, and meshes region by region to the end.
+#[test]
+fn the_example_drawing_opens_from_the_menu_and_meshes() {
+    let mut h = harness(example());
+    h.run();
+    h.get_by_label("File").click();
+    h.run();
+    h.get_by_label_contains("Open an example").hover();
+    h.run();
+    h.get_by_label("part.dxf").click();
+    h.run();
+    assert_eq!(h.state().doc().name, "part.dxf", "{}", status(&h));
+    assert!(h.state().doc().drawing.is_some());
+    h.state_mut().apply(Command::RunToEnd);
+    settle(&mut h);
+    let m = h.state().doc().region_mesh().expect("every face meshed");
+    assert!(m.mesh.quads.len() > 100);
+    m.mesh.check_finished().unwrap();
+    // Its layers are the mesh's named groups.
+    let names: Vec<&str> = m.groups.iter().map(|g| g.name.as_str()).collect();
+    assert!(names.contains(&"bolt"), "{names:?}");
+}

@@ -2,9 +2,10 @@
 //! an installed `quadex` opens them from any directory.
 
 /// `(file name, text)` of every shipped example, sorted by name: `.poly`
-/// boundaries, and a regions document (`.json`) of several materials with
-/// named boundary groups.
-pub const EXAMPLES: [(&str, &str); 8] = [
+/// boundaries, a regions document (`.json`) of several materials with
+/// named boundary groups, and a drawing (`.dxf`: lines, arcs and circles
+/// on named layers).
+pub const EXAMPLES: [(&str, &str); 9] = [
     (
         "annulus.poly",
         include_str!("../../assets/examples/annulus.poly"),
@@ -25,6 +26,7 @@ pub const EXAMPLES: [(&str, &str); 8] = [
         "naca0012.poly",
         include_str!("../../assets/examples/naca0012.poly"),
     ),
+    ("part.dxf", include_str!("../../assets/examples/part.dxf")),
     (
         "plate_hole.poly",
         include_str!("../../assets/examples/plate_hole.poly"),
@@ -57,7 +59,7 @@ mod tests {
         let mut on_disk: Vec<String> = std::fs::read_dir(dir)
             .unwrap()
             .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .filter(|n| n.ends_with(".poly") || n.ends_with(".json"))
+            .filter(|n| n.ends_with(".poly") || n.ends_with(".json") || n.ends_with(".dxf"))
             .collect();
         on_disk.sort();
         let built_in: Vec<&str> = EXAMPLES.iter().map(|(n, _)| *n).collect();
@@ -67,6 +69,9 @@ mod tests {
                 let g =
                     crate::io::regions_json::parse(text).unwrap_or_else(|e| panic!("{name}: {e}"));
                 assert!(g.faces().unwrap().len() > 1, "{name}");
+            } else if name.ends_with(".dxf") {
+                let g = crate::cad::parse_dxf(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+                assert!(!g.curves.is_empty(), "{name}");
             } else {
                 crate::io::poly::parse_poly(text).unwrap_or_else(|e| panic!("{name}: {e}"));
             }

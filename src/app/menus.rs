@@ -45,7 +45,7 @@ impl App {
             item(
                 ui,
                 "Open…",
-                "A boundary (.poly, .json), a project or a quad mesh (.msh)",
+                "A boundary (.poly, .json), a drawing (.dxf), a project or a quad mesh (.msh)",
                 Command::Dialog(Dialog::Open),
                 true,
                 cmds,

@@ -206,6 +206,14 @@ pub fn read_dxf(path: &std::path::Path) -> Result<Geometry, CadError> {
     geometry_of(&drawing)
 }
 
+/// [`read_dxf`] from the text of a DXF file (a drawing built into the
+/// binary, say).
+pub fn parse_dxf(text: &str) -> Result<Geometry, CadError> {
+    let drawing =
+        dxf::Drawing::load(&mut text.as_bytes()).map_err(|e| CadError::Dxf(e.to_string()))?;
+    geometry_of(&drawing)
+}
+
 /// The curves of a DXF drawing.
 pub fn geometry_of(drawing: &dxf::Drawing) -> Result<Geometry, CadError> {
     use dxf::entities::EntityType as E;

@@ -19,6 +19,18 @@ impl Document {
         let text = crate::app::assets::example(name)
             .ok_or(EditorError::UnknownExample(name.to_string()))?;
         let path = PathBuf::from(name);
+        if name.ends_with(".dxf") {
+            let g = crate::cad::parse_dxf(text).map_err(|cause| EditorError::Drawing {
+                path: Some(path.clone()),
+                cause,
+            })?;
+            let sizes = crate::cad::SizeSpec::uniform(drawing_size(&g));
+            let mut doc = Document::empty(settings);
+            doc.name = name.to_string();
+            doc.set_drawing(Arc::new(g), sizes)?;
+            doc.boundary_edited = false;
+            return Ok(doc);
+        }
         if name.ends_with(".json") {
             let graph = io::regions_json::parse(text).at(&path)?;
             return Document::from_graph(graph, None, name, settings);
