@@ -431,6 +431,11 @@ impl Aabb {
     pub fn size(&self) -> Point {
         self.max - self.min
     }
+
+    /// The distance from `p` to the box (0 inside it).
+    pub fn distance_to(&self, p: Point) -> f64 {
+        p.clamp(self.min, self.max).distance(p)
+    }
 }
 
 #[cfg(test)]

@@ -1077,3 +1077,32 @@ fn an_svg_at_second_order_is_refused_and_a_negative_point_is_read() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(msh.exists());
 }
+
+/// A point size too far from the drawing to lower the size anywhere in it
+/// (its size grown at the gradation over the distance is over the target)
+/// leaves the mesh as it is, byte for byte.
+#[test]
+fn a_point_size_far_from_the_drawing_changes_nothing() {
+    let part = data("tests/data/cad/part.dxf");
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = |name: &str, args: &[&str]| {
+        let out = dir.path().join(name);
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_quadex"))
+            .arg("mesh")
+            .arg(&part)
+            .arg("-o")
+            .arg(&out)
+            .args(["--size", "2"])
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        std::fs::read(out).unwrap()
+    };
+    let plain = mesh("plain.msh", &[]);
+    for at in ["1000000,1000000,0.5", "1000,1000,1"] {
+        assert!(mesh("far.msh", &["--size-at", at]) == plain, "{at}");
+    }
+    // A point inside does change it.
+    assert!(mesh("near.msh", &["--size-at", "10,0,0.5"]) != plain);
+}

@@ -314,7 +314,14 @@ impl SizeField {
         let mut lo = node_h.iter().copied().fold(f64::INFINITY, f64::min);
         let mut hi = node_h.iter().copied().fold(0.0, f64::max);
         if let Some(t) = target {
-            lo = t.points.iter().map(|s| s.1).fold(lo, f64::min);
+            // A point size counts by the least size it asks inside the
+            // boundary's box: one far outside asks for nothing finer there
+            // and leaves the grid as it would be without it.
+            lo = t
+                .points
+                .iter()
+                .map(|&(p, h)| h + t.gradation * bb.distance_to(p))
+                .fold(lo, f64::min);
             hi = hi.max(t.max);
         }
         let extent = size.max_element().max(f64::MIN_POSITIVE);
