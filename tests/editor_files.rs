@@ -323,12 +323,7 @@ fn a_new_document_proposes_no_path_from_the_last_file_opened() {
     h.key_press(egui::Key::Escape);
     h.run();
     // A built-in example, from the menu.
-    h.get_by_label("File").click();
-    h.run();
-    h.get_by_label_contains("Open an example").hover();
-    h.run();
-    h.get_by_label("square.poly").click();
-    h.run();
+    open_example_from_menu(&mut h, "square.poly");
     assert_eq!(h.state().doc().name, "square.poly");
     assert_eq!(h.state().panels.export_path, "");
     h.state_mut().apply(Command::RunToEnd);
@@ -538,12 +533,7 @@ fn undoing_an_open_brings_the_document_back_in_view() {
 fn the_example_drawing_opens_from_the_menu_and_meshes() {
     let mut h = harness(example());
     h.run();
-    h.get_by_label("File").click();
-    h.run();
-    h.get_by_label_contains("Open an example").hover();
-    h.run();
-    h.get_by_label("part.dxf").click();
-    h.run();
+    open_example_from_menu(&mut h, "part.dxf");
     assert_eq!(h.state().doc().name, "part.dxf", "{}", status(&h));
     assert!(h.state().doc().drawing.is_some());
     h.state_mut().apply(Command::RunToEnd);

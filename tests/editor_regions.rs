@@ -83,12 +83,7 @@ fn the_machine_example_opens_from_the_menu_with_its_regions_and_groups() {
         Document::example("annulus.poly", Settings::default()).unwrap(),
     ));
     h.run();
-    h.get_by_label("File").click();
-    h.run();
-    h.get_by_label_contains("Open an example").click();
-    h.run();
-    h.get_by_label("machine.json").click();
-    h.run();
+    open_example_from_menu(&mut h, "machine.json");
     let r = h
         .state()
         .doc()
@@ -117,8 +112,8 @@ fn the_machine_example_opens_from_the_menu_with_its_regions_and_groups() {
     h.get_by_label_contains("face 1 of 19");
 }
 
-#[test]
-fn stepping_goes_region_by_region_and_the_export_has_the_physical_names() {
+/// The machine example after three clicks on Step.
+fn machine_after_three_steps() -> Harness<'static, App> {
     let mut h = harness(example_named("machine.json"));
     h.run();
     for _ in 0..3 {
@@ -126,6 +121,12 @@ fn stepping_goes_region_by_region_and_the_export_has_the_physical_names() {
         h.run();
     }
     assert_eq!(h.state().doc().steps(), 3);
+    h
+}
+
+#[test]
+fn stepping_goes_region_by_region_and_the_export_has_the_physical_names() {
+    let mut h = machine_after_three_steps();
     let first = {
         let s = h
             .state()
@@ -398,13 +399,7 @@ fn a_graph_that_cannot_be_meshed_opens_with_its_problem_named() {
 
 #[test]
 fn a_face_being_stepped_has_no_front_node_counted_as_interior() {
-    let mut h = harness(example_named("machine.json"));
-    h.run();
-    for _ in 0..3 {
-        h.get_by_label_contains("(Space)").click();
-        h.run();
-    }
-    assert_eq!(h.state().doc().steps(), 3);
+    let mut h = machine_after_three_steps();
     h.get_by_label("Quality").click();
     h.run();
     h.get_by_label("irregular interior nodes");

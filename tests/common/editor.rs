@@ -5,6 +5,7 @@
 
 pub use super::bench;
 use egui::{Pos2, Rect};
+use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
 use quadex::app::{App, Command, Document, Settings};
 use quadex::model::{ElementType, Form};
@@ -85,6 +86,17 @@ pub fn stepped_example(steps: usize) -> Harness<'static, App> {
     h.run();
     h.state_mut().apply(Command::StepN(steps));
     h
+}
+
+/// Clicks File ▸ Open an example ▸ `name`, the menus opened with the
+/// pointer.
+pub fn open_example_from_menu(h: &mut Harness<'static, App>, name: &str) {
+    h.get_by_label("File").click();
+    h.run();
+    h.get_by_label_contains("Open an example").hover();
+    h.run();
+    h.get_by_label(name).click();
+    h.run();
 }
 
 pub fn example() -> App {
