@@ -407,3 +407,32 @@ fn a_face_being_stepped_has_no_front_node_counted_as_interior() {
     // that boundary or on the front, none is closed in by quads yet.
     h.get_by_label("0 of 0");
 }
+
+/// The key to the regions and groups, drawn at the canvas's top left, is
+/// kept clear of the drawing when the view is fitted: the machine's
+/// outline lies right of the key or below it, in a wide window and in a
+/// tall one.
+#[test]
+fn the_regions_key_keeps_clear_of_the_fitted_drawing() {
+    for (w, hgt) in [(1400.0, 860.0), (1200.0, 760.0), (1000.0, 1000.0)] {
+        let mut h = harness_sized(example_named("machine.json"), w, hgt);
+        h.run();
+        let rect = h.state().view.canvas_rect;
+        let r = h.state().doc().regions.as_ref().unwrap();
+        let room = quadex::app::regions_panel::legend_room(r);
+        // Five regions and two groups: seven rows, "stator_outside" the
+        // longest name.
+        assert!(room.x > 100.0 && room.y > 140.0, "{room:?}");
+        let xs = r.graph.points.iter().map(|p| p.x);
+        let ys = r.graph.points.iter().map(|p| p.y);
+        let left = xs.fold(f64::INFINITY, f64::min);
+        let top = ys.fold(f64::NEG_INFINITY, f64::max);
+        let view = h.state().view.canvas;
+        let corner = view.to_screen(rect, Point::new(left, top));
+        let margin = 10.0;
+        assert!(
+            corner.x >= rect.left() + room.x - margin || corner.y >= rect.top() + room.y - margin,
+            "{w}x{hgt}: the box's top left {corner:?}, the canvas {rect:?}, the key {room:?}"
+        );
+    }
+}

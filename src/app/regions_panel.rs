@@ -66,6 +66,39 @@ pub struct RegionsPanel {
 }
 
 /// The node of the graph within [`PICK`] pixels of `s`, the nearest.
+/// The width of the canvas's key to the regions and groups (`groups`:
+/// [`groups_of`] the graph), drawn at its top left.
+fn legend_width(r: &Regions, groups: &[(i64, String, Vec<usize>)]) -> f32 {
+    r.legend
+        .iter()
+        .map(|(_, n)| n.len())
+        .chain(groups.iter().map(|(_, n, _)| n.len()))
+        .max()
+        .unwrap_or(0) as f32
+        * 8.0
+        + 40.0
+}
+
+/// The room the key takes at the canvas's top left: its width and
+/// height with the margins either side (none without regions or groups
+/// to list).
+pub fn legend_room(r: &Regions) -> egui::Vec2 {
+    let groups = groups_of(&r.graph);
+    let rows = r.legend.len() + groups.len();
+    if rows == 0 {
+        return egui::Vec2::ZERO;
+    }
+    egui::vec2(legend_width(r, &groups), LEGEND_ROW * rows as f32)
+        + egui::Vec2::splat(2.0 * LEGEND_MARGIN)
+}
+
+/// The height of a row of the key.
+const LEGEND_ROW: f32 = 20.0;
+
+/// The key's distance from the canvas's left edge, and the clear room a
+/// fit leaves right of it.
+const LEGEND_MARGIN: f32 = 10.0;
+
 fn node_near(r: &Regions, view: &View, rect: Rect, s: Pos2) -> Option<usize> {
     r.graph
         .points
@@ -294,24 +327,16 @@ impl RegionsPanel {
             }
         }
         // The legend, top left.
-        let mut y = rect.top() + 10.0;
-        let x = rect.left() + 10.0;
+        let mut y = rect.top() + LEGEND_MARGIN;
+        let x = rect.left() + LEGEND_MARGIN;
         let font = egui::FontId::proportional(14.0);
-        let w = r
-            .legend
-            .iter()
-            .map(|(_, n)| n.len())
-            .chain(groups.iter().map(|(_, n, _)| n.len()))
-            .max()
-            .unwrap_or(0) as f32
-            * 8.0
-            + 40.0;
+        let w = legend_width(r, &groups);
         let rows = r.legend.len() + groups.len();
         if rows > 0 {
             painter.rect_filled(
                 Rect::from_min_size(
                     Pos2::new(x - 4.0, y - 4.0),
-                    egui::vec2(w, 20.0 * rows as f32 + 8.0),
+                    egui::vec2(w, LEGEND_ROW * rows as f32 + 8.0),
                 ),
                 4.0,
                 ui.visuals().extreme_bg_color.gamma_multiply(0.85),
@@ -330,7 +355,7 @@ impl RegionsPanel {
                 font.clone(),
                 ui.visuals().text_color(),
             );
-            y += 20.0;
+            y += LEGEND_ROW;
         }
         for (gi, (_, name, _)) in groups.iter().enumerate() {
             painter.line_segment(
@@ -344,7 +369,7 @@ impl RegionsPanel {
                 font.clone(),
                 ui.visuals().text_color(),
             );
-            y += 20.0;
+            y += LEGEND_ROW;
         }
     }
 }

@@ -45,6 +45,10 @@ pub struct View {
     /// The world box the last fit was for (a resize fits it again, not
     /// whatever the document holds by then).
     fitted_box: Option<(Point, Point)>,
+    /// The room a key drawn at the canvas's top left takes (a regions
+    /// document's legend), margins included: a fit keeps the box to its
+    /// right or below it, whichever leaves the box larger.
+    pub key_room: Vec2,
 }
 
 impl Default for View {
@@ -56,6 +60,7 @@ impl Default for View {
             fitted: false,
             size: Vec2::ZERO,
             fitted_box: None,
+            key_room: Vec2::ZERO,
         }
     }
 }
@@ -99,13 +104,32 @@ impl View {
             0.0
         };
         let size = (hi - lo).max(Point::splat(1e-300));
-        self.zoom =
-            0.9 * (rect.width() as f64 / size.x).min((rect.height() - below) as f64 / size.y);
+        let zoom_in = |w: f32, h: f32| 0.9 * (w as f64 / size.x).min(h as f64 / size.y);
+        // The key at the top left is kept clear, beside the box or above
+        // it, whichever leaves the box larger; where the canvas cannot
+        // spare its room either way, the key is drawn over it.
+        let key = self.key_room;
+        let (w, h) = (rect.width(), rect.height() - below);
+        let mut shift = (0.0, 0.0);
+        self.zoom = zoom_in(w, h);
+        if key.x > 0.0 && key.y > 0.0 {
+            let beside = zoom_in(w - key.x, h);
+            let under = zoom_in(w, h - key.y);
+            if w > 3.0 * key.x && beside >= under {
+                self.zoom = beside;
+                shift = (key.x, 0.0);
+            } else if h > 3.0 * key.y {
+                self.zoom = under;
+                shift = (0.0, key.y);
+            }
+        }
         if !(self.zoom.is_finite() && self.zoom > 0.0) {
             self.zoom = 1.0;
         }
-        // The box's centre drawn half the strip above the canvas's.
-        self.center = (lo + hi) * 0.5 - Point::new(0.0, 0.5 * below as f64 / self.zoom);
+        // The box's centre drawn half the strip below the canvas above the
+        // canvas's centre, half the key's room right of it or below it.
+        self.center = (lo + hi) * 0.5
+            - Point::new(0.5 * shift.0 as f64, 0.5 * (below - shift.1) as f64) / self.zoom;
         self.fit_pending = false;
         self.fitted = true;
         self.fitted_box = Some((lo, hi));
