@@ -25,11 +25,7 @@ impl Document {
                 cause,
             })?;
             let sizes = crate::cad::SizeSpec::uniform(drawing_size(&g));
-            let mut doc = Document::empty(settings);
-            doc.name = name.to_string();
-            doc.set_drawing(Arc::new(g), sizes)?;
-            doc.boundary_edited = false;
-            return Ok(doc);
+            return Document::from_drawing(g, sizes, None, name, settings);
         }
         if name.ends_with(".json") {
             let graph = io::regions_json::parse(text).at(&path)?;
@@ -43,6 +39,23 @@ impl Document {
                 .collect(),
         };
         Document::from_draft(draft, None, name, settings)
+    }
+
+    /// A document over the drawing `g`, its curves cut at `sizes` and its
+    /// regions meshed from the start.
+    fn from_drawing(
+        g: crate::cad::Geometry,
+        sizes: crate::cad::SizeSpec,
+        source: Option<PathBuf>,
+        name: &str,
+        settings: Settings,
+    ) -> Result<Document, EditorError> {
+        let mut doc = Document::empty(settings);
+        doc.source = source;
+        doc.name = name.to_string();
+        doc.set_drawing(Arc::new(g), sizes)?;
+        doc.boundary_edited = false;
+        Ok(doc)
     }
 
     /// A document over the boundary of a quad mesh, showing that mesh.
@@ -103,11 +116,13 @@ impl Document {
                 (crate::cad::read_dxf(path).map_err(failed)?, None)
             };
             let sizes = sizes.unwrap_or_else(|| crate::cad::SizeSpec::uniform(drawing_size(&g)));
-            let mut doc = Document::empty(settings);
-            doc.source = Some(path.to_path_buf());
-            doc.name = file_name(path);
-            doc.set_drawing(Arc::new(g), sizes)?;
-            doc.boundary_edited = false;
+            let doc = Document::from_drawing(
+                g,
+                sizes,
+                Some(path.to_path_buf()),
+                &file_name(path),
+                settings,
+            )?;
             return Ok((doc, Vec::new()));
         }
         // A graph that cannot be meshed opens as a document of regions
