@@ -263,10 +263,35 @@ impl Document {
         name: &str,
         settings: Settings,
     ) -> Result<Document, EditorError> {
+        Document::opened(source, name, settings, |d| d.set_draft(draft))
+    }
+
+    /// A document over the drawing `g`, its curves cut at `sizes` and its
+    /// regions meshed from the start.
+    pub(super) fn from_drawing(
+        g: crate::cad::Geometry,
+        sizes: crate::cad::SizeSpec,
+        source: Option<PathBuf>,
+        name: &str,
+        settings: Settings,
+    ) -> Result<Document, EditorError> {
+        Document::opened(source, name, settings, |d| {
+            d.set_drawing(Arc::new(g), sizes)
+        })
+    }
+
+    /// A new document named `name`, from the file `source`, its boundary
+    /// or drawing set by `fill`: as opened, not edited.
+    fn opened(
+        source: Option<PathBuf>,
+        name: &str,
+        settings: Settings,
+        fill: impl FnOnce(&mut Document) -> Result<(), EditorError>,
+    ) -> Result<Document, EditorError> {
         let mut doc = Document::empty(settings);
         doc.source = source;
         doc.name = name.to_string();
-        doc.set_draft(draft)?;
+        fill(&mut doc)?;
         doc.boundary_edited = false;
         Ok(doc)
     }

@@ -41,23 +41,6 @@ impl Document {
         Document::from_draft(draft, None, name, settings)
     }
 
-    /// A document over the drawing `g`, its curves cut at `sizes` and its
-    /// regions meshed from the start.
-    fn from_drawing(
-        g: crate::cad::Geometry,
-        sizes: crate::cad::SizeSpec,
-        source: Option<PathBuf>,
-        name: &str,
-        settings: Settings,
-    ) -> Result<Document, EditorError> {
-        let mut doc = Document::empty(settings);
-        doc.source = source;
-        doc.name = name.to_string();
-        doc.set_drawing(Arc::new(g), sizes)?;
-        doc.boundary_edited = false;
-        Ok(doc)
-    }
-
     /// A document over the boundary of a quad mesh, showing that mesh.
     pub fn from_mesh(
         mesh: QuadMesh,
