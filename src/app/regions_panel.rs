@@ -65,7 +65,6 @@ pub struct RegionsPanel {
     picked_for: Option<crate::pslg::Pslg>,
 }
 
-/// The node of the graph within [`PICK`] pixels of `s`, the nearest.
 /// The width of the canvas's key to the regions and groups (`groups`:
 /// [`groups_of`] the graph), drawn at its top left.
 fn legend_width(r: &Regions, groups: &[(i64, String, Vec<usize>)]) -> f32 {
@@ -99,6 +98,7 @@ const LEGEND_ROW: f32 = 20.0;
 /// fit leaves right of it.
 const LEGEND_MARGIN: f32 = 10.0;
 
+/// The node of the graph within [`PICK`] pixels of `s`, the nearest.
 fn node_near(r: &Regions, view: &View, rect: Rect, s: Pos2) -> Option<usize> {
     r.graph
         .points
