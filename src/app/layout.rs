@@ -381,11 +381,11 @@ impl App {
             Some(r) => Aabb::of(r.graph.points.iter().copied()),
             None => Aabb::of(doc.draft.loops.iter().flatten().copied()),
         };
-        view.key_room = doc
-            .regions
-            .as_ref()
-            .map_or(egui::Vec2::ZERO, super::regions_panel::legend_room);
-        view.update(rect, bbox);
+        view.update(rect, bbox, || {
+            doc.regions
+                .as_ref()
+                .map_or(egui::Vec2::ZERO, super::regions_panel::legend_room)
+        });
         let pointer = canvas::Pointer::of(&resp, ui).in_view(view);
         if let Some(r) = &doc.regions {
             // Shift-click adds to the picked segments (the release's own

@@ -137,10 +137,14 @@ impl View {
 
     /// Fits `bbox` when asked to; when the canvas changed size and the
     /// user has not moved the view since the last fit, fits what that fit
-    /// showed again.
-    pub fn update(&mut self, rect: Rect, bbox: Option<Aabb>) {
+    /// showed again. `key_room` gives [`View::key_room`], asked only for
+    /// a fit.
+    pub fn update(&mut self, rect: Rect, bbox: Option<Aabb>, key_room: impl FnOnce() -> Vec2) {
         let resized = self.size != rect.size();
         self.size = rect.size();
+        if self.fit_pending || (resized && self.fitted) {
+            self.key_room = key_room();
+        }
         if !self.fit_pending && resized && self.fitted {
             if let Some((lo, hi)) = self.fitted_box {
                 self.fit(rect, lo, hi);
